@@ -1,0 +1,1 @@
+//! ballbot benches (see the files under this package).

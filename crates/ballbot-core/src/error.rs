@@ -1,0 +1,38 @@
+//! The core's error type: small, `Copy`, allocation-free.
+
+use core::fmt;
+
+/// What went wrong when building a model, a controller or a solver from its inputs.
+///
+/// Errors are for malformed input, checked once at construction. The outcome of a numerical
+/// solve (converged or not) is a status in its result, not an `Error`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Error {
+    /// A parameter is outside its allowed range.
+    InvalidParameter {
+        /// The field's name, as spelled in its struct (e.g. `"body_mass_kg"`).
+        field: &'static str,
+        /// The bound it violates, in words (e.g. `"must be finite and > 0"`).
+        requirement: &'static str,
+    },
+}
+
+impl Error {
+    /// Shorthand for [`Error::InvalidParameter`].
+    pub const fn invalid(field: &'static str, requirement: &'static str) -> Self {
+        Self::InvalidParameter { field, requirement }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::InvalidParameter { field, requirement } => {
+                write!(f, "invalid parameter `{field}`: {requirement}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for Error {}

@@ -1,0 +1,258 @@
+//! The planar wheeled inverted pendulum (WIP): one plane of a ballbot, or the PIPTB.
+//!
+//! Generalised coordinates `q = [theta, phi]`: body tilt and ball rotation, both absolute
+//! angles about the same horizontal axis, positive `phi` rolling the ball towards +travel and
+//! positive `theta` leaning the body towards +travel. State `s = [theta, phi, theta_dot,
+//! phi_dot]`. Input `tau`: the torque the body applies to the ball (the body feels `-tau`).
+//!
+//! ```text
+//! M(theta) q_ddot + c(q, q_dot) + G(q) + D(q_dot) = [-1, 1]^T tau
+//! M = [[a, c(theta)], [c(theta), b]]
+//! a = I_U + m_U l^2 + I_W,  b = I_S + (m_S + m_U) r^2 + I_W,  c(theta) = m_U r l cos(theta) - I_W
+//! ```
+//!
+//! Closed form with `Delta = a b - c^2`:
+//!
+//! ```text
+//! g1 = m_U g l sin(theta) - tau + b_m (phi_dot - theta_dot)
+//! g2 = m_U r l sin(theta) theta_dot^2 + tau - b_m (phi_dot - theta_dot) - b_k phi_dot
+//! theta_ddot = (b g1 - c g2) / Delta,   phi_ddot = (a g2 - c g1) / Delta
+//! ```
+//!
+//! ```
+//! use ballbot_core::{Wip, WipParams};
+//! use nalgebra::Vector4;
+//! let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+//! // Leaning forward with no torque, the body falls forward and the ball rolls back.
+//! let q_ddot = wip.accelerations(&Vector4::new(0.1, 0.0, 0.0, 0.0), 0.0);
+//! assert!(q_ddot[0] > 0.0 && q_ddot[1] < 0.0);
+//! # Ok::<(), ballbot_core::Error>(())
+//! ```
+
+use crate::check::lit;
+use crate::{Error, WipParams};
+use nalgebra::{Matrix2, Matrix3, Matrix4, RealField, Vector2, Vector3, Vector4};
+
+/// WIP state `[theta (rad), phi (rad), theta_dot (rad/s), phi_dot (rad/s)]`.
+pub type WipState<T> = Vector4<T>;
+
+/// Reduced WIP state `[theta (rad), theta_dot (rad/s), phi_dot (rad/s)]`: the paper does not
+/// feed back the ball angle `phi`, so controllers are designed on this state.
+pub type WipReducedState<T> = Vector3<T>;
+
+/// Index of `theta` in [`WipState`].
+pub const TILT: usize = 0;
+/// Index of `phi` in [`WipState`].
+pub const BALL_ANGLE: usize = 1;
+/// Index of `theta_dot` in [`WipState`].
+pub const TILT_RATE: usize = 2;
+/// Index of `phi_dot` in [`WipState`].
+pub const BALL_RATE: usize = 3;
+
+/// A validated WIP model with its constant inertia terms precomputed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wip<T> {
+    params: WipParams<T>,
+    /// `a = I_U + m_U l^2 + I_W`.
+    a: T,
+    /// `b = I_S + (m_S + m_U) r^2 + I_W`.
+    b: T,
+    /// `m_U r l`.
+    mrl: T,
+    /// `m_U g l`.
+    mgl: T,
+}
+
+/// Linearisation `s_dot ~ A (s - s0) + B (tau - tau0)` about a point.
+#[allow(non_snake_case)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WipLinearization<T> {
+    /// State Jacobian `A = d f / d s` (4 x 4).
+    pub A: Matrix4<T>,
+    /// Input Jacobian `B = d f / d tau` (4).
+    pub B: Vector4<T>,
+}
+
+impl<T: RealField + Copy> WipLinearization<T> {
+    /// The same linearisation on the reduced state `[theta, theta_dot, phi_dot]` (drops
+    /// `phi`, which no right-hand side depends on).
+    #[allow(non_snake_case)]
+    pub fn reduced(&self) -> (Matrix3<T>, Vector3<T>) {
+        const KEEP: [usize; 3] = [TILT, TILT_RATE, BALL_RATE];
+        let A = Matrix3::from_fn(|i, j| self.A[(KEEP[i], KEEP[j])]);
+        let B = Vector3::from_fn(|i, _| self.B[KEEP[i]]);
+        (A, B)
+    }
+}
+
+impl<T: RealField + Copy> Wip<T> {
+    /// Validates `params` and precomputes the model's constants.
+    pub fn new(params: WipParams<T>) -> Result<Self, Error> {
+        params.validate()?;
+        let p = &params;
+        let r = p.ball_radius_m;
+        let l = p.com_height_m;
+        let a = p.body_inertia_kg_m2 + p.body_mass_kg * l * l + p.wheel_inertia_kg_m2;
+        let b = p.ball_inertia_kg_m2
+            + (p.ball_mass_kg + p.body_mass_kg) * r * r
+            + p.wheel_inertia_kg_m2;
+        let mrl = p.body_mass_kg * r * l;
+        let mgl = p.body_mass_kg * p.gravity_m_per_s2 * l;
+        let wip = Self {
+            params,
+            a,
+            b,
+            mrl,
+            mgl,
+        };
+        // Positive definite for every tilt: Delta = a b - c^2 > 0 at the worst tilt.
+        let c_max = mrl.abs() + p.wheel_inertia_kg_m2;
+        if a * b - c_max * c_max <= T::zero() {
+            return Err(Error::invalid(
+                "wheel_inertia_kg_m2",
+                "makes the mass matrix singular: reduce it",
+            ));
+        }
+        Ok(wip)
+    }
+
+    /// The parameters this model was built from.
+    pub fn params(&self) -> &WipParams<T> {
+        &self.params
+    }
+
+    /// Off-diagonal inertia `c(theta) = m_U r l cos(theta) - I_W` (kg m^2).
+    #[inline]
+    fn coupling(&self, tilt_rad: T) -> T {
+        self.mrl * tilt_rad.cos() - self.params.wheel_inertia_kg_m2
+    }
+
+    /// The mass matrix `M(theta)` (kg m^2).
+    pub fn mass_matrix(&self, tilt_rad: T) -> Matrix2<T> {
+        let c = self.coupling(tilt_rad);
+        Matrix2::new(self.a, c, c, self.b)
+    }
+
+    /// The generalised forces `[g1, g2]` of the closed form (N m), so that
+    /// `M(theta) q_ddot = [g1, g2]`.
+    #[inline]
+    fn forces(&self, s: &WipState<T>, torque_nm: T) -> (T, T) {
+        let p = &self.params;
+        let (sin, _) = s[TILT].sin_cos();
+        let rel = s[BALL_RATE] - s[TILT_RATE];
+        let g1 = self.mgl * sin - torque_nm + p.drive_damping_nm_s_per_rad * rel;
+        let g2 = self.mrl * sin * s[TILT_RATE] * s[TILT_RATE] + torque_nm
+            - p.drive_damping_nm_s_per_rad * rel
+            - p.ball_damping_nm_s_per_rad * s[BALL_RATE];
+        (g1, g2)
+    }
+
+    /// Forward dynamics `q_ddot = f_d(s, tau)`: `[theta_ddot, phi_ddot]` (rad/s^2).
+    pub fn accelerations(&self, s: &WipState<T>, torque_nm: T) -> Vector2<T> {
+        let (g1, g2) = self.forces(s, torque_nm);
+        let c = self.coupling(s[TILT]);
+        let delta = self.a * self.b - c * c;
+        Vector2::new(
+            (self.b * g1 - c * g2) / delta,
+            (self.a * g2 - c * g1) / delta,
+        )
+    }
+
+    /// State derivative `s_dot = [theta_dot, phi_dot, theta_ddot, phi_ddot]`.
+    pub fn derivative(&self, s: &WipState<T>, torque_nm: T) -> WipState<T> {
+        let q_ddot = self.accelerations(s, torque_nm);
+        Vector4::new(s[TILT_RATE], s[BALL_RATE], q_ddot[0], q_ddot[1])
+    }
+
+    /// Total mechanical energy `1/2 q_dot^T M q_dot + m_U g l cos(theta)` (J), zero potential
+    /// at the ball centre's height.
+    pub fn energy_j(&self, s: &WipState<T>) -> T {
+        let q_dot = Vector2::new(s[TILT_RATE], s[BALL_RATE]);
+        let kinetic = (q_dot.transpose() * self.mass_matrix(s[TILT]) * q_dot)[0] * lit(0.5);
+        kinetic + self.mgl * s[TILT].cos()
+    }
+
+    /// Power flowing into the mechanism from the input torque (W): `tau (phi_dot - theta_dot)`.
+    pub fn input_power_w(&self, s: &WipState<T>, torque_nm: T) -> T {
+        torque_nm * (s[BALL_RATE] - s[TILT_RATE])
+    }
+
+    /// Analytic Jacobians of [`Self::derivative`] at any state and torque.
+    #[allow(non_snake_case)]
+    pub fn linearize(&self, s: &WipState<T>, torque_nm: T) -> WipLinearization<T> {
+        let p = &self.params;
+        let (sin, cos) = s[TILT].sin_cos();
+        let bm = p.drive_damping_nm_s_per_rad;
+        let bk = p.ball_damping_nm_s_per_rad;
+        let (g1, g2) = self.forces(s, torque_nm);
+        let c = self.coupling(s[TILT]);
+        let dc = -self.mrl * sin;
+        let delta = self.a * self.b - c * c;
+        let d_delta = lit::<T>(-2.0) * c * dc;
+        let n1 = self.b * g1 - c * g2;
+        let n2 = self.a * g2 - c * g1;
+        // d/dtheta of the generalised forces.
+        let dg1_dth = self.mgl * cos;
+        let dg2_dth = self.mrl * cos * s[TILT_RATE] * s[TILT_RATE];
+        let dn1_dth = self.b * dg1_dth - dc * g2 - c * dg2_dth;
+        let dn2_dth = self.a * dg2_dth - dc * g1 - c * dg1_dth;
+        let delta2 = delta * delta;
+        let dth_dth = (dn1_dth * delta - n1 * d_delta) / delta2;
+        let dph_dth = (dn2_dth * delta - n2 * d_delta) / delta2;
+        // Other variables leave c and Delta unchanged.
+        let per = |dg1: T, dg2: T| {
+            (
+                (self.b * dg1 - c * dg2) / delta,
+                (self.a * dg2 - c * dg1) / delta,
+            )
+        };
+        let (dth_dthd, dph_dthd) = per(-bm, lit::<T>(2.0) * self.mrl * sin * s[TILT_RATE] + bm);
+        let (dth_dphd, dph_dphd) = per(bm, -bm - bk);
+        let (dth_dtau, dph_dtau) = per(-T::one(), T::one());
+        let z = T::zero();
+        let o = T::one();
+        let A = Matrix4::new(
+            z, z, o, z, //
+            z, z, z, o, //
+            dth_dth, z, dth_dthd, dth_dphd, //
+            dph_dth, z, dph_dthd, dph_dphd,
+        );
+        let B = Vector4::new(z, z, dth_dtau, dph_dtau);
+        WipLinearization { A, B }
+    }
+
+    /// Linearisation about upright at rest with zero torque.
+    pub fn linearize_upright(&self) -> WipLinearization<T> {
+        self.linearize(&WipState::zeros(), T::zero())
+    }
+
+    /// The steady cruise at ball rate `ball_rate_rad_per_s`: the tilt and torque that hold it
+    /// (`theta_dot = 0`, no acceleration) as `(state, torque_nm)`. Without ball-floor friction
+    /// the body cruises upright with zero torque. `None` when friction would need the body to
+    /// lean beyond 90 deg.
+    pub fn cruise_equilibrium(&self, ball_rate_rad_per_s: T) -> Option<(WipState<T>, T)> {
+        let p = &self.params;
+        let torque =
+            (p.drive_damping_nm_s_per_rad + p.ball_damping_nm_s_per_rad) * ball_rate_rad_per_s;
+        let sin = p.ball_damping_nm_s_per_rad * ball_rate_rad_per_s / self.mgl;
+        if !(sin.abs() < T::one()) {
+            return None;
+        }
+        let s = Vector4::new(sin.asin(), T::zero(), T::zero(), ball_rate_rad_per_s);
+        Some((s, torque))
+    }
+
+    /// Linearisation about the steady cruise at `ball_rate_rad_per_s` (see
+    /// [`Self::cruise_equilibrium`]).
+    pub fn linearize_cruise(&self, ball_rate_rad_per_s: T) -> Option<WipLinearization<T>> {
+        let (s, torque) = self.cruise_equilibrium(ball_rate_rad_per_s)?;
+        Some(self.linearize(&s, torque))
+    }
+
+    /// Growth rate of the unstable upright mode of the frictionless model,
+    /// `sqrt(m_U g l b / Delta0)` (rad/s): the open-loop poles are `0, 0, +-` this.
+    pub fn upright_unstable_pole_rad_per_s(&self) -> T {
+        let c0 = self.coupling(T::zero());
+        (self.mgl * self.b / (self.a * self.b - c0 * c0)).sqrt()
+    }
+}

@@ -1,0 +1,1 @@
+//! Python bindings of ballbot (the `ballbot` package's private native module).

@@ -1,0 +1,1 @@
+//! ballbot examples (see the files under this package).
