@@ -235,7 +235,8 @@ impl<T: RealField + Copy> Wip<T> {
         let torque =
             (p.drive_damping_nm_s_per_rad + p.ball_damping_nm_s_per_rad) * ball_rate_rad_per_s;
         let sin = p.ball_damping_nm_s_per_rad * ball_rate_rad_per_s / self.mgl;
-        if !(sin.abs() < T::one()) {
+        // `is_finite` also rejects NaN, which no comparison would.
+        if !sin.is_finite() || sin.abs() >= T::one() {
             return None;
         }
         let s = Vector4::new(sin.asin(), T::zero(), T::zero(), ball_rate_rad_per_s);
