@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Every test of the project: the README's test command, and what CI (.ci/run) runs.
+# Usage: bash scripts/test.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+step() { printf '\n==> %s\n' "$*"; }
+
+step "format"
+cargo fmt --all --check
+
+step "clippy (all targets, warnings denied)"
+cargo clippy --all-targets -- -D warnings
+
+step "docs (warnings denied)"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
+
+step "no_std: ballbot-core pulls in no std or alloc feature"
+if cargo tree -p ballbot-core -e normal,features --target all | grep -E 'feature "(std|alloc)"'; then
+    echo "ballbot-core must not enable std or alloc in any dependency" >&2
+    exit 1
+fi
+
+step "no_std: a #![no_std] staticlib without allocator links the core (panic=abort)"
+cargo build --release --manifest-path nostd-check/Cargo.toml
+lib=nostd-check/target/release/libballbot_nostd_check.a
+if nm "$lib" 2>/dev/null | grep -E ' U (__rust_alloc|__rust_dealloc|__rdl_alloc)'; then
+    echo "the no_std staticlib references the Rust allocator" >&2
+    exit 1
+fi
+
+step "workspace tests"
+cargo test --all-targets
+cargo test --doc
