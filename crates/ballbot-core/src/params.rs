@@ -12,6 +12,11 @@ use nalgebra::RealField;
 ///
 /// The upper body is everything but the ball (chassis, omniwheels, payload).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct WipParams<T> {
     /// Ball radius `r` (m). For the PIPTB, the wheel radius.
     pub ball_radius_m: T,
@@ -115,6 +120,11 @@ impl<T: RealField + Copy> WipParams<T> {
 
 /// The spin (yaw) model: `I_z theta_z_ddot + D_z theta_z_dot = tau_z`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct SpinParams<T> {
     /// Lumped yaw inertia of upper body and omniwheels `I_z` (kg m^2).
     pub inertia_kg_m2: T,
@@ -150,6 +160,11 @@ impl<T: RealField + Copy> SpinParams<T> {
 
 /// One actuator (motor plus gearbox), its limits stated at the output (the omniwheel).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct ActuatorParams<T> {
     /// Gear ratio, rotor turns per output turn (dimensionless).
     pub gear_ratio: T,
@@ -211,6 +226,11 @@ pub const WHEEL_COUNT: usize = 3;
 
 /// The omniwheel drivetrain geometry (MODEL.md section 1) and its actuators.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct DrivetrainParams<T> {
     /// Azimuth `beta_i` of each omniwheel's contact, counter-clockwise from the body x axis
     /// seen from above (rad). MiaPURE: 0, 120, 240 deg.
@@ -277,6 +297,11 @@ impl<T: RealField + Copy> DrivetrainParams<T> {
 
 /// A complete 3D ballbot: sagittal and frontal planes, spin, drivetrain.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct BallbotParams<T> {
     /// The sagittal plane (subscript y: travel along body x, rotation about y).
     pub sagittal: WipParams<T>,
@@ -332,6 +357,11 @@ impl<T: RealField + Copy> BallbotParams<T> {
 
 /// A planar robot (the PIPTB): one WIP plane driven by one actuator.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct PlanarRobotParams<T> {
     /// The WIP plane.
     pub plane: WipParams<T>,
