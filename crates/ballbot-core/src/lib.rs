@@ -22,12 +22,16 @@
 mod check;
 mod error;
 pub mod integrate;
+pub mod kinematics;
 pub mod params;
 pub mod spin;
 pub mod wip;
 
 pub use error::Error;
 pub use integrate::rk4_step;
+pub use kinematics::{
+    ContactForces, OmniKinematics, TorqueSaturation, WheelContact, WheelGeometry,
+};
 pub use params::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WHEEL_COUNT,
     WipParams,

@@ -1,0 +1,182 @@
+//! Normal and traction forces at the three omniwheel contacts, and friction-cone use.
+//!
+//! # Model and sign conventions
+//!
+//! The upper body rests on the ball only through the three omniwheel contacts. At contact `i`
+//! (body coordinates, see the [parent module](super)) the ball exerts on the **body**
+//!
+//! ```text
+//! f_i = N_i n_i - F_i d_i
+//! ```
+//!
+//! and the body (through wheel `i`) exerts `-f_i = -N_i n_i + F_i d_i` on the **ball**:
+//!
+//! * `N_i` is the normal force (N), positive in compression (the wheel presses on the ball);
+//!   `N_i <= 0` means the contact would have to pull: the wheel lifts off.
+//! * `F_i = tau_i / r_W` is the traction (N), the force of wheel `i` on the ball along `d_i`,
+//!   set by the omniwheel torque `tau_i` (massless wheel).
+//! * The rollers transmit nothing along the axle `u_i`.
+//!
+//! Normal forces pass through the ball centre, so they carry no torque: the wheel torques alone
+//! set the torque between ball and body, and the normal forces follow from the force balance
+//! alone. Given the support force `F_s` (N, body coordinates) the body needs from the ball,
+//!
+//! ```text
+//! sum_i N_i n_i = F_s + sum_i F_i d_i     (a 3x3 system in N, solved with a precomputed inverse)
+//! ```
+//!
+//! `F_s` is the net force of the ball on the upper body: `m_U (a_com - g_vec)` when gravity is
+//! the only other force, i.e. `m_U g z` at rest upright ([`support_force_in_body_n`]). Static
+//! load for MiaPURE with 60 kg: `N_i = m_U g / (3 cos a) = 344 N`.
+//!
+//! Friction-cone utilisation is `|F_i| / (mu N_i)` with `mu` the drivetrain's
+//! `wheel_ball_friction`; above 1 the wheel slips on the ball.
+//!
+//! All maps are linear: a trajectory optimiser can use [`OmniKinematics::normal_force_matrices`]
+//! to write `N = P F_s + Q tau_wheel` and the cone as the two linear inequalities
+//! `-mu N_i <= F_i <= mu N_i`.
+
+use super::OmniKinematics;
+use crate::WHEEL_COUNT;
+use nalgebra::{Matrix3, RealField, UnitQuaternion, Vector3};
+
+/// The forces at one omniwheel contact. See the [module docs](self) for signs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WheelContact<T> {
+    /// Normal force `N_i` (N), positive in compression. The ball pushes the body with
+    /// `N_i n_i`.
+    pub normal_force_n: T,
+    /// Traction `F_i = tau_i / r_W` (N): the force of the wheel on the ball along the rolling
+    /// direction `d_i` (the ball pushes the body with `-F_i d_i`).
+    pub traction_n: T,
+    /// Friction-cone utilisation `|F_i| / (mu N_i)` (dimensionless): the contact holds below 1.
+    /// Positive infinity when the wheel lifts off (`N_i <= 0`).
+    pub friction_utilisation: T,
+    /// Whether the contact would need tension (`N_i <= 0`): the wheel lifts off the ball.
+    pub lifted_off: bool,
+}
+
+impl<T: RealField + Copy> WheelContact<T> {
+    /// Whether the contact holds: in compression and inside its friction cone
+    /// (`utilisation <= 1`).
+    pub fn holds(&self) -> bool {
+        !self.lifted_off && self.friction_utilisation <= T::one()
+    }
+}
+
+/// The forces at all three omniwheel contacts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactForces<T> {
+    /// Per wheel, in wheel order.
+    pub wheels: [WheelContact<T>; WHEEL_COUNT],
+}
+
+impl<T: RealField + Copy> ContactForces<T> {
+    /// The normal forces `[N_1, N_2, N_3]` (N).
+    pub fn normal_forces_n(&self) -> Vector3<T> {
+        Vector3::from_fn(|i, _| self.wheels[i].normal_force_n)
+    }
+
+    /// The largest friction-cone utilisation over the wheels (infinite if one lifts off).
+    pub fn max_friction_utilisation(&self) -> T {
+        self.wheels
+            .iter()
+            .fold(T::zero(), |acc, w| acc.max(w.friction_utilisation))
+    }
+
+    /// Whether any wheel lifts off.
+    pub fn any_lifted_off(&self) -> bool {
+        self.wheels.iter().any(|w| w.lifted_off)
+    }
+
+    /// Whether every contact holds (no lift-off, no slip).
+    pub fn all_hold(&self) -> bool {
+        self.wheels.iter().all(WheelContact::holds)
+    }
+}
+
+/// The support force `F_s` (N, body coordinates) the upper body needs from the ball when
+/// gravity is the only other force on it: `m_U (a_com + g z_world)` rotated into the body.
+///
+/// `body_mass_kg` is `m_U`, `gravity_m_per_s2` is `g` (> 0, acting along `-z_world`),
+/// `world_from_body` the body's attitude, `com_acceleration_world_m_per_s2` the acceleration of
+/// the upper body's centre of mass in world coordinates (including the rotational terms of a
+/// leaning body, e.g. `l theta_ddot`).
+///
+/// ```
+/// use ballbot_core::kinematics::support_force_in_body_n;
+/// use nalgebra::{UnitQuaternion, Vector3};
+/// let f = support_force_in_body_n(74.3, 9.81, &UnitQuaternion::identity(), &Vector3::zeros());
+/// approx::assert_relative_eq!(f, Vector3::new(0.0, 0.0, 74.3 * 9.81));
+/// ```
+pub fn support_force_in_body_n<T: RealField + Copy>(
+    body_mass_kg: T,
+    gravity_m_per_s2: T,
+    world_from_body: &UnitQuaternion<T>,
+    com_acceleration_world_m_per_s2: &Vector3<T>,
+) -> Vector3<T> {
+    let world = (com_acceleration_world_m_per_s2 + Vector3::z() * gravity_m_per_s2) * body_mass_kg;
+    world_from_body.inverse_transform_vector(&world)
+}
+
+impl<T: RealField + Copy> OmniKinematics<T> {
+    /// The normal forces `[N_1, N_2, N_3]` (N, positive in compression) for the support force
+    /// `support_force_n` (N, body coordinates: the net force of the ball on the upper body) and
+    /// the omniwheel torques `wheel_torques_nm` (N m, at the omniwheel): the solution of
+    /// `sum_i N_i n_i = F_s + sum_i (tau_i / r_W) d_i`.
+    pub fn normal_forces_n(
+        &self,
+        support_force_n: &Vector3<T>,
+        wheel_torques_nm: &Vector3<T>,
+    ) -> Vector3<T> {
+        self.normal_from_force * support_force_n + self.normal_from_wheel_torque * wheel_torques_nm
+    }
+
+    /// The matrices `(P, Q)` of `N = P F_s + Q tau_wheel` ([`Self::normal_forces_n`]):
+    /// `P = [n_1 n_2 n_3]^-1`, `Q = P [d_1 d_2 d_3] / r_W`.
+    pub fn normal_force_matrices(&self) -> (&Matrix3<T>, &Matrix3<T>) {
+        (&self.normal_from_force, &self.normal_from_wheel_torque)
+    }
+
+    /// Normal force, traction, friction-cone utilisation and lift-off of each contact for the
+    /// support force `support_force_n` (N, body coordinates) and the omniwheel torques
+    /// `wheel_torques_nm` (N m), with the drivetrain's `wheel_ball_friction`.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// // At rest: 74.3 kg on three wheels at 45 deg carry m_U g / (3 cos a) = 344 N each.
+    /// let contacts = kin.contact_forces(&Vector3::new(0.0, 0.0, 74.3 * 9.81), &Vector3::zeros());
+    /// approx::assert_relative_eq!(contacts.wheels[0].normal_force_n, 343.6, epsilon = 0.1);
+    /// assert!(contacts.all_hold());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn contact_forces(
+        &self,
+        support_force_n: &Vector3<T>,
+        wheel_torques_nm: &Vector3<T>,
+    ) -> ContactForces<T> {
+        let normal = self.normal_forces_n(support_force_n, wheel_torques_nm);
+        let mu = self.drivetrain.wheel_ball_friction;
+        let wheel_radius_m = self.drivetrain.wheel_radius_m;
+        let infinity: T = nalgebra::convert(f64::INFINITY);
+        let wheels = core::array::from_fn(|i| {
+            let normal_force_n = normal[i];
+            let traction_n = wheel_torques_nm[i] / wheel_radius_m;
+            let lifted_off = normal_force_n <= T::zero();
+            let friction_utilisation = if lifted_off {
+                infinity
+            } else {
+                traction_n.abs() / (mu * normal_force_n)
+            };
+            WheelContact {
+                normal_force_n,
+                traction_n,
+                friction_utilisation,
+                lifted_off,
+            }
+        });
+        ContactForces { wheels }
+    }
+}

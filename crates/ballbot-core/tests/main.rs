@@ -1,0 +1,3 @@
+//! Integration tests of ballbot-core, one module per area.
+
+mod kinematics;
