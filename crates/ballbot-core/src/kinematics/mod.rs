@@ -45,6 +45,9 @@
 //! `psi_dot = J omega_rel`, `omega_rel = J^-1 psi_dot`, `tau_wheel = J^-T S tau`,
 //! `tau = S J^T tau_wheel`. All four matrices are computed once, at construction.
 //!
+//! **Forces.** [`contact`] gives the normal force, traction and friction-cone use at each
+//! contact for a given support force and wheel torques ([`OmniKinematics::contact_forces`]).
+//!
 //! For the symmetric layout (0, 120, 240 deg) they reduce to MODEL.md's closed forms, e.g.
 //! `tau_i = (r_W / (3 r_S)) [(2 / cos a)(-cos b_i tau_x - sin b_i tau_y) - tau_z / sin a]`.
 //!
@@ -62,7 +65,7 @@
 //! # Ok::<(), ballbot_core::Error>(())
 //! ```
 
-mod contact;
+pub mod contact;
 
 pub use contact::{ContactForces, WheelContact, support_force_in_body_n};
 
