@@ -11,6 +11,9 @@ cargo fmt --all --check
 step "clippy (all targets, warnings denied)"
 cargo clippy --all-targets -- -D warnings
 
+step "clippy (Python bindings)"
+cargo clippy -p ballbot-py --all-targets -- -D warnings
+
 step "docs (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 
@@ -31,3 +34,6 @@ fi
 step "workspace tests"
 cargo test --all-targets
 cargo test --doc
+
+step "Python package: pip install into a fresh venv, mypy.stubtest, mypy --strict, pytest"
+bash scripts/test-python.sh

@@ -1,1 +1,23 @@
-//! Python bindings of ballbot (the `ballbot` package's private native module).
+//! Python bindings of ballbot: the private native module `ballbot._core`.
+//!
+//! The public, typed Python API lives in `python/ballbot/` (re-exports plus a hand-written
+//! `.pyi` checked by `mypy.stubtest`). Conventions: keyword arguments with the Rust field
+//! names (units in the names); numpy arrays in, with shape checks that raise
+//! `ballbot.ShapeError` (also a `ValueError`) naming the expected shape; owned arrays out;
+//! long calls release the GIL.
+
+mod arrays;
+mod errors;
+mod models;
+mod params;
+
+use pyo3::prelude::*;
+
+/// The native module. Everything here is re-exported by the `ballbot` package.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    params::register(m)?;
+    models::register(m)?;
+    Ok(())
+}

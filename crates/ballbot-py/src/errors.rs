@@ -1,0 +1,49 @@
+//! Raising the exceptions of `ballbot._errors` from Rust.
+
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::PyType;
+
+/// The Python exception classes, by name in `ballbot._errors`.
+#[derive(Clone, Copy, Debug)]
+pub enum Kind {
+    /// `ballbot.ParameterError` (a `ValueError`).
+    Parameter,
+    /// `ballbot.ShapeError` (a `ValueError`).
+    Shape,
+    /// `ballbot.FileError` (an `OSError`).
+    File,
+    /// `ballbot.BallbotError`.
+    Other,
+}
+
+impl Kind {
+    fn class_name(self) -> &'static str {
+        match self {
+            Kind::Parameter => "ParameterError",
+            Kind::Shape => "ShapeError",
+            Kind::File => "FileError",
+            Kind::Other => "BallbotError",
+        }
+    }
+}
+
+static ERRORS_MODULE: PyOnceLock<Py<PyModule>> = PyOnceLock::new();
+
+/// Builds a `PyErr` of the given kind with `message`.
+pub fn error(py: Python<'_>, kind: Kind, message: impl Into<String>) -> PyErr {
+    let message = message.into();
+    let class = ERRORS_MODULE
+        .get_or_try_init(py, || py.import("ballbot._errors").map(|m| m.unbind()))
+        .and_then(|module| module.bind(py).getattr(kind.class_name()))
+        .and_then(|class| class.cast_into::<PyType>().map_err(PyErr::from));
+    match class {
+        Ok(class) => PyErr::from_type(class, message),
+        Err(e) => e,
+    }
+}
+
+/// Maps a core error (invalid parameter) to `ballbot.ParameterError`.
+pub fn core_error(py: Python<'_>, e: ballbot_core::Error) -> PyErr {
+    error(py, Kind::Parameter, e.to_string())
+}
