@@ -207,3 +207,172 @@ proptest! {
         }
     }
 }
+
+// ---- planar WIP motion at a heading ---------------------------------------------------------
+
+#[cfg(test)] // clippy: test helpers may unwrap
+mod heading {
+    use ballbot_core::kinematics::{
+        planar_support_force_n, planar_torque_at_heading, relative_rate_at_heading,
+    };
+    use ballbot_core::wip::{BALL_ANGLE, TILT};
+    use ballbot_core::{BallbotParams, OmniKinematics, Wip, WipState};
+    use nalgebra::{Vector3, Vector4};
+    use proptest::prelude::*;
+
+    fn miapure() -> (OmniKinematics<f64>, Wip<f64>) {
+        let params = BallbotParams::<f64>::miapure_60kg();
+        (
+            OmniKinematics::from_ballbot(&params).unwrap(),
+            Wip::new(params.sagittal).unwrap(),
+        )
+    }
+
+    /// The torque that holds the lean constant (`theta_ddot = 0`) at tilt `tilt_rad`: the WIP
+    /// accelerates steadily. `theta_ddot` is affine in the torque.
+    fn steady_lean(wip: &Wip<f64>, tilt_rad: f64) -> (WipState<f64>, f64) {
+        let s = Vector4::new(tilt_rad, 0.0, 0.0, 0.0);
+        let at0 = wip.accelerations(&s, 0.0)[0];
+        let slope = wip.accelerations(&s, 1.0)[0] - at0;
+        (s, -at0 / slope)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// The motors' power at the wheels equals the WIP's input power for a motion at any
+        /// heading.
+        #[test]
+        fn heading_power_matches_the_wip(
+            heading in -7.0..7.0f64, tilt_rate in -3.0..3.0f64, ball_rate in -20.0..20.0f64,
+            torque in -80.0..80.0f64,
+        ) {
+            let (kin, wip) = miapure();
+            let s = Vector4::new(0.0, 0.0, tilt_rate, ball_rate);
+            let power = kin.wheel_torques_nm(&planar_torque_at_heading(heading, torque))
+                .dot(&kin.wheel_speeds_rad_per_s(&relative_rate_at_heading(heading, ball_rate, tilt_rate)));
+            let expected = wip.input_power_w(&s, torque);
+            prop_assert!((power - expected).abs() <= 1e-9 * expected.abs().max(1.0));
+        }
+
+        /// The contact forces of a WIP motion turn the upper body exactly as the WIP's own
+        /// body equation says: their moment about the COM is `I_U theta_ddot` about the plane
+        /// axis, nothing about the others (also with reflected wheel inertia and drivetrain
+        /// friction).
+        #[test]
+        fn wip_contact_forces_turn_the_body_as_the_wip(
+            heading in -7.0..7.0f64, tilt in -0.4..0.4f64, tilt_rate in -3.0..3.0f64,
+            ball_rate in -20.0..20.0f64, torque in -80.0..80.0f64,
+            wheel_inertia in 0.0..0.3f64, drive_damping in 0.0..2.0f64,
+        ) {
+            let mut params = BallbotParams::<f64>::miapure_60kg();
+            params.sagittal.wheel_inertia_kg_m2 = wheel_inertia;
+            params.sagittal.drive_damping_nm_s_per_rad = drive_damping;
+            let kin = OmniKinematics::from_ballbot(&params).unwrap();
+            let wip = Wip::new(params.sagittal).unwrap();
+            let s = Vector4::new(tilt, 0.0, tilt_rate, ball_rate);
+            let contacts = kin.wip_contact_forces(&wip, heading, &s, torque);
+            let com = Vector3::z() * params.sagittal.com_height_m;
+            let mut moment = Vector3::zeros();
+            for (w, c) in kin.wheels().iter().zip(contacts.wheels.iter()) {
+                let f = w.contact_normal * c.normal_force_n - w.rolling_direction * c.traction_n;
+                moment += (w.contact_point_m - com).cross(&f);
+            }
+            let tilt_acc = wip.accelerations(&s, torque)[0];
+            let axis = Vector3::new(-heading.sin(), heading.cos(), 0.0);
+            let expected = axis * (params.sagittal.body_inertia_kg_m2 * tilt_acc);
+            prop_assert!((moment - expected).amax() <= 1e-9 * (1.0 + expected.norm() + torque.abs()),
+                "{moment} vs {expected}");
+        }
+    }
+
+    /// The support force is Newton's law for the COM: compare with the COM acceleration
+    /// differentiated numerically along an RK4 trajectory of the WIP.
+    #[test]
+    fn support_force_matches_com_acceleration_along_a_trajectory() {
+        let (_, wip) = miapure();
+        let p = *wip.params();
+        let torque = 25.0;
+        let dt = 1e-4;
+        let mut s = Vector4::new(0.15, 0.0, -0.8, 4.0);
+        let com = |s: &WipState<f64>| {
+            Vector3::new(
+                p.ball_radius_m * s[BALL_ANGLE] + p.com_height_m * s[TILT].sin(),
+                0.0,
+                p.com_height_m * s[TILT].cos(),
+            )
+        };
+        for _ in 0..2000 {
+            s = ballbot_core::rk4_step(|x| wip.derivative(x, torque), &s, dt);
+        }
+        let prev = ballbot_core::rk4_step(|x| wip.derivative(x, torque), &s, -dt);
+        let next = ballbot_core::rk4_step(|x| wip.derivative(x, torque), &s, dt);
+        let acc_world = (com(&next) - com(&s) * 2.0 + com(&prev)) / (dt * dt);
+        let force_world = (acc_world + Vector3::z() * p.gravity_m_per_s2) * p.body_mass_kg;
+        // Into the body frame, leaning by theta about +y.
+        let (st, ct) = s[TILT].sin_cos();
+        let force_body = Vector3::new(
+            force_world[0] * ct - force_world[2] * st,
+            0.0,
+            force_world[0] * st + force_world[2] * ct,
+        );
+        let ours = planar_support_force_n(&p, 0.0, &s, &wip.accelerations(&s, torque));
+        assert!(
+            (ours - force_body).amax() < 1e-3 * force_body.norm(),
+            "{ours} vs {force_body}"
+        );
+    }
+
+    /// MODEL.md section 5 / the paper's section V: accelerating towards OW1 (heading 0)
+    /// unloads OW2 and OW3, the two wheels that must drive, so they reach their friction cone
+    /// first; accelerating away from OW1 (heading 180 deg) loads them.
+    #[test]
+    fn accelerating_towards_wheel_1_unloads_the_driving_wheels() {
+        let (kin, wip) = miapure();
+        let (s, torque) = steady_lean(&wip, 5f64.to_radians());
+        assert!(torque > 0.0 && wip.accelerations(&s, torque)[1] > 0.0);
+        let static_n = 74.3 * 9.81 / (3.0 * 45f64.to_radians().cos());
+        let towards = kin.wip_contact_forces(&wip, 0.0, &s, torque);
+        let away = kin.wip_contact_forces(&wip, core::f64::consts::PI, &s, torque);
+        for i in [1, 2] {
+            assert!(towards.wheels[i].normal_force_n < static_n - 10.0);
+            assert!(away.wheels[i].normal_force_n > static_n + 10.0);
+            assert!(towards.wheels[i].friction_utilisation > away.wheels[i].friction_utilisation);
+        }
+        // Wheel 1 only carries load (no traction: it is idle in sagittal travel).
+        assert!(towards.wheels[0].traction_n.abs() < 1e-9);
+        assert!(towards.max_friction_utilisation() > away.max_friction_utilisation());
+    }
+
+    /// The steady lean (and ball acceleration) at which the first contact fails (slip or
+    /// lift-off), scanning in 0.05 deg steps up to 30 deg.
+    fn first_contact_failure(
+        kin: &OmniKinematics<f64>,
+        wip: &Wip<f64>,
+        heading_deg: f64,
+    ) -> Option<(f64, f64)> {
+        (0..600).find_map(|k| {
+            let tilt_deg = f64::from(k) * 0.05;
+            let (s, torque) = steady_lean(wip, tilt_deg.to_radians());
+            let contacts = kin.wip_contact_forces(wip, heading_deg.to_radians(), &s, torque);
+            let accel = wip.accelerations(&s, torque)[1] * wip.params().ball_radius_m;
+            (!contacts.all_hold()).then_some((tilt_deg, accel))
+        })
+    }
+
+    /// The paper's trend (Sec. V: slowest towards OW1, fastest away from it, 90 deg in
+    /// between), seen through the friction cones: the steady acceleration at which the first
+    /// omniwheel contact fails orders the headings 0 < 90 < 180 deg. MiaPURE 60 kg, mu = 0.6:
+    /// about 2.25 m/s^2 (16.2 deg lean) at 0 deg, 2.48 m/s^2 at 90 deg, none below 30 deg of
+    /// lean at 180 deg.
+    #[test]
+    fn contact_failure_orders_headings_as_the_paper() {
+        let (kin, wip) = miapure();
+        let at_0 = first_contact_failure(&kin, &wip, 0.0).unwrap();
+        let at_90 = first_contact_failure(&kin, &wip, 90.0).unwrap();
+        let at_180 = first_contact_failure(&kin, &wip, 180.0);
+        assert!((at_0.1 - 2.25).abs() < 0.05, "{at_0:?}");
+        assert!(at_90.1 > at_0.1 + 0.1, "{at_90:?} vs {at_0:?}");
+        assert!(at_180.is_none_or(|a| a.1 > at_90.1 + 0.1), "{at_180:?}");
+    }
+}

@@ -36,9 +36,10 @@
 //! to write `N = P F_s + Q tau_wheel` and the cone as the two linear inequalities
 //! `-mu N_i <= F_i <= mu N_i`.
 
-use super::OmniKinematics;
-use crate::WHEEL_COUNT;
-use nalgebra::{Matrix3, RealField, UnitQuaternion, Vector3};
+use super::{OmniKinematics, planar_torque_at_heading};
+use crate::wip::{BALL_RATE, TILT, TILT_RATE};
+use crate::{WHEEL_COUNT, Wip, WipParams, WipState};
+use nalgebra::{Matrix3, RealField, UnitQuaternion, Vector2, Vector3};
 
 /// The forces at one omniwheel contact. See the [module docs](self) for signs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,6 +120,42 @@ pub fn support_force_in_body_n<T: RealField + Copy>(
     world_from_body.inverse_transform_vector(&world)
 }
 
+/// The support force `F_s` (N, body coordinates) of a planar WIP motion at heading
+/// `heading_rad` (see [`plane_axis_at_heading`](super::plane_axis_at_heading)): the net force
+/// of the ball on the upper body, from Newton's law for the body's centre of mass.
+///
+/// `s = [theta, phi, theta_dot, phi_dot]` is the WIP state in that plane and
+/// `accelerations_rad_per_s2 = [theta_ddot, phi_ddot]` (e.g. [`Wip::accelerations`]). With
+/// `m = m_U`, `l` the COM height, `r` the ball radius and `e = [cos h, sin h, 0]` the direction
+/// of travel, in body coordinates (x_b along the leaning body's `e`, z_b along its axis):
+///
+/// ```text
+/// F_s . e_b = m (r phi_ddot cos(theta) + l theta_ddot - g sin(theta))
+/// F_s . z   = m (r phi_ddot sin(theta) - l theta_dot^2 + g cos(theta))
+/// ```
+///
+/// (the COM moves by `r phi + l sin(theta)` along `e` and `l cos(theta)` up). The body's
+/// rotational equation of the WIP is `I_U theta_ddot = -tau_c - l F_s . e_b`, `tau_c` the
+/// torque transmitted through the contacts.
+pub fn planar_support_force_n<T: RealField + Copy>(
+    params: &WipParams<T>,
+    heading_rad: T,
+    s: &WipState<T>,
+    accelerations_rad_per_s2: &Vector2<T>,
+) -> Vector3<T> {
+    let m = params.body_mass_kg;
+    let l = params.com_height_m;
+    let r = params.ball_radius_m;
+    let g = params.gravity_m_per_s2;
+    let (sin_t, cos_t) = s[TILT].sin_cos();
+    let tilt_rate = s[TILT_RATE];
+    let (tilt_acc, ball_acc) = (accelerations_rad_per_s2[0], accelerations_rad_per_s2[1]);
+    let along = m * (r * ball_acc * cos_t + l * tilt_acc - g * sin_t);
+    let up = m * (r * ball_acc * sin_t - l * tilt_rate * tilt_rate + g * cos_t);
+    let (sin_h, cos_h) = heading_rad.sin_cos();
+    Vector3::new(along * cos_h, along * sin_h, up)
+}
+
 impl<T: RealField + Copy> OmniKinematics<T> {
     /// The normal forces `[N_1, N_2, N_3]` (N, positive in compression) for the support force
     /// `support_force_n` (N, body coordinates: the net force of the ball on the upper body) and
@@ -178,5 +215,45 @@ impl<T: RealField + Copy> OmniKinematics<T> {
             }
         });
         ContactForces { wheels }
+    }
+
+    /// The contact forces of a planar WIP motion at heading `heading_rad` (body frame, 0 =
+    /// towards omniwheel 1): the WIP `wip` in state `s` with torque `torque_nm` (the torque
+    /// the body applies to the ball in that plane, the WIP input).
+    ///
+    /// The accelerations come from [`Wip::accelerations`]; the support force from
+    /// [`planar_support_force_n`]. The wheels transmit the contact torque
+    /// `tau_c = tau - I_W (phi_ddot - theta_ddot) - b_m (phi_dot - theta_dot)` (reflected wheel
+    /// inertia and drivetrain friction take their share before the contact), mapped to the
+    /// omniwheels with [`Self::wheel_torques_nm`] of [`planar_torque_at_heading`]. The
+    /// tractions of the result are therefore at the contact; the motor torques are `tau`'s.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+    /// use nalgebra::Vector4;
+    /// let params = BallbotParams::<f64>::miapure_60kg();
+    /// let kin = OmniKinematics::from_ballbot(&params)?;
+    /// let wip = Wip::new(params.sagittal)?;
+    /// // Upright at rest, no torque: the static load, 344 N per wheel.
+    /// let c = kin.wip_contact_forces(&wip, 0.0, &Vector4::zeros(), 0.0);
+    /// approx::assert_relative_eq!(c.wheels[2].normal_force_n, 343.6, epsilon = 0.1);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn wip_contact_forces(
+        &self,
+        wip: &Wip<T>,
+        heading_rad: T,
+        s: &WipState<T>,
+        torque_nm: T,
+    ) -> ContactForces<T> {
+        let p = wip.params();
+        let acc = wip.accelerations(s, torque_nm);
+        let contact_torque_nm = torque_nm
+            - p.wheel_inertia_kg_m2 * (acc[1] - acc[0])
+            - p.drive_damping_nm_s_per_rad * (s[BALL_RATE] - s[TILT_RATE]);
+        let wheel =
+            self.wheel_torques_nm(&planar_torque_at_heading(heading_rad, contact_torque_nm));
+        let support = planar_support_force_n(p, heading_rad, s, &acc);
+        self.contact_forces(&support, &wheel)
     }
 }

@@ -67,7 +67,7 @@
 
 pub mod contact;
 
-pub use contact::{ContactForces, WheelContact, support_force_in_body_n};
+pub use contact::{ContactForces, WheelContact, planar_support_force_n, support_force_in_body_n};
 
 use crate::check::positive;
 use crate::{BallbotParams, DrivetrainParams, Error, WHEEL_COUNT};
@@ -151,6 +151,46 @@ pub fn relative_rate_from_planar<T: RealField + Copy>(
         ball_rate_rad_per_s[1] - tilt_rate_rad_per_s[1],
         -yaw_rate_rad_per_s,
     )
+}
+
+/// The inverse of [`relative_rate_from_planar`] for the ball: `[phi_dot_x, phi_dot_y]`
+/// (rad/s) from the relative rate `omega_rel` and the tilt rates
+/// `tilt_rate_rad_per_s = [theta_dot_x, theta_dot_y]`. The yaw rate is `-omega_rel[2]` (the
+/// ball assumed not to spin about the vertical).
+pub fn ball_rate_from_relative_rate<T: RealField + Copy>(
+    relative_rate_rad_per_s: &Vector3<T>,
+    tilt_rate_rad_per_s: [T; 2],
+) -> [T; 2] {
+    [
+        relative_rate_rad_per_s[0] + tilt_rate_rad_per_s[0],
+        relative_rate_rad_per_s[1] + tilt_rate_rad_per_s[1],
+    ]
+}
+
+/// The horizontal rotation axis `a = z x e = [-sin h, cos h, 0]` of a vertical plane of travel
+/// at heading `h` (`heading_rad`, body frame, 0 = towards omniwheel 1, counter-clockwise from
+/// above). A planar WIP travelling at heading `h` tilts and rolls about `a`: positive rates roll
+/// the ball and lean the body towards `e = [cos h, sin h, 0]`. Heading 0 is the sagittal plane
+/// (`a = y`), heading 90 deg the frontal plane with `a = -x`.
+pub fn plane_axis_at_heading<T: RealField + Copy>(heading_rad: T) -> Vector3<T> {
+    let (sin_h, cos_h) = heading_rad.sin_cos();
+    Vector3::new(-sin_h, cos_h, T::zero())
+}
+
+/// `omega_rel` (rad/s, body coordinates) of a planar WIP motion at heading `heading_rad`:
+/// `(phi_dot - theta_dot) a` ([`plane_axis_at_heading`]), no yaw.
+pub fn relative_rate_at_heading<T: RealField + Copy>(
+    heading_rad: T,
+    ball_rate_rad_per_s: T,
+    tilt_rate_rad_per_s: T,
+) -> Vector3<T> {
+    plane_axis_at_heading(heading_rad) * (ball_rate_rad_per_s - tilt_rate_rad_per_s)
+}
+
+/// The planar torque vector `[tau_x, tau_y, 0]` (N m) of a planar WIP torque `torque_nm` (the
+/// torque the body applies to the ball in that plane) at heading `heading_rad`: `torque_nm a`.
+pub fn planar_torque_at_heading<T: RealField + Copy>(heading_rad: T, torque_nm: T) -> Vector3<T> {
+    plane_axis_at_heading(heading_rad) * torque_nm
 }
 
 impl<T: RealField + Copy> OmniKinematics<T> {

@@ -423,3 +423,35 @@ fn rejects_bad_radii_naming_the_field() {
         "wheel_radius_m"
     );
 }
+
+#[test]
+fn headings_map_to_the_planes() {
+    // Heading 0: the sagittal plane (rotation about y); 90 deg: frontal, travel +y = -x rotation.
+    assert_relative_eq!(
+        relative_rate_at_heading(0.0, 5.0, 1.0),
+        relative_rate_from_planar([0.0, 5.0], [0.0, 1.0], 0.0)
+    );
+    assert_relative_eq!(
+        relative_rate_at_heading(core::f64::consts::FRAC_PI_2, 5.0, 1.0),
+        relative_rate_from_planar([-5.0, 0.0], [-1.0, 0.0], 0.0),
+        epsilon = 1e-15
+    );
+    assert_relative_eq!(
+        planar_torque_at_heading(core::f64::consts::PI, 3.0),
+        Vector3::new(0.0, -3.0, 0.0),
+        epsilon = 1e-15
+    );
+    // Travel at heading 180 deg turns the wheels backwards w.r.t. heading 0.
+    let kin = miapure::<f64>();
+    let ahead = kin.wheel_speeds_rad_per_s(&relative_rate_at_heading(0.0, 10.0, 0.0));
+    let back =
+        kin.wheel_speeds_rad_per_s(&relative_rate_at_heading(core::f64::consts::PI, 10.0, 0.0));
+    assert_relative_eq!(ahead, -back, epsilon = 1e-12);
+}
+
+#[test]
+fn ball_rate_inverts_relative_rate_from_planar() {
+    let rel = relative_rate_from_planar([3.0, -2.0], [0.5, 0.25], 1.5);
+    assert_eq!(ball_rate_from_relative_rate(&rel, [0.5, 0.25]), [3.0, -2.0]);
+    assert_eq!(rel[2], -1.5);
+}
