@@ -35,5 +35,8 @@ step "workspace tests"
 cargo test --all-targets
 cargo test --doc
 
+step "instruction-count budgets (valgrind callgrind)"
+bash scripts/icount.sh
+
 step "Python package: pip install into a fresh venv, mypy.stubtest, mypy --strict, pytest"
 bash scripts/test-python.sh
