@@ -30,7 +30,7 @@ pub mod wip;
 pub use error::Error;
 pub use integrate::rk4_step;
 pub use kinematics::{
-    ContactForces, OmniKinematics, TorqueSaturation, WheelContact, WheelGeometry,
+    ContactForces, OmniKinematics, TorqueInterval, TorqueSaturation, WheelContact, WheelGeometry,
 };
 pub use params::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WHEEL_COUNT,

@@ -375,4 +375,106 @@ mod heading {
         assert!(at_90.1 > at_0.1 + 0.1, "{at_90:?} vs {at_0:?}");
         assert!(at_180.is_none_or(|a| a.1 > at_90.1 + 0.1), "{at_180:?}");
     }
+
+    /// Whether every wheel torque is within the actuator's speed-dependent bounds.
+    fn within_actuator_limits(
+        kin: &OmniKinematics<f64>,
+        heading: f64,
+        s: &WipState<f64>,
+        torque: f64,
+    ) -> bool {
+        let wheel = kin.wheel_torques_nm(&planar_torque_at_heading(heading, torque));
+        let speeds = kin.wheel_speeds_rad_per_s(&relative_rate_at_heading(heading, s[3], s[2]));
+        wheel.iter().zip(speeds.iter()).all(|(&t, &w)| {
+            let (lo, hi) = kin.drivetrain().actuator.torque_bounds_nm(w);
+            lo <= t && t <= hi
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// Inside the contact interval every contact holds; just outside a finite end one
+        /// fails.
+        #[test]
+        fn contact_interval_is_exact(
+            heading in -7.0..7.0f64, tilt in -0.4..0.4f64, tilt_rate in -3.0..3.0f64,
+            ball_rate in -20.0..20.0f64,
+        ) {
+            let (kin, wip) = miapure();
+            let s = Vector4::new(tilt, 0.0, tilt_rate, ball_rate);
+            let Some(range) = kin.wip_contact_torque_interval_nm(&wip, heading, &s) else {
+                // Then no torque in a wide range works either.
+                for k in -50..=50 {
+                    let c = kin.wip_contact_forces(&wip, heading, &s, f64::from(k) * 10.0);
+                    prop_assert!(!c.all_hold());
+                }
+                return Ok(());
+            };
+            prop_assert!(range.min_nm <= range.max_nm);
+            let mid = range.clamp(0.5 * (range.min_nm.max(-1e4) + range.max_nm.min(1e4)));
+            prop_assert!(kin.wip_contact_forces(&wip, heading, &s, mid).all_hold());
+            for (end, outward) in [(range.max_nm, 1.0), (range.min_nm, -1.0)] {
+                if end.is_finite() {
+                    let eps = 1e-6 * (1.0 + end.abs());
+                    let inside = kin.wip_contact_forces(&wip, heading, &s, end - outward * eps);
+                    let outside = kin.wip_contact_forces(&wip, heading, &s, end + outward * eps);
+                    prop_assert!(inside.all_hold(), "inside {end}: {inside:?}");
+                    prop_assert!(!outside.all_hold(), "outside {end}: {outside:?}");
+                }
+            }
+        }
+
+        /// Inside the actuator interval every wheel is within its bounds; just outside one is
+        /// not.
+        #[test]
+        fn actuator_interval_is_exact(
+            heading in -7.0..7.0f64, tilt_rate in -3.0..3.0f64, ball_rate in -60.0..60.0f64,
+        ) {
+            let (kin, _) = miapure();
+            let s = Vector4::new(0.0, 0.0, tilt_rate, ball_rate);
+            let range = kin.wip_actuator_torque_interval_nm(heading, &s);
+            prop_assert!(range.contains(0.0));
+            for (end, outward) in [(range.max_nm, 1.0), (range.min_nm, -1.0)] {
+                prop_assert!(end.is_finite());
+                let eps = 1e-6 * (1.0 + end.abs());
+                prop_assert!(within_actuator_limits(&kin, heading, &s, end - outward * eps));
+                if end != 0.0 {
+                    prop_assert!(!within_actuator_limits(&kin, heading, &s, end + outward * eps));
+                }
+            }
+        }
+    }
+
+    /// At rest upright, the contacts allow less torque towards OW1 than away from it, and
+    /// heading 180 deg mirrors heading 0. MiaPURE 60 kg, mu = 0.6: [-20.9, 17.1] N m at
+    /// heading 0, against an actuator range of +-96.9 N m: friction, not the motors, limits
+    /// the torque.
+    #[test]
+    fn contact_interval_at_rest_is_asymmetric_towards_wheel_1() {
+        let (kin, wip) = miapure();
+        let upright = Vector4::zeros();
+        let towards = kin
+            .wip_contact_torque_interval_nm(&wip, 0.0, &upright)
+            .unwrap();
+        let away = kin
+            .wip_contact_torque_interval_nm(&wip, core::f64::consts::PI, &upright)
+            .unwrap();
+        assert!(
+            towards.max_nm > 0.0 && towards.max_nm < -towards.min_nm,
+            "{towards:?}"
+        );
+        assert!(
+            (towards.max_nm + away.min_nm).abs() < 1e-9,
+            "{towards:?} {away:?}"
+        );
+        assert!(
+            (towards.min_nm + away.max_nm).abs() < 1e-9,
+            "{towards:?} {away:?}"
+        );
+        let actuator = kin.wip_actuator_torque_interval_nm(0.0, &upright);
+        assert!((actuator.max_nm - 96.9).abs() < 0.05, "{actuator:?}");
+        assert!((towards.min_nm + 20.92).abs() < 0.01, "{towards:?}");
+        assert!((towards.max_nm - 17.10).abs() < 0.01, "{towards:?}");
+    }
 }

@@ -48,6 +48,9 @@
 //! **Forces.** [`contact`] gives the normal force, traction and friction-cone use at each
 //! contact for a given support force and wheel torques ([`OmniKinematics::contact_forces`]).
 //!
+//! [`limits`] gives the exact range of WIP torques that the actuators and the contacts allow
+//! for a planar motion at any heading.
+//!
 //! For the symmetric layout (0, 120, 240 deg) they reduce to MODEL.md's closed forms, e.g.
 //! `tau_i = (r_W / (3 r_S)) [(2 / cos a)(-cos b_i tau_x - sin b_i tau_y) - tau_z / sin a]`.
 //!
@@ -66,8 +69,10 @@
 //! ```
 
 pub mod contact;
+pub mod limits;
 
 pub use contact::{ContactForces, WheelContact, planar_support_force_n, support_force_in_body_n};
+pub use limits::TorqueInterval;
 
 use crate::check::positive;
 use crate::{BallbotParams, DrivetrainParams, Error, WHEEL_COUNT};
@@ -107,6 +112,15 @@ impl<T: RealField + Copy> TorqueSaturation<T> {
     /// Whether the request had to be scaled down (`scale < 1`).
     pub fn is_saturated(&self) -> bool {
         self.scale < T::one()
+    }
+
+    /// No torque at all (`scale = 0`): the answer to a non-finite input.
+    fn zero() -> Self {
+        Self {
+            planar_torque_nm: Vector3::zeros(),
+            wheel_torques_nm: Vector3::zeros(),
+            scale: T::zero(),
+        }
     }
 }
 
@@ -388,12 +402,16 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// As [`Self::saturate_planar_torque`], with each wheel's speed-dependent limits
     /// [`ActuatorParams::torque_bounds_nm`](crate::ActuatorParams::torque_bounds_nm) at its
     /// current speed `wheel_speeds_rad_per_s` (rad/s, at the omniwheel): motoring torque falls
-    /// to zero at the no-load speed, braking torque keeps the peak.
+    /// to zero at the no-load speed, braking torque keeps the peak. A non-finite wheel speed
+    /// (a failed measurement) gives zero torque (`scale = 0`).
     pub fn saturate_planar_torque_at_speed(
         &self,
         planar_torque_nm: &Vector3<T>,
         wheel_speeds_rad_per_s: &Vector3<T>,
     ) -> TorqueSaturation<T> {
+        if !wheel_speeds_rad_per_s.iter().all(|x| x.is_finite()) {
+            return TorqueSaturation::zero();
+        }
         let actuator = self.drivetrain.actuator;
         self.saturate_with(planar_torque_nm, |i| {
             actuator.torque_bounds_nm(wheel_speeds_rad_per_s[i])
@@ -407,11 +425,7 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     ) -> TorqueSaturation<T> {
         let wheel = self.wheel_torques_nm(planar_torque_nm);
         if !wheel.iter().all(|x| x.is_finite()) {
-            return TorqueSaturation {
-                planar_torque_nm: Vector3::zeros(),
-                wheel_torques_nm: Vector3::zeros(),
-                scale: T::zero(),
-            };
+            return TorqueSaturation::zero();
         }
         let mut scale = T::one();
         for (i, &torque) in wheel.iter().enumerate() {

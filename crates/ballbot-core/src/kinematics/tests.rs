@@ -250,6 +250,10 @@ fn saturation_at_speed_follows_the_torque_speed_line() {
     // Beyond the no-load speed no motoring torque is left.
     let out = kin.saturate_planar_torque_at_speed(&planar, &Vector3::repeat(-70.0));
     assert_eq!(out.scale, 0.0);
+    // A failed speed measurement gives no torque.
+    let out = kin.saturate_planar_torque_at_speed(&planar, &Vector3::new(0.0, f64::NAN, 0.0));
+    assert_eq!(out.scale, 0.0);
+    assert_eq!(out.wheel_torques_nm, Vector3::zeros());
 }
 
 fn static_normal_force_is_344_n<T: RealField + Copy>(tol: f64) {
