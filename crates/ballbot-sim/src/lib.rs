@@ -3,3 +3,5 @@
 //! Simulation and experiments around [`ballbot_core`]: the multi-rate planar simulator, the
 //! rapier3d ballbot world with friction-cone omniwheel contacts, trajectory optimisation with
 //! clarabel, MCAP logging, and the `ballbot` command line.
+
+pub mod log;

@@ -1,0 +1,6 @@
+//! Integration tests of ballbot-sim, one module per area.
+
+// Tests may unwrap and panic: a failure is a test failure.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod log;
