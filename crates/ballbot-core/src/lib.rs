@@ -20,6 +20,7 @@
 #![forbid(unsafe_code)]
 
 mod check;
+pub mod command;
 mod error;
 pub mod integrate;
 pub mod kinematics;

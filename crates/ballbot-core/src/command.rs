@@ -1,0 +1,1143 @@
+//! Command shaping: what the robot is asked to do, made smooth and feasible.
+//!
+//! Three kinds of command reach a ballbot (see [`Command`]):
+//! - **velocity** ([`VelocityCommand`]): remote control, `vx`, `vy` (m/s, body frame: x towards
+//!   omniwheel 1, y to its left, z up) and a yaw rate (rad/s, counter-clockwise from above);
+//! - **lean-to-drive** ([`LeanInput`], [`LeanToDrive`]): a rider's torso lean becomes a velocity
+//!   command through a deadband, a gain and a speed limit;
+//! - **trajectory** ([`Trajectory`]): a sampled planar command state `s_c(t) = [theta, phi,
+//!   theta_dot, phi_dot]` (e.g. the optimal braking trajectory) borrowed from a slice, sampled
+//!   every `sample_period_secs`, linearly interpolated, and driven along a heading.
+//!
+//! Every kind passes through the same per-axis [`JerkLimiter`]: speed, acceleration and jerk are
+//! bounded, so a step in the command (a dropped remote, a rider jerking forward) becomes a smooth
+//! ramp. The [`CommandShaper`] turns the shaped motion into the three planar command states the
+//! plane controllers consume ([`PlanarCommands`]):
+//!
+//! ```text
+//! sagittal (travel along x):  s_cy = [theta_ff(a_x),  phi_y,  theta_dot_ff(j_x),   v_x / r]
+//! frontal  (travel along -y): s_cx = [-theta_ff(a_y), phi_x, -theta_dot_ff(j_y), -v_y / r]
+//! spin:                       s_cz = [heading, yaw_rate]
+//! ```
+//!
+//! (MODEL.md section 1: ball position `x = r phi_y`, `y = -r phi_x`.) The lean feedforward
+//! `theta_ff` is the constant tilt at which the nominal WIP accelerates its ball at `a` without
+//! tipping: with `theta_dot = theta_ddot = 0` the model gives `c phi_ddot = m_U g l theta - tau`
+//! and `b phi_ddot = tau`, so, to first order, `theta_ff = (b + c0) a / (r m_U g l)` and
+//! `theta_dot_ff` is the same factor times the jerk. Jerk limiting is what makes that lean
+//! command continuous.
+//!
+//! ```
+//! use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
+//! use ballbot_core::BallbotParams;
+//! let robot = BallbotParams::<f64>::miapure_60kg();
+//! let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+//! let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, vy_m_per_s: 0.0, yaw_rate_rad_per_s: 0.0 });
+//! // A 1 m/s step becomes a ramp: after one 400 Hz step the command has barely moved.
+//! let shaped = shaper.step(&go, 0.0025);
+//! assert!(shaped.velocity.vx_m_per_s > 0.0 && shaped.velocity.vx_m_per_s < 1e-3);
+//! // Three seconds later it has arrived, and the sagittal plane is asked for v / r.
+//! for _ in 0..1200 { shaper.step(&go, 0.0025); }
+//! let shaped = shaper.step(&go, 0.0025);
+//! approx::assert_relative_eq!(shaped.velocity.vx_m_per_s, 1.0, epsilon = 1e-9);
+//! approx::assert_relative_eq!(shaped.planar.sagittal[3], 1.0 / 0.1145, epsilon = 1e-6);
+//! # Ok::<(), ballbot_core::Error>(())
+//! ```
+
+use crate::check::{finite, lit, non_negative, positive};
+use crate::spin::SpinState;
+use crate::wip::{BALL_RATE, TILT, TILT_RATE, WipState};
+use crate::{BallbotParams, Error, WipParams};
+use nalgebra::RealField;
+
+/// Limits of one shaped axis: a bound on the value, on its rate of change and on the rate of
+/// change of that rate.
+///
+/// For a translation axis the value is a speed: `max_value` in m/s, `max_rate_per_s` an
+/// acceleration in m/s^2, `max_jerk_per_s2` a jerk in m/s^3. For yaw: rad/s, rad/s^2, rad/s^3.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisLimits<T> {
+    /// Largest magnitude of the value (m/s or rad/s).
+    pub max_value: T,
+    /// Largest magnitude of its rate of change, the acceleration (per s).
+    pub max_rate_per_s: T,
+    /// Largest magnitude of the rate's rate of change, the jerk (per s^2).
+    pub max_jerk_per_s2: T,
+}
+
+impl<T: RealField + Copy> AxisLimits<T> {
+    /// Checks that every limit is finite and positive.
+    pub fn validate(&self) -> Result<(), Error> {
+        positive(self.max_value, "max_value")?;
+        positive(self.max_rate_per_s, "max_rate_per_s")?;
+        positive(self.max_jerk_per_s2, "max_jerk_per_s2")
+    }
+}
+
+/// A jerk-limited rate limiter for one axis: the output follows a target as fast as
+/// [`AxisLimits`] allow, without overshoot.
+///
+/// Each step it picks the acceleration that, decreased at the maximum jerk, would bring the
+/// output to rest exactly on the target (discrete time: over `n` steps of `dt` with the rate
+/// falling by `j dt` per step the value moves `a (a + j dt) / (2 j)`, so the braking-limited
+/// rate is `a = sqrt((j dt)^2 / 4 + 2 j |e|) - j dt / 2` for an error `e`), caps it at the
+/// acceleration limit and at `|e| / dt` (no overshoot within a step), and moves the present
+/// acceleration towards it by at most `j dt`. A target beyond `max_value` is clamped; a
+/// non-finite target holds the present value; a non-finite or non-positive `dt_secs` leaves
+/// the state unchanged.
+///
+/// ```
+/// use ballbot_core::command::{AxisLimits, JerkLimiter};
+/// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 4.0 };
+/// let mut limiter = JerkLimiter::<f64>::default();
+/// let mut peak_rate: f64 = 0.0;
+/// for _ in 0..1000 {
+///     limiter.step(1.0, &limits, 0.005);
+///     peak_rate = peak_rate.max(limiter.rate_per_s());
+/// }
+/// assert_eq!(limiter.value(), 1.0);
+/// assert!(peak_rate <= 1.0);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JerkLimiter<T> {
+    value: T,
+    rate_per_s: T,
+    jerk_per_s2: T,
+}
+
+impl<T: RealField + Copy> JerkLimiter<T> {
+    /// A limiter at rest at `value`.
+    pub fn at(value: T) -> Self {
+        Self {
+            value,
+            rate_per_s: T::zero(),
+            jerk_per_s2: T::zero(),
+        }
+    }
+
+    /// The shaped value.
+    pub fn value(&self) -> T {
+        self.value
+    }
+
+    /// Its rate of change (the acceleration, per s).
+    pub fn rate_per_s(&self) -> T {
+        self.rate_per_s
+    }
+
+    /// The jerk applied in the last step (per s^2).
+    pub fn jerk_per_s2(&self) -> T {
+        self.jerk_per_s2
+    }
+
+    /// Restarts from `value` moving at `rate_per_s` (bumpless hand-over from another source).
+    /// Non-finite inputs restart at rest at 0.
+    pub fn reset(&mut self, value: T, rate_per_s: T) {
+        if value.is_finite() && rate_per_s.is_finite() {
+            *self = Self {
+                value,
+                rate_per_s,
+                jerk_per_s2: T::zero(),
+            };
+        } else {
+            *self = Self::at(T::zero());
+        }
+    }
+
+    /// Advances one step of `dt_secs` towards a constant `target` and returns the new value.
+    pub fn step(&mut self, target: T, limits: &AxisLimits<T>, dt_secs: T) -> T {
+        self.step_tracking(target, T::zero(), limits, dt_secs)
+    }
+
+    /// Advances one step of `dt_secs` towards a `target` that is itself moving at
+    /// `target_rate_per_s` (e.g. a trajectory's acceleration), and returns the new value.
+    ///
+    /// The target's rate is fed forward and the braking-limited correction added to it, so a
+    /// target that respects the limits is followed with a lag of about one step instead of the
+    /// `a^2 / (2 j)` a pure error-driven limiter would keep. A non-finite rate counts as 0.
+    pub fn step_tracking(
+        &mut self,
+        target: T,
+        target_rate_per_s: T,
+        limits: &AxisLimits<T>,
+        dt_secs: T,
+    ) -> T {
+        if !(dt_secs.is_finite() && dt_secs > T::zero()) {
+            return self.value;
+        }
+        if !(self.value.is_finite() && self.rate_per_s.is_finite()) {
+            *self = Self::at(T::zero());
+        }
+        let max_value = limits.max_value.abs();
+        let max_rate = limits.max_rate_per_s.abs();
+        let jerk = limits.max_jerk_per_s2.abs();
+        let (target, feed) = if !target.is_finite() {
+            (self.value, T::zero())
+        } else if target.abs() > max_value {
+            // Clamped: the clamped target does not move.
+            (target.max(-max_value).min(max_value), T::zero())
+        } else if target_rate_per_s.is_finite() {
+            (target, target_rate_per_s.max(-max_rate).min(max_rate))
+        } else {
+            (target, T::zero())
+        };
+        let error = target - self.value;
+        let jerk_step = jerk * dt_secs;
+        let half = jerk_step * lit(0.5);
+        let braking = (half * half + lit::<T>(2.0) * jerk * error.abs()).sqrt() - half;
+        let correction_mag = braking
+            .min(lit::<T>(2.0) * max_rate)
+            .min(error.abs() / dt_secs);
+        let correction = if error > T::zero() {
+            correction_mag
+        } else {
+            -correction_mag
+        };
+        let wanted = (feed + correction).max(-max_rate).min(max_rate);
+        let change = (wanted - self.rate_per_s).max(-jerk_step).min(jerk_step);
+        let mut rate = (self.rate_per_s + change).max(-max_rate).min(max_rate);
+        let mut value = self.value + rate * dt_secs;
+        // Arrived (or stepped across the target with a rate the jerk limit can match to the
+        // target's in one step): settle exactly on it.
+        let moved_target = target + feed * dt_secs;
+        let crossed = (moved_target - value) * error <= T::zero();
+        if crossed && (rate - feed).abs() <= jerk_step {
+            value = moved_target;
+            rate = feed;
+        }
+        let value = value.max(-max_value).min(max_value);
+        if value.is_finite() && rate.is_finite() {
+            self.jerk_per_s2 = (rate - self.rate_per_s) / dt_secs;
+            self.value = value;
+            self.rate_per_s = rate;
+        }
+        self.value
+    }
+}
+
+/// A remote-control velocity command in the body frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VelocityCommand<T> {
+    /// Forward speed, towards omniwheel 1 (body x) (m/s).
+    pub vx_m_per_s: T,
+    /// Sideways speed, to the left (body y) (m/s).
+    pub vy_m_per_s: T,
+    /// Yaw rate, counter-clockwise seen from above (rad/s).
+    pub yaw_rate_rad_per_s: T,
+}
+
+impl<T: RealField + Copy> VelocityCommand<T> {
+    /// Standing still.
+    pub fn zero() -> Self {
+        Self {
+            vx_m_per_s: T::zero(),
+            vy_m_per_s: T::zero(),
+            yaw_rate_rad_per_s: T::zero(),
+        }
+    }
+
+    /// Whether every component is finite.
+    pub fn is_finite(&self) -> bool {
+        self.vx_m_per_s.is_finite()
+            && self.vy_m_per_s.is_finite()
+            && self.yaw_rate_rad_per_s.is_finite()
+    }
+}
+
+/// A rider's torso lean, measured relative to the robot's body (e.g. by a seat-back or
+/// rider-worn sensor), plus an optional yaw-rate request (e.g. a twist grip).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LeanInput<T> {
+    /// Lean towards body +x (forward) (rad).
+    pub towards_x_rad: T,
+    /// Lean towards body +y (left) (rad).
+    pub towards_y_rad: T,
+    /// Requested yaw rate, counter-clockwise from above (rad/s).
+    pub yaw_rate_rad_per_s: T,
+}
+
+/// Lean-to-drive settings: torso lean -> velocity command.
+///
+/// The lean vector's magnitude beyond the deadband, times the gain, is the speed along the
+/// lean's direction, capped at `max_speed_m_per_s`. The deadband is radial, so small leans in
+/// any direction do nothing and the speed is continuous in the lean.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeanToDriveParams<T> {
+    /// Lean magnitude that commands nothing (rad).
+    pub deadband_rad: T,
+    /// Speed per radian of lean beyond the deadband (m/s per rad).
+    pub gain_m_per_s_per_rad: T,
+    /// Largest commanded speed (m/s).
+    pub max_speed_m_per_s: T,
+    /// Largest acceleration while riding (m/s^2); the shaper uses the smaller of this and its
+    /// translation limit.
+    pub max_accel_m_per_s2: T,
+    /// Largest yaw rate a rider may request (rad/s).
+    pub max_yaw_rate_rad_per_s: T,
+}
+
+impl<T: RealField + Copy> LeanToDriveParams<T> {
+    /// Defaults for a seated rider on MiaPURE (engineering choices, not from the paper):
+    /// 3 deg deadband, 6 m/s per rad (10 deg of lean beyond the deadband gives 0.73 m/s),
+    /// 1.0 m/s, 0.5 m/s^2, 1.0 rad/s.
+    pub fn rider() -> Self {
+        Self {
+            deadband_rad: lit(0.0524),
+            gain_m_per_s_per_rad: lit(6.0),
+            max_speed_m_per_s: lit(1.0),
+            max_accel_m_per_s2: lit(0.5),
+            max_yaw_rate_rad_per_s: lit(1.0),
+        }
+    }
+
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), Error> {
+        non_negative(self.deadband_rad, "deadband_rad")?;
+        positive(self.gain_m_per_s_per_rad, "gain_m_per_s_per_rad")?;
+        positive(self.max_speed_m_per_s, "max_speed_m_per_s")?;
+        positive(self.max_accel_m_per_s2, "max_accel_m_per_s2")?;
+        positive(self.max_yaw_rate_rad_per_s, "max_yaw_rate_rad_per_s")
+    }
+}
+
+/// The lean-to-drive map (stateless; acceleration and jerk are limited by the shaper).
+///
+/// ```
+/// use ballbot_core::command::{LeanInput, LeanToDrive, LeanToDriveParams};
+/// let lean = LeanToDrive::new(LeanToDriveParams::<f64>::rider())?;
+/// // Inside the deadband: nothing.
+/// let still = lean.velocity(&LeanInput { towards_x_rad: 0.03, towards_y_rad: 0.0, yaw_rate_rad_per_s: 0.0 });
+/// assert_eq!(still.vx_m_per_s, 0.0);
+/// // 0.1 rad forward: 6 * (0.1 - 0.0524) m/s forward.
+/// let go = lean.velocity(&LeanInput { towards_x_rad: 0.1, towards_y_rad: 0.0, yaw_rate_rad_per_s: 0.0 });
+/// approx::assert_relative_eq!(go.vx_m_per_s, 6.0 * (0.1 - 0.0524), epsilon = 1e-12);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeanToDrive<T> {
+    params: LeanToDriveParams<T>,
+}
+
+impl<T: RealField + Copy> LeanToDrive<T> {
+    /// Validates `params`.
+    pub fn new(params: LeanToDriveParams<T>) -> Result<Self, Error> {
+        params.validate()?;
+        Ok(Self { params })
+    }
+
+    /// The settings.
+    pub fn params(&self) -> &LeanToDriveParams<T> {
+        &self.params
+    }
+
+    /// The velocity command for a lean; a non-finite lean commands standing still.
+    pub fn velocity(&self, lean: &LeanInput<T>) -> VelocityCommand<T> {
+        let p = &self.params;
+        let (lx, ly) = (lean.towards_x_rad, lean.towards_y_rad);
+        let magnitude = (lx * lx + ly * ly).sqrt();
+        let mut out = VelocityCommand::zero();
+        if magnitude.is_finite() && magnitude > p.deadband_rad {
+            let speed =
+                (p.gain_m_per_s_per_rad * (magnitude - p.deadband_rad)).min(p.max_speed_m_per_s);
+            let scale = speed / magnitude;
+            out.vx_m_per_s = lx * scale;
+            out.vy_m_per_s = ly * scale;
+        }
+        if lean.yaw_rate_rad_per_s.is_finite() {
+            out.yaw_rate_rad_per_s = lean
+                .yaw_rate_rad_per_s
+                .max(-p.max_yaw_rate_rad_per_s)
+                .min(p.max_yaw_rate_rad_per_s);
+        }
+        out
+    }
+}
+
+/// A sampled planar command trajectory borrowed from a slice: `samples[k]` is the command state
+/// `[theta (rad), phi (rad), theta_dot (rad/s), phi_dot (rad/s)]` at `k * sample_period_secs`,
+/// for travel along `heading_rad` in the body frame (0: towards omniwheel 1, sagittal plane;
+/// `pi/2`: body +y).
+///
+/// Along a heading `h` the planar state maps to the sagittal plane as `cos(h) s` and to the
+/// frontal plane as `-sin(h) s` (ball position `x = r phi_y`, `y = -r phi_x`).
+///
+/// ```
+/// use ballbot_core::command::Trajectory;
+/// use nalgebra::Vector4;
+/// let samples = [Vector4::new(0.0, 0.0, 0.0, 10.0), Vector4::new(0.0, 0.1, 0.0, 0.0)];
+/// let traj = Trajectory::new(&samples, 0.5, 0.0)?;
+/// approx::assert_relative_eq!(traj.sample(0.25)[3], 5.0);
+/// assert_eq!(traj.sample(9.0), samples[1]); // held after the end
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trajectory<'a, T: nalgebra::Scalar> {
+    samples: &'a [WipState<T>],
+    sample_period_secs: T,
+    heading_rad: T,
+    yaw_rate_rad_per_s: T,
+}
+
+impl<'a, T: RealField + Copy> Trajectory<'a, T> {
+    /// Validates the samples (at least one, all finite) and the period (finite, > 0). Checking
+    /// every sample once here keeps [`Self::sample`] O(1).
+    pub fn new(
+        samples: &'a [WipState<T>],
+        sample_period_secs: T,
+        heading_rad: T,
+    ) -> Result<Self, Error> {
+        if samples.is_empty() {
+            return Err(Error::invalid("samples", "must hold at least one state"));
+        }
+        if samples.iter().any(|s| !s.iter().all(|x| x.is_finite())) {
+            return Err(Error::invalid("samples", "must be finite"));
+        }
+        positive(sample_period_secs, "sample_period_secs")?;
+        finite(heading_rad, "heading_rad")?;
+        Ok(Self {
+            samples,
+            sample_period_secs,
+            heading_rad,
+            yaw_rate_rad_per_s: T::zero(),
+        })
+    }
+
+    /// The same trajectory with a constant yaw rate commanded alongside (rad/s). A non-finite
+    /// rate is replaced by 0.
+    pub fn with_yaw_rate(mut self, yaw_rate_rad_per_s: T) -> Self {
+        self.yaw_rate_rad_per_s = if yaw_rate_rad_per_s.is_finite() {
+            yaw_rate_rad_per_s
+        } else {
+            T::zero()
+        };
+        self
+    }
+
+    /// The travel heading in the body frame (rad).
+    pub fn heading_rad(&self) -> T {
+        self.heading_rad
+    }
+
+    /// The commanded yaw rate (rad/s).
+    pub fn yaw_rate_rad_per_s(&self) -> T {
+        self.yaw_rate_rad_per_s
+    }
+
+    /// The duration covered by the samples (s).
+    pub fn duration_secs(&self) -> T {
+        let n: T = nalgebra::convert((self.samples.len() - 1) as f64);
+        n * self.sample_period_secs
+    }
+
+    /// The command state at `time_secs` after the start, linearly interpolated; the first
+    /// sample before the start, the last after the end (and for a non-finite time).
+    pub fn sample(&self, time_secs: T) -> WipState<T> {
+        self.sample_with_rate(time_secs).0
+    }
+
+    /// The interpolated command state at `time_secs` and its time derivative (the slope of
+    /// the interval it falls in; zero before the start and after the end).
+    pub fn sample_with_rate(&self, time_secs: T) -> (WipState<T>, WipState<T>) {
+        let last = self.samples.len() - 1;
+        let (first, final_state) = (self.samples[0], self.samples[last]);
+        if !time_secs.is_finite() {
+            return (final_state, WipState::zeros());
+        }
+        if time_secs < T::zero() {
+            return (first, WipState::zeros());
+        }
+        let position = time_secs / self.sample_period_secs;
+        let index_f = position.floor();
+        let index = nalgebra::try_convert::<T, f64>(index_f).unwrap_or(f64::INFINITY);
+        // `as` saturates; compare in f64 so the cast is exact when it matters.
+        if index.partial_cmp(&(last as f64)) != Some(core::cmp::Ordering::Less) {
+            return (final_state, WipState::zeros());
+        }
+        let k = index as usize;
+        let frac = position - index_f;
+        match (self.samples.get(k), self.samples.get(k + 1)) {
+            (Some(a), Some(b)) => {
+                let slope = b - a;
+                (a + slope * frac, slope / self.sample_period_secs)
+            }
+            _ => (final_state, WipState::zeros()),
+        }
+    }
+}
+
+/// What the robot is asked to do this step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Command<'a, T: nalgebra::Scalar> {
+    /// Come to rest and hold upright (the controlled stop uses this).
+    Stop,
+    /// Remote-control velocity.
+    Velocity(VelocityCommand<T>),
+    /// A rider's lean.
+    Lean(LeanInput<T>),
+    /// Follow a trajectory, `time_secs` after its start.
+    Trajectory {
+        /// The trajectory.
+        trajectory: Trajectory<'a, T>,
+        /// Time since its start (s).
+        time_secs: T,
+    },
+}
+
+impl<T: RealField + Copy> Command<'_, T> {
+    /// Whether every number in the command is finite (a trajectory's samples were checked when
+    /// it was built).
+    pub fn is_finite(&self) -> bool {
+        match self {
+            Self::Stop => true,
+            Self::Velocity(v) => v.is_finite(),
+            Self::Lean(l) => {
+                l.towards_x_rad.is_finite()
+                    && l.towards_y_rad.is_finite()
+                    && l.yaw_rate_rad_per_s.is_finite()
+            }
+            Self::Trajectory { time_secs, .. } => time_secs.is_finite(),
+        }
+    }
+}
+
+/// Limits and settings of the [`CommandShaper`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CommandShaperParams<T> {
+    /// Limits of each translation axis, body x and body y (m/s, m/s^2, m/s^3).
+    pub translation: AxisLimits<T>,
+    /// Limits of the yaw rate (rad/s, rad/s^2, rad/s^3).
+    pub yaw: AxisLimits<T>,
+    /// Lean-to-drive settings.
+    pub lean_to_drive: LeanToDriveParams<T>,
+    /// Largest commanded tilt (rad), feedforward or from a trajectory.
+    pub max_tilt_command_rad: T,
+    /// Largest commanded tilt rate (rad/s).
+    pub max_tilt_rate_command_rad_per_s: T,
+}
+
+impl<T: RealField + Copy> CommandShaperParams<T> {
+    /// Defaults for MiaPURE with a payload (engineering choices): 2.0 m/s (the paper's design
+    /// target), 1.0 m/s^2, 4.0 m/s^3; yaw 1.5 rad/s, 3 rad/s^2, 20 rad/s^3; the rider
+    /// lean-to-drive defaults; tilt command within 0.2 rad and 1.0 rad/s.
+    pub fn miapure() -> Self {
+        Self {
+            translation: AxisLimits {
+                max_value: lit(2.0),
+                max_rate_per_s: lit(1.0),
+                max_jerk_per_s2: lit(4.0),
+            },
+            yaw: AxisLimits {
+                max_value: lit(1.5),
+                max_rate_per_s: lit(3.0),
+                max_jerk_per_s2: lit(20.0),
+            },
+            lean_to_drive: LeanToDriveParams::rider(),
+            max_tilt_command_rad: lit(0.2),
+            max_tilt_rate_command_rad_per_s: lit(1.0),
+        }
+    }
+
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), Error> {
+        self.translation.validate()?;
+        self.yaw.validate()?;
+        self.lean_to_drive.validate()?;
+        positive(self.max_tilt_command_rad, "max_tilt_command_rad")?;
+        positive(
+            self.max_tilt_rate_command_rad_per_s,
+            "max_tilt_rate_command_rad_per_s",
+        )
+    }
+}
+
+/// Body-frame motion: velocity, or one of its derivatives.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyMotion<T> {
+    /// Along body x (m/s, m/s^2 or m/s^3).
+    pub x: T,
+    /// Along body y (m/s, m/s^2 or m/s^3).
+    pub y: T,
+    /// About body z (rad/s, rad/s^2 or rad/s^3).
+    pub yaw: T,
+}
+
+/// The command state of each planar controller.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanarCommands<T: nalgebra::Scalar> {
+    /// Sagittal plane `s_cy = [theta_y, phi_y, theta_dot_y, phi_dot_y]`.
+    pub sagittal: WipState<T>,
+    /// Frontal plane `s_cx = [theta_x, phi_x, theta_dot_x, phi_dot_x]`.
+    pub frontal: WipState<T>,
+    /// Spin `s_cz = [theta_z, theta_dot_z]` (heading, yaw rate).
+    pub spin: SpinState<T>,
+}
+
+/// One step of shaped command.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapedCommand<T: nalgebra::Scalar> {
+    /// Shaped body velocity (m/s, m/s, rad/s).
+    pub velocity: BodyVelocity<T>,
+    /// Its acceleration (m/s^2, m/s^2, rad/s^2).
+    pub acceleration: BodyMotion<T>,
+    /// The planar command states.
+    pub planar: PlanarCommands<T>,
+    /// Whether the command was finite; a non-finite command is replaced by [`Command::Stop`].
+    pub command_finite: bool,
+}
+
+/// A shaped velocity with named fields (m/s, m/s, rad/s).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyVelocity<T> {
+    /// Along body x (m/s).
+    pub vx_m_per_s: T,
+    /// Along body y (m/s).
+    pub vy_m_per_s: T,
+    /// About body z (rad/s).
+    pub yaw_rate_rad_per_s: T,
+}
+
+/// Per-plane constants of the lean feedforward.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PlaneShaping<T> {
+    /// `1 / r` (1/m).
+    inv_radius_per_m: T,
+    /// Tilt per unit ball acceleration `(b + c0) / (r m_U g l)` (rad per m/s^2).
+    lean_rad_per_m_per_s2: T,
+}
+
+impl<T: RealField + Copy> PlaneShaping<T> {
+    fn new(p: &WipParams<T>) -> Self {
+        let r = p.ball_radius_m;
+        let l = p.com_height_m;
+        let b = p.ball_inertia_kg_m2 + (p.ball_mass_kg + p.body_mass_kg) * r * r;
+        let c0 = p.body_mass_kg * r * l;
+        let mgl = p.body_mass_kg * p.gravity_m_per_s2 * l;
+        Self {
+            inv_radius_per_m: T::one() / r,
+            lean_rad_per_m_per_s2: (b + c0) / (r * mgl),
+        }
+    }
+}
+
+/// Shapes any [`Command`] into smooth, feasible planar command states.
+///
+/// Holds three [`JerkLimiter`]s (body x speed, body y speed, yaw rate), the integrated heading
+/// command and the integrated ball-angle commands. Allocation-free and O(1) per step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CommandShaper<T> {
+    params: CommandShaperParams<T>,
+    lean: LeanToDrive<T>,
+    sagittal: PlaneShaping<T>,
+    frontal: PlaneShaping<T>,
+    vx: JerkLimiter<T>,
+    vy: JerkLimiter<T>,
+    yaw_rate: JerkLimiter<T>,
+    heading_rad: T,
+    phi_x_rad: T,
+    phi_y_rad: T,
+}
+
+impl<T: RealField + Copy> CommandShaper<T> {
+    /// Validates `params` and `robot` and starts at rest with heading 0.
+    pub fn new(params: CommandShaperParams<T>, robot: &BallbotParams<T>) -> Result<Self, Error> {
+        params.validate()?;
+        robot.validate()?;
+        Ok(Self {
+            params,
+            lean: LeanToDrive::new(params.lean_to_drive)?,
+            sagittal: PlaneShaping::new(&robot.sagittal),
+            frontal: PlaneShaping::new(&robot.frontal),
+            vx: JerkLimiter::at(T::zero()),
+            vy: JerkLimiter::at(T::zero()),
+            yaw_rate: JerkLimiter::at(T::zero()),
+            heading_rad: T::zero(),
+            phi_x_rad: T::zero(),
+            phi_y_rad: T::zero(),
+        })
+    }
+
+    /// The settings.
+    pub fn params(&self) -> &CommandShaperParams<T> {
+        &self.params
+    }
+
+    /// Restarts at rest with heading command `heading_rad` (use the measured heading when
+    /// arming) and ball-angle commands `phi_x_rad`, `phi_y_rad`. Non-finite values become 0.
+    pub fn reset(&mut self, heading_rad: T, phi_x_rad: T, phi_y_rad: T) {
+        let or_zero = |x: T| if x.is_finite() { x } else { T::zero() };
+        self.vx = JerkLimiter::at(T::zero());
+        self.vy = JerkLimiter::at(T::zero());
+        self.yaw_rate = JerkLimiter::at(T::zero());
+        self.heading_rad = or_zero(heading_rad);
+        self.phi_x_rad = or_zero(phi_x_rad);
+        self.phi_y_rad = or_zero(phi_y_rad);
+    }
+
+    /// The shaped velocity now.
+    pub fn velocity(&self) -> BodyVelocity<T> {
+        BodyVelocity {
+            vx_m_per_s: self.vx.value(),
+            vy_m_per_s: self.vy.value(),
+            yaw_rate_rad_per_s: self.yaw_rate.value(),
+        }
+    }
+
+    /// Whether the shaped command is at rest (speeds and accelerations exactly 0).
+    pub fn is_at_rest(&self) -> bool {
+        let z = T::zero();
+        self.vx.value() == z
+            && self.vy.value() == z
+            && self.yaw_rate.value() == z
+            && self.vx.rate_per_s() == z
+            && self.vy.rate_per_s() == z
+            && self.yaw_rate.rate_per_s() == z
+    }
+
+    /// Advances one step of `dt_secs` (non-finite or non-positive: no motion) towards
+    /// `command`. A non-finite command is treated as [`Command::Stop`] and flagged in the
+    /// output.
+    pub fn step(&mut self, command: &Command<'_, T>, dt_secs: T) -> ShapedCommand<T> {
+        let command_finite = command.is_finite();
+        let command = if command_finite {
+            *command
+        } else {
+            Command::Stop
+        };
+        let mut translation = self.params.translation;
+        let zero = T::zero();
+        // Targets (vx, vy, yaw rate) and, for a trajectory, its tilt and tilt rate along the
+        // heading with the heading's (sin, cos).
+        let mut trajectory_tilt: Option<(T, T, T, T)> = None;
+        // Each target's own rate (nonzero only for a trajectory).
+        let mut feed = (zero, zero);
+        let (target_x, target_y, target_yaw) = match command {
+            Command::Stop => (zero, zero, zero),
+            Command::Velocity(v) => {
+                let (vx, vy) = clamp_norm(v.vx_m_per_s, v.vy_m_per_s, translation.max_value);
+                (vx, vy, v.yaw_rate_rad_per_s)
+            }
+            Command::Lean(lean) => {
+                let v = self.lean.velocity(&lean);
+                translation.max_rate_per_s = translation
+                    .max_rate_per_s
+                    .min(self.params.lean_to_drive.max_accel_m_per_s2);
+                let (vx, vy) = clamp_norm(v.vx_m_per_s, v.vy_m_per_s, translation.max_value);
+                (vx, vy, v.yaw_rate_rad_per_s)
+            }
+            Command::Trajectory {
+                trajectory,
+                time_secs,
+            } => {
+                let (s, rate) = trajectory.sample_with_rate(time_secs);
+                let (sin_h, cos_h) = trajectory.heading_rad().sin_cos();
+                // Ball rate along the heading in m/s (one ball: the sagittal radius).
+                let radius = T::one() / self.sagittal.inv_radius_per_m;
+                let speed = s[BALL_RATE] * radius;
+                let accel = rate[BALL_RATE] * radius;
+                trajectory_tilt = Some((s[TILT], s[TILT_RATE], sin_h, cos_h));
+                feed = (accel * cos_h, accel * sin_h);
+                let (vx, vy) = clamp_norm(speed * cos_h, speed * sin_h, translation.max_value);
+                (vx, vy, trajectory.yaw_rate_rad_per_s())
+            }
+        };
+        let vx = self
+            .vx
+            .step_tracking(target_x, feed.0, &translation, dt_secs);
+        let vy = self
+            .vy
+            .step_tracking(target_y, feed.1, &translation, dt_secs);
+        let wz = self.yaw_rate.step(target_yaw, &self.params.yaw, dt_secs);
+        if dt_secs.is_finite() && dt_secs > zero {
+            self.heading_rad += wz * dt_secs;
+            self.phi_y_rad += vx * self.sagittal.inv_radius_per_m * dt_secs;
+            self.phi_x_rad -= vy * self.frontal.inv_radius_per_m * dt_secs;
+        }
+        let ky = self.sagittal.lean_rad_per_m_per_s2;
+        let kx = self.frontal.lean_rad_per_m_per_s2;
+        let (tilt_y, rate_y, tilt_x, rate_x) = match trajectory_tilt {
+            Some((tilt, rate, sin_h, cos_h)) => {
+                (cos_h * tilt, cos_h * rate, -sin_h * tilt, -sin_h * rate)
+            }
+            None => (
+                ky * self.vx.rate_per_s(),
+                ky * self.vx.jerk_per_s2(),
+                -kx * self.vy.rate_per_s(),
+                -kx * self.vy.jerk_per_s2(),
+            ),
+        };
+        let max_tilt = self.params.max_tilt_command_rad;
+        let max_rate = self.params.max_tilt_rate_command_rad_per_s;
+        let clamp = |x: T, m: T| x.max(-m).min(m);
+        let planar = PlanarCommands {
+            sagittal: WipState::new(
+                clamp(tilt_y, max_tilt),
+                self.phi_y_rad,
+                clamp(rate_y, max_rate),
+                vx * self.sagittal.inv_radius_per_m,
+            ),
+            frontal: WipState::new(
+                clamp(tilt_x, max_tilt),
+                self.phi_x_rad,
+                clamp(rate_x, max_rate),
+                -vy * self.frontal.inv_radius_per_m,
+            ),
+            spin: SpinState::new(self.heading_rad, wz),
+        };
+        ShapedCommand {
+            velocity: BodyVelocity {
+                vx_m_per_s: vx,
+                vy_m_per_s: vy,
+                yaw_rate_rad_per_s: wz,
+            },
+            acceleration: BodyMotion {
+                x: self.vx.rate_per_s(),
+                y: self.vy.rate_per_s(),
+                yaw: self.yaw_rate.rate_per_s(),
+            },
+            planar,
+            command_finite,
+        }
+    }
+}
+
+/// Scales `(x, y)` down to length `max` if longer.
+fn clamp_norm<T: RealField + Copy>(x: T, y: T, max: T) -> (T, T) {
+    let norm = (x * x + y * y).sqrt();
+    if norm > max && norm.is_finite() {
+        let scale = max / norm;
+        (x * scale, y * scale)
+    } else {
+        (x, y)
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::Wip;
+    use crate::wip::BALL_ANGLE;
+    use approx::assert_relative_eq;
+    use nalgebra::Vector4;
+
+    const DT: f64 = 0.0025;
+
+    fn limits() -> AxisLimits<f64> {
+        AxisLimits {
+            max_value: 2.0,
+            max_rate_per_s: 1.0,
+            max_jerk_per_s2: 4.0,
+        }
+    }
+
+    /// Runs the limiter towards `target` and checks the limits every step; returns the time of
+    /// arrival.
+    fn run_checked(limiter: &mut JerkLimiter<f64>, target: f64, steps: usize) -> Option<f64> {
+        let l = limits();
+        let start = limiter.value();
+        let mut arrival = None;
+        for k in 0..steps {
+            let before_rate = limiter.rate_per_s();
+            let v = limiter.step(target, &l, DT);
+            assert!(limiter.rate_per_s().abs() <= l.max_rate_per_s + 1e-12);
+            assert!(
+                (limiter.rate_per_s() - before_rate).abs() <= l.max_jerk_per_s2 * DT + 1e-12,
+                "jerk limit broken at step {k}"
+            );
+            // Never beyond the target, seen from the start.
+            assert!(
+                (v - target) * (start - target) >= -1e-12,
+                "overshoot at {k}: {v}"
+            );
+            if v == target && arrival.is_none() {
+                arrival = Some((k + 1) as f64 * DT);
+            }
+        }
+        arrival
+    }
+
+    #[test]
+    fn jerk_limiter_reaches_a_step_target_in_near_minimum_time_within_limits() {
+        let mut limiter = JerkLimiter::at(0.0);
+        let arrival = run_checked(&mut limiter, 1.0, 2000).unwrap();
+        // S-curve minimum time: v / a + a / j = 1 + 0.25 s.
+        assert!(arrival > 1.24 && arrival < 1.30, "arrival {arrival}");
+        assert_eq!(limiter.rate_per_s(), 0.0);
+    }
+
+    #[test]
+    fn jerk_limiter_short_move_never_reaches_full_acceleration() {
+        // 0.05 m/s at 4 m/s^3: triangular acceleration, peak sqrt(j dv) = 0.447 m/s^2.
+        let mut limiter = JerkLimiter::at(0.0);
+        let mut peak: f64 = 0.0;
+        for _ in 0..400 {
+            limiter.step(0.05, &limits(), DT);
+            peak = peak.max(limiter.rate_per_s());
+        }
+        assert_eq!(limiter.value(), 0.05);
+        assert!(peak < 0.5 && peak > 0.4, "peak {peak}");
+    }
+
+    #[test]
+    fn jerk_limiter_reverses_without_overshoot() {
+        let mut limiter = JerkLimiter::at(0.0);
+        run_checked(&mut limiter, 1.5, 300);
+        assert!(limiter.rate_per_s() > 0.5);
+        // Reverse while still accelerating: first the motion must turn around.
+        let arrival = run_checked(&mut limiter, -1.0, 4000);
+        assert!(arrival.is_some());
+        assert_eq!(limiter.value(), -1.0);
+    }
+
+    #[test]
+    fn jerk_limiter_clamps_targets_and_ignores_bad_inputs() {
+        let mut limiter = JerkLimiter::at(0.0);
+        run_checked(&mut limiter, 2.0, 2000);
+        for _ in 0..2000 {
+            limiter.step(50.0, &limits(), DT);
+        }
+        assert_eq!(limiter.value(), 2.0);
+        // A non-finite target holds; a bad dt changes nothing.
+        let before = limiter;
+        limiter.step(f64::NAN, &limits(), DT);
+        assert_eq!(limiter.value(), 2.0);
+        limiter.step(0.0, &limits(), f64::INFINITY);
+        limiter.step(0.0, &limits(), -DT);
+        limiter.step(0.0, &limits(), f64::NAN);
+        assert_eq!(limiter.value(), before.value());
+        limiter.reset(f64::NAN, 1.0);
+        assert_eq!(limiter, JerkLimiter::at(0.0));
+    }
+
+    #[test]
+    fn lean_to_drive_deadband_gain_speed_limit_and_direction() {
+        let lean = LeanToDrive::new(LeanToDriveParams::<f64>::rider()).unwrap();
+        let p = *lean.params();
+        let input = |x: f64, y: f64| LeanInput {
+            towards_x_rad: x,
+            towards_y_rad: y,
+            yaw_rate_rad_per_s: 0.0,
+        };
+        // Inside the (radial) deadband, in any direction.
+        for angle in [0.0f64, 1.0, 2.5, 4.0] {
+            let v = lean.velocity(&input(
+                0.99 * p.deadband_rad * angle.cos(),
+                0.99 * p.deadband_rad * angle.sin(),
+            ));
+            assert_eq!((v.vx_m_per_s, v.vy_m_per_s), (0.0, 0.0));
+        }
+        // Continuous at the deadband edge, linear beyond it.
+        let v = lean.velocity(&input(p.deadband_rad + 1e-9, 0.0));
+        assert!(v.vx_m_per_s < 1e-8 && v.vx_m_per_s > 0.0);
+        let v = lean.velocity(&input(0.0, -(p.deadband_rad + 0.05)));
+        assert_relative_eq!(
+            v.vy_m_per_s,
+            -p.gain_m_per_s_per_rad * 0.05,
+            epsilon = 1e-12
+        );
+        assert_eq!(v.vx_m_per_s, 0.0);
+        // Diagonal: direction kept, speed capped.
+        let v = lean.velocity(&input(0.5, 0.5));
+        assert_relative_eq!(v.vx_m_per_s, v.vy_m_per_s, epsilon = 1e-12);
+        assert_relative_eq!(
+            v.vx_m_per_s.hypot(v.vy_m_per_s),
+            p.max_speed_m_per_s,
+            epsilon = 1e-12
+        );
+        // Garbage in, standing still out; yaw capped.
+        let v = lean.velocity(&LeanInput {
+            towards_x_rad: f64::NAN,
+            towards_y_rad: 0.1,
+            yaw_rate_rad_per_s: 100.0,
+        });
+        assert_eq!((v.vx_m_per_s, v.vy_m_per_s), (0.0, 0.0));
+        assert_eq!(v.yaw_rate_rad_per_s, p.max_yaw_rate_rad_per_s);
+    }
+
+    fn shaper() -> CommandShaper<f64> {
+        CommandShaper::new(
+            CommandShaperParams::miapure(),
+            &BallbotParams::miapure_60kg(),
+        )
+        .unwrap()
+    }
+
+    fn velocity(vx: f64, vy: f64, wz: f64) -> Command<'static, f64> {
+        Command::Velocity(VelocityCommand {
+            vx_m_per_s: vx,
+            vy_m_per_s: vy,
+            yaw_rate_rad_per_s: wz,
+        })
+    }
+
+    #[test]
+    fn lean_feedforward_holds_the_nominal_wip_balanced_while_accelerating() {
+        // The commanded tilt for a forward acceleration must be the tilt at which the nominal
+        // WIP can accelerate its ball at that rate with zero tilt acceleration.
+        let robot = BallbotParams::<f64>::miapure_60kg();
+        let wip = Wip::new(robot.sagittal).unwrap();
+        let mut s = shaper();
+        let mut shaped = s.step(&velocity(2.0, 0.0, 0.0), DT);
+        for _ in 0..400 {
+            shaped = s.step(&velocity(2.0, 0.0, 0.0), DT);
+        }
+        let accel = shaped.acceleration.x;
+        assert_relative_eq!(accel, 1.0, epsilon = 1e-12); // at the acceleration limit
+        let tilt = shaped.planar.sagittal[TILT];
+        assert!(tilt > 0.05, "leans forward to accelerate forward: {tilt}");
+        let state = Vector4::new(tilt, 0.0, 0.0, 0.0);
+        // theta_ddot is affine in the torque: pick the torque that zeroes it.
+        let at0 = wip.accelerations(&state, 0.0);
+        let at1 = wip.accelerations(&state, 1.0);
+        let torque = -at0[0] / (at1[0] - at0[0]);
+        let ball_accel = wip.accelerations(&state, torque)[1] * robot.sagittal.ball_radius_m;
+        // First-order feedforward: within 1 % at 1 m/s^2.
+        assert_relative_eq!(ball_accel, accel, max_relative = 0.01);
+        // At constant speed the lean command is gone.
+        for _ in 0..2000 {
+            shaped = s.step(&velocity(2.0, 0.0, 0.0), DT);
+        }
+        assert_eq!(shaped.planar.sagittal[TILT], 0.0);
+        assert_relative_eq!(
+            shaped.planar.sagittal[BALL_RATE],
+            2.0 / 0.1145,
+            epsilon = 1e-9
+        );
+    }
+
+    #[test]
+    fn sideways_and_yaw_commands_map_to_frontal_and_spin_with_model_signs() {
+        let mut s = shaper();
+        let mut shaped = s.step(&velocity(0.0, 0.5, 0.3), DT);
+        assert!(
+            shaped.planar.frontal[TILT] < 0.0,
+            "+y acceleration leans towards +y"
+        );
+        for _ in 0..2000 {
+            shaped = s.step(&velocity(0.0, 0.5, 0.3), DT);
+        }
+        // y = -r phi_x: +y travel is negative frontal ball rate.
+        assert_relative_eq!(
+            shaped.planar.frontal[BALL_RATE],
+            -0.5 / 0.1145,
+            epsilon = 1e-9
+        );
+        assert!(shaped.planar.frontal[BALL_ANGLE] < 0.0);
+        assert_eq!(shaped.planar.sagittal, WipState::zeros());
+        assert_eq!(shaped.planar.spin[1], 0.3);
+        // The heading command integrates the shaped yaw rate.
+        assert!(shaped.planar.spin[0] > 0.3 * 4.0 && shaped.planar.spin[0] < 0.3 * 5.01);
+    }
+
+    #[test]
+    fn commands_beyond_the_speed_limit_keep_their_direction() {
+        let mut s = shaper();
+        let mut shaped = s.step(&velocity(30.0, 40.0, 0.0), DT);
+        for _ in 0..4000 {
+            shaped = s.step(&velocity(30.0, 40.0, 0.0), DT);
+        }
+        assert_relative_eq!(shaped.velocity.vx_m_per_s, 1.2, epsilon = 1e-9);
+        assert_relative_eq!(shaped.velocity.vy_m_per_s, 1.6, epsilon = 1e-9);
+    }
+
+    #[test]
+    fn non_finite_command_is_a_stop() {
+        let mut s = shaper();
+        for _ in 0..800 {
+            s.step(&velocity(1.0, 0.0, 0.0), DT);
+        }
+        let v0 = s.velocity().vx_m_per_s;
+        let shaped = s.step(&velocity(f64::NAN, 0.0, 0.0), DT);
+        assert!(!shaped.command_finite);
+        assert!(shaped.velocity.vx_m_per_s <= v0 + 1e-12);
+        for _ in 0..2000 {
+            s.step(&velocity(f64::INFINITY, 0.0, 0.0), DT);
+        }
+        assert!(s.is_at_rest());
+    }
+
+    #[test]
+    fn lean_mode_uses_the_riders_acceleration_limit() {
+        let mut s = shaper();
+        let lean = Command::Lean(LeanInput {
+            towards_x_rad: 0.4,
+            towards_y_rad: 0.0,
+            yaw_rate_rad_per_s: 0.0,
+        });
+        let mut peak: f64 = 0.0;
+        for _ in 0..2000 {
+            let shaped = s.step(&lean, DT);
+            peak = peak.max(shaped.acceleration.x);
+        }
+        assert_relative_eq!(peak, 0.5, epsilon = 1e-12);
+        assert_relative_eq!(s.velocity().vx_m_per_s, 1.0, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn trajectory_interpolates_and_maps_along_its_heading() {
+        let samples = [
+            Vector4::new(0.0, 0.0, 0.0, 0.0),
+            Vector4::new(0.02, 0.1, 0.04, 0.4),
+            Vector4::new(0.04, 0.3, 0.0, 0.8),
+        ];
+        let traj = Trajectory::new(&samples, 0.5, 0.0).unwrap();
+        assert_relative_eq!(traj.sample(0.75), Vector4::new(0.03, 0.2, 0.02, 0.6));
+        assert_eq!(traj.sample(-1.0), samples[0]);
+        assert_eq!(traj.sample(f64::NAN), samples[2]);
+        assert_eq!(traj.sample(1.0), samples[2]);
+        assert_eq!(traj.duration_secs(), 1.0);
+        assert!(Trajectory::<f64>::new(&[], 0.5, 0.0).is_err());
+        assert!(Trajectory::new(&samples, 0.0, 0.0).is_err());
+        let bad = [Vector4::new(0.0, f64::NAN, 0.0, 0.0)];
+        assert!(Trajectory::new(&bad, 0.1, 0.0).is_err());
+
+        // Heading 90 deg (body +y): tilt goes to the frontal plane with a minus sign.
+        let traj = Trajectory::new(&samples, 0.5, core::f64::consts::FRAC_PI_2).unwrap();
+        let mut s = shaper();
+        let shaped = s.step(
+            &Command::Trajectory {
+                trajectory: traj,
+                time_secs: 0.75,
+            },
+            DT,
+        );
+        assert_relative_eq!(shaped.planar.frontal[TILT], -0.03, epsilon = 1e-12);
+        assert_relative_eq!(shaped.planar.frontal[TILT_RATE], -0.02, epsilon = 1e-12);
+        assert_relative_eq!(shaped.planar.sagittal[TILT], 0.0, epsilon = 1e-12);
+        // The speed target jumped to 0.6 rad/s: the limiter only lets it start moving.
+        assert!(shaped.velocity.vy_m_per_s > 0.0 && shaped.velocity.vy_m_per_s < 1e-3);
+    }
+
+    #[test]
+    fn a_feasible_trajectory_passes_the_limiter_unchanged() {
+        // A braking-like profile: speed 1 m/s -> 0 as a cosine over 3 s (peak decel 0.52
+        // m/s^2, peak jerk 0.55 m/s^3: well inside the limits). Start the limiter on it.
+        let r = 0.1145;
+        let period = 0.01;
+        let samples: [WipState<f64>; 301] = core::array::from_fn(|k| {
+            let t = k as f64 * period;
+            let v = 0.5 * (1.0 + (core::f64::consts::PI * t / 3.0).cos());
+            Vector4::new(0.0, 0.0, 0.0, v / r)
+        });
+        let traj = Trajectory::new(&samples, period, core::f64::consts::PI).unwrap();
+        let mut s = shaper();
+        s.vx.reset(-1.0, 0.0); // heading 180 deg: moving towards -x
+        let mut worst: f64 = 0.0;
+        for k in 1..1200 {
+            let t = k as f64 * DT;
+            let shaped = s.step(
+                &Command::Trajectory {
+                    trajectory: traj,
+                    time_secs: t,
+                },
+                DT,
+            );
+            let expected = -traj.sample(t)[BALL_RATE] * r;
+            worst = worst.max((shaped.velocity.vx_m_per_s - expected).abs());
+        }
+        // One step of lag at most (0.52 m/s^2 x 2.5 ms = 1.3e-3 m/s); without the rate
+        // feedforward the lag would be a^2 / (2 j) = 0.034 m/s.
+        assert!(worst < 1.5e-3, "worst deviation {worst} m/s");
+        assert!(s.velocity().vx_m_per_s.abs() < 1e-9);
+    }
+}
