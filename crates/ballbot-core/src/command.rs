@@ -812,7 +812,6 @@ fn clamp_norm<T: RealField + Copy>(x: T, y: T, max: T) -> (T, T) {
 }
 
 #[cfg(test)]
-#[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
     use crate::Wip;

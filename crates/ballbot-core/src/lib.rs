@@ -22,9 +22,11 @@
 mod check;
 pub mod command;
 mod error;
+pub mod estimation;
 pub mod integrate;
 pub mod kinematics;
 pub mod params;
+pub mod safety;
 pub mod spin;
 pub mod wip;
 
