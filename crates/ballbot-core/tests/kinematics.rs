@@ -177,35 +177,83 @@ proptest! {
 
     /// Contact forces on the body add up to the support force for any geometry and load.
     #[test]
-    fn contact_forces_balance(g in geometry(), support in vec3(2000.0), planar in vec3(300.0)) {
-        let kin = g.kinematics::<f64>()?;
-        let wheel = kin.wheel_torques_nm(&planar);
-        let contacts = kin.contact_forces(&support, &wheel);
-        let mut force = Vector3::zeros();
-        for (w, c) in kin.wheels().iter().zip(contacts.wheels.iter()) {
-            force += w.contact_normal * c.normal_force_n - w.rolling_direction * c.traction_n;
-            prop_assert_eq!(c.lifted_off, c.normal_force_n <= 0.0);
-        }
-        let scale = norm(&support) + wheel.norm() / g.wheel_radius_m;
-        prop_assert!((force - support).amax() <= 1e-9 * scale.max(1.0), "{force} vs {support}");
+    fn contact_forces_balance_f64(g in geometry(), support in vec3(2000.0), planar in vec3(300.0)) {
+        contact_forces_balance::<f64>(&g, &support, &planar, 1e-9)?;
+    }
+
+    #[test]
+    fn contact_forces_balance_f32(g in geometry(), support in vec3(2000.0), planar in vec3(300.0)) {
+        contact_forces_balance::<f32>(&g, &support, &planar, 1e-4)?;
     }
 
     /// Saturation keeps direction, never exceeds the peak, and leaves feasible requests alone.
     #[test]
-    fn saturation_respects_the_peak(g in geometry(), planar in vec3(1000.0)) {
-        let kin = g.kinematics::<f64>()?;
-        let peak = kin.drivetrain().actuator.peak_torque_nm;
-        let out = kin.saturate_planar_torque(&planar);
-        prop_assert!((0.0..=1.0).contains(&out.scale));
-        prop_assert!(out.wheel_torques_nm.amax() <= peak * (1.0 + 1e-12));
-        prop_assert!((out.planar_torque_nm - planar * out.scale).amax() <= 1e-9 * norm(&planar));
-        let needed = kin.wheel_torques_nm(&planar).amax();
-        if needed <= peak {
-            prop_assert_eq!(out.scale, 1.0);
-        } else {
-            prop_assert!((out.wheel_torques_nm.amax() - peak).abs() <= 1e-9 * peak);
-        }
+    fn saturation_respects_the_peak_f64(g in geometry(), planar in vec3(1000.0)) {
+        saturation_respects_the_peak::<f64>(&g, &planar, 1e-9)?;
     }
+
+    #[test]
+    fn saturation_respects_the_peak_f32(g in geometry(), planar in vec3(1000.0)) {
+        saturation_respects_the_peak::<f32>(&g, &planar, 1e-4)?;
+    }
+}
+
+fn f64_of<T: RealField + Copy>(x: T) -> f64 {
+    nalgebra::try_convert(x).unwrap_or(f64::NAN)
+}
+
+fn contact_forces_balance<T: RealField + Copy>(
+    g: &Geometry,
+    support: &Vector3<f64>,
+    planar: &Vector3<f64>,
+    tol: f64,
+) -> Result<(), TestCaseError> {
+    let kin = g.kinematics::<T>()?;
+    let wheel = kin.wheel_torques_nm(&to::<T>(planar));
+    let contacts = kin.contact_forces(&to::<T>(support), &wheel);
+    let mut force = Vector3::<T>::zeros();
+    for (w, c) in kin.wheels().iter().zip(contacts.wheels.iter()) {
+        force += w.contact_normal * c.normal_force_n - w.rolling_direction * c.traction_n;
+        prop_assert_eq!(c.lifted_off, c.normal_force_n <= T::zero());
+        prop_assert_eq!(c.lifted_off, c.friction_utilisation == infinity::<T>());
+    }
+    let scale = norm(support) + wheel.map(f64_of).norm() / g.wheel_radius_m;
+    prop_assert!(
+        close(&force, &to::<T>(support), tol, scale),
+        "{force} vs {support}"
+    );
+    Ok(())
+}
+
+fn infinity<T: RealField + Copy>() -> T {
+    nalgebra::convert(f64::INFINITY)
+}
+
+fn saturation_respects_the_peak<T: RealField + Copy>(
+    g: &Geometry,
+    planar: &Vector3<f64>,
+    tol: f64,
+) -> Result<(), TestCaseError> {
+    let kin = g.kinematics::<T>()?;
+    let peak = f64_of(kin.drivetrain().actuator.peak_torque_nm);
+    let out = kin.saturate_planar_torque(&to::<T>(planar));
+    let scale = f64_of(out.scale);
+    let applied = f64_of(out.wheel_torques_nm.amax());
+    prop_assert!((0.0..=1.0).contains(&scale));
+    prop_assert!(applied <= peak * (1.0 + tol));
+    prop_assert!(close(
+        &out.planar_torque_nm,
+        &(to::<T>(planar) * out.scale),
+        tol,
+        norm(planar)
+    ));
+    let needed = f64_of(kin.wheel_torques_nm(&to::<T>(planar)).amax());
+    if needed <= peak {
+        prop_assert_eq!(scale, 1.0);
+    } else {
+        prop_assert!((applied - peak).abs() <= tol * peak, "{applied} vs {peak}");
+    }
+    Ok(())
 }
 
 // ---- planar WIP motion at a heading ---------------------------------------------------------

@@ -405,6 +405,12 @@ fn rejects_singular_layouts_naming_the_field() {
         let err = OmniKinematics::new(d, 0.1145).unwrap_err();
         assert_eq!(field_of(err), "wheel_azimuths_rad", "azimuths {az:?}");
     }
+    let mut d = DrivetrainParams::<f32>::miapure();
+    d.wheel_azimuths_rad = [0.0, 120.0, 120.0].map(deg);
+    assert_eq!(
+        field_of(OmniKinematics::new(d, 0.1145).unwrap_err()),
+        "wheel_azimuths_rad"
+    );
     // A valid but unusual layout is accepted.
     let mut d = DrivetrainParams::<f64>::miapure();
     d.wheel_azimuths_rad = [10.0, 100.0, 250.0].map(deg);
