@@ -21,6 +21,7 @@
 
 mod check;
 pub mod command;
+pub mod control;
 mod error;
 pub mod estimation;
 pub mod integrate;

@@ -1,3 +1,4 @@
 //! Integration tests of ballbot-core, one module per area.
 
+mod controllers;
 mod kinematics;

@@ -1,0 +1,119 @@
+//! Planar controllers for one wheeled-inverted-pendulum plane (a ballbot plane or the PIPTB):
+//! the paper's LQR, the CMU-style cascaded PI-PD, and the cascaded LQR-PI (outer part plus the
+//! inner speed PI that runs on the motor driver).
+//!
+//! Every controller has the same shape:
+//!
+//! - gains (and limits) in their own struct, validated once by `validate()`, the error naming
+//!   the offending field;
+//! - state kept in the controller, cleared by `reset()`;
+//! - `step(&mut self, measured, command, dt_secs) -> Output`, where the output carries the
+//!   applied value and every term that made it (feedforward, P, I, D, saturation) for logging,
+//!   and a [`StepStatus`].
+//!
+//! Sign convention (MODEL.md section 2): `tau` is the torque the body applies to the ball;
+//! positive `theta` leans towards +travel. In the paper's form `tau = k (s_c - s)` a balancing
+//! gain has *negative* tilt and tilt-rate entries: for MiaPURE with 60 kg,
+//! `k = [-234.8, 0, -45.70, -3.162]` on `[theta, phi, theta_dot, phi_dot]`.
+//!
+//! Robustness contract (tested by proptest): for any input, including NaN and infinities,
+//! `step` never panics, and the torque it returns is finite and within the configured limit.
+//! A non-finite measurement, command or step length gives zero torque, leaves the state
+//! untouched and reports [`StepStatus::InvalidInput`]; what to do then (a controlled stop, or
+//! disabling the motors) is the safety supervisor's decision, not the controller's.
+
+mod lqr;
+mod lqr_pi;
+mod motor_pi;
+mod pi_pd;
+
+pub use lqr::{LqrController, LqrGains, LqrOutput};
+pub use lqr_pi::{LqrPiOuter, LqrPiOuterConfig, LqrPiOuterOutput};
+pub use motor_pi::{SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput};
+pub use pi_pd::{
+    PI_PD_DEFAULT_MAX_TILT_RAD, PI_PD_DEFAULT_POLES_PER_P0, PiPdController, PiPdGains, PiPdOutput,
+};
+
+use crate::check::positive;
+use crate::{Error, WipState};
+use nalgebra::RealField;
+
+/// What happened in one controller step (for logging and for the safety supervisor).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum StepStatus {
+    /// The output was computed from valid inputs and is within its limits unchanged.
+    Nominal,
+    /// The output was computed from valid inputs but clipped to its limit; the output's
+    /// `saturation_nm` term says by how much.
+    Saturated,
+    /// A measurement, command or the step length was non-finite (or the step length not
+    /// positive), or the arithmetic overflowed: the output is zero torque and the controller
+    /// state was left unchanged.
+    InvalidInput,
+}
+
+impl StepStatus {
+    /// `true` unless the step was rejected ([`StepStatus::InvalidInput`]).
+    pub fn is_valid(self) -> bool {
+        self != Self::InvalidInput
+    }
+}
+
+/// `true` when every entry of the state is finite.
+#[inline]
+pub(crate) fn state_is_finite<T: RealField + Copy>(s: &WipState<T>) -> bool {
+    s.iter().all(|v| v.is_finite())
+}
+
+/// `true` when `dt_secs` is a usable step length: finite and strictly positive.
+#[inline]
+pub(crate) fn dt_is_valid<T: RealField + Copy>(dt_secs: T) -> bool {
+    dt_secs.is_finite() && dt_secs > T::zero()
+}
+
+/// Clamps a finite `value` to `[-limit, limit]` (`limit > 0`): `(clamped, status)`.
+#[inline]
+pub(crate) fn saturate<T: RealField + Copy>(value: T, limit: T) -> (T, StepStatus) {
+    if value > limit {
+        (limit, StepStatus::Saturated)
+    } else if value < -limit {
+        (-limit, StepStatus::Saturated)
+    } else {
+        (value, StepStatus::Nominal)
+    }
+}
+
+/// Checks a torque limit: finite and strictly positive.
+#[inline]
+pub(crate) fn check_limit<T: RealField + Copy>(value: T, field: &'static str) -> Result<(), Error> {
+    positive(value, field)
+}
+
+/// Checks a gain that may take either sign but must be finite.
+#[inline]
+pub(crate) fn check_gain<T: RealField + Copy>(value: T, field: &'static str) -> Result<(), Error> {
+    crate::check::finite(value, field)
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn saturate_clips_both_sides_and_reports_it() {
+        assert_eq!(saturate(5.0, 3.0), (3.0, StepStatus::Saturated));
+        assert_eq!(saturate(-5.0, 3.0), (-3.0, StepStatus::Saturated));
+        assert_eq!(saturate(2.0, 3.0), (2.0, StepStatus::Nominal));
+    }
+
+    #[test]
+    fn dt_validity() {
+        assert!(dt_is_valid(0.0025));
+        assert!(!dt_is_valid(0.0));
+        assert!(!dt_is_valid(-1.0));
+        assert!(!dt_is_valid(f64::NAN));
+        assert!(!dt_is_valid(f64::INFINITY));
+    }
+}

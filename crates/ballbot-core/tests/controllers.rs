@@ -1,0 +1,579 @@
+//! Closed-loop tests of the planar controllers on the nonlinear WIP.
+//!
+//! The plant is the core's nonlinear WIP integrated with `rk4_step` at 16 kHz (torque held
+//! between controller updates, as a motor driver holds it); the controllers run at their own
+//! rates: LQR, PI-PD and the LQR-PI outer part at 400 Hz, the LQR-PI inner speed PI at 8 kHz.
+//! An optional friction torque on the relative (motor) joint stands in for the PIPTB's
+//! transmission stiction (MODEL.md section 7).
+#![allow(clippy::unwrap_used)]
+
+use ballbot_core::control::{
+    LqrController, LqrGains, LqrPiOuter, LqrPiOuterConfig, PiPdController, PiPdGains, SpeedCommand,
+    SpeedPi, SpeedPiGains, StepStatus,
+};
+use ballbot_core::{Wip, WipParams, WipState, rk4_step};
+use nalgebra::Vector4;
+use proptest::prelude::*;
+
+const OUTER_HZ: f64 = 400.0;
+const INNER_HZ: f64 = 8000.0;
+/// Plant substeps per inner period (plant at 16 kHz).
+const PLANT_SUBSTEPS: usize = 2;
+const INNER_PER_OUTER: usize = 20;
+/// Bandwidth of the inner speed PI's error dynamics (rad/s).
+const INNER_BANDWIDTH_RAD_PER_S: f64 = 30.0;
+
+const TILT: usize = 0;
+const TILT_RATE: usize = 2;
+const BALL_RATE: usize = 3;
+
+// ----------------------------------------------------------------------------------------
+// Fixtures
+
+/// A robot preset with the torque limit its planar controller must respect.
+#[derive(Clone, Copy, Debug)]
+struct Preset {
+    name: &'static str,
+    params: WipParams<f64>,
+    /// MiaPURE: the x-plane torque capacity of three 43.2 N m actuators (MODEL.md section 6,
+    /// the smaller of the two planes); PIPTB: one actuator's peak.
+    max_torque_nm: f64,
+}
+
+fn presets() -> [Preset; 3] {
+    [
+        Preset {
+            name: "miapure_60kg",
+            params: WipParams::miapure_60kg(),
+            max_torque_nm: 83.9,
+        },
+        Preset {
+            name: "miapure_unloaded",
+            params: WipParams::miapure_unloaded(),
+            max_torque_nm: 83.9,
+        },
+        Preset {
+            name: "piptb",
+            params: WipParams::piptb(),
+            max_torque_nm: 43.2,
+        },
+    ]
+}
+
+fn miapure() -> Preset {
+    presets()[0]
+}
+
+/// LQR gains for a preset.
+///
+/// Provenance: MODEL.md section 6 (continuous LQR, Q = diag(100, 10, 1), R = 0.1, MiaPURE with
+/// 60 kg). Replaced by the core's synthesis once it lands.
+fn lqr_gains(preset: &Preset) -> Option<LqrGains<f64>> {
+    (preset.name == "miapure_60kg")
+        .then(|| LqrGains::from_reduced([-234.8, -45.70, -3.162], preset.max_torque_nm))
+}
+
+fn wip(preset: &Preset) -> Wip<f64> {
+    Wip::new(preset.params).unwrap()
+}
+
+fn inner_gains(preset: &Preset) -> SpeedPiGains<f64> {
+    SpeedPiGains::for_wip_ball_rate(
+        &wip(preset),
+        INNER_BANDWIDTH_RAD_PER_S,
+        preset.max_torque_nm,
+    )
+    .unwrap()
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Lqr,
+    PiPd,
+    LqrPi,
+}
+
+/// A controller under test, driven at the inner rate.
+enum Controller {
+    Lqr(LqrController<f64>),
+    PiPd(PiPdController<f64>),
+    LqrPi {
+        outer: LqrPiOuter<f64>,
+        inner: SpeedPi<f64>,
+        command: SpeedCommand<f64>,
+    },
+}
+
+impl Controller {
+    fn new(kind: Kind, preset: &Preset) -> Option<Self> {
+        Some(match kind {
+            Kind::Lqr => Self::Lqr(LqrController::new(lqr_gains(preset)?).unwrap()),
+            Kind::PiPd => Self::PiPd(
+                PiPdController::new(
+                    PiPdGains::for_wip(&wip(preset), preset.max_torque_nm).unwrap(),
+                )
+                .unwrap(),
+            ),
+            Kind::LqrPi => {
+                let inner = inner_gains(preset);
+                let config = LqrPiOuterConfig::new(lqr_gains(preset)?, &inner).unwrap();
+                Self::LqrPi {
+                    outer: LqrPiOuter::new(wip(preset), config).unwrap(),
+                    inner: SpeedPi::new(inner).unwrap(),
+                    command: SpeedCommand {
+                        speed_rad_per_s: 0.0,
+                        feedforward_torque_nm: 0.0,
+                    },
+                }
+            }
+        })
+    }
+
+    /// The torque for the coming inner period. `outer_due` marks an outer-rate tick; the LQR
+    /// and the PI-PD hold their torque between outer ticks.
+    fn tick(&mut self, s: &WipState<f64>, sc: &WipState<f64>, outer_due: bool, held: f64) -> f64 {
+        let dt_outer = 1.0 / OUTER_HZ;
+        match self {
+            Self::Lqr(c) => {
+                if outer_due {
+                    c.step(s, sc, dt_outer).torque_nm
+                } else {
+                    held
+                }
+            }
+            Self::PiPd(c) => {
+                if outer_due {
+                    c.step(s, sc, dt_outer).torque_nm
+                } else {
+                    held
+                }
+            }
+            Self::LqrPi {
+                outer,
+                inner,
+                command,
+            } => {
+                if outer_due {
+                    let o = outer.step(s, sc, dt_outer);
+                    *command = SpeedCommand {
+                        speed_rad_per_s: o.reference_ball_rate_rad_per_s,
+                        feedforward_torque_nm: o.reference_torque_nm,
+                    };
+                }
+                inner.step(s[BALL_RATE], command, 1.0 / INNER_HZ).torque_nm
+            }
+        }
+    }
+}
+
+/// Friction on the relative (motor) joint, opposing `phi_dot - theta_dot`.
+#[derive(Clone, Copy, Debug)]
+enum Friction {
+    None,
+    /// Smooth Coulomb friction `torque_nm tanh(w_rel / slip_rate_rad_per_s)`.
+    Coulomb {
+        torque_nm: f64,
+        slip_rate_rad_per_s: f64,
+    },
+}
+
+struct Plant {
+    wip: Wip<f64>,
+    friction: Friction,
+    state: WipState<f64>,
+}
+
+impl Plant {
+    fn friction_nm(&self, s: &WipState<f64>) -> f64 {
+        match self.friction {
+            Friction::None => 0.0,
+            Friction::Coulomb {
+                torque_nm,
+                slip_rate_rad_per_s,
+            } => torque_nm * ((s[BALL_RATE] - s[TILT_RATE]) / slip_rate_rad_per_s).tanh(),
+        }
+    }
+
+    fn step(&mut self, torque_nm: f64, dt_secs: f64) {
+        let f = |x: &WipState<f64>| self.wip.derivative(x, torque_nm - self.friction_nm(x));
+        self.state = rk4_step(f, &self.state, dt_secs);
+    }
+}
+
+/// One record per outer period.
+#[derive(Clone, Copy, Debug)]
+struct Sample {
+    t_secs: f64,
+    state: WipState<f64>,
+    command: WipState<f64>,
+    torque_nm: f64,
+}
+
+struct Trace {
+    samples: Vec<Sample>,
+    ball_radius_m: f64,
+}
+
+impl Trace {
+    fn speed_error_m_per_s(&self, s: &Sample) -> f64 {
+        (s.state[BALL_RATE] - s.command[BALL_RATE]) * self.ball_radius_m
+    }
+
+    fn between(&self, t0: f64, t1: f64) -> impl Iterator<Item = &Sample> {
+        self.samples
+            .iter()
+            .filter(move |s| s.t_secs >= t0 && s.t_secs <= t1)
+    }
+
+    /// Mean speed error over `[t0, t1]` (m/s, signed).
+    fn mean_speed_error(&self, t0: f64, t1: f64) -> f64 {
+        let (sum, n) = self.between(t0, t1).fold((0.0, 0), |(a, n), s| {
+            (a + self.speed_error_m_per_s(s), n + 1)
+        });
+        sum / n as f64
+    }
+
+    /// Largest |speed error| over `[t0, t1]` (m/s).
+    fn max_speed_error(&self, t0: f64, t1: f64) -> f64 {
+        self.between(t0, t1)
+            .map(|s| self.speed_error_m_per_s(s).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Settle criterion: the time after which the robot stays within |theta| <= 0.5 deg,
+    /// |theta_dot| <= 2 deg/s and |ball speed| <= 0.02 m/s (a regulation run to rest).
+    /// `None` if it is outside the band at the end.
+    fn settle_time_secs(&self) -> Option<f64> {
+        let deg = std::f64::consts::PI / 180.0;
+        let inside = |s: &Sample| {
+            s.state[TILT].abs() <= 0.5 * deg
+                && s.state[TILT_RATE].abs() <= 2.0 * deg
+                && (s.state[BALL_RATE] * self.ball_radius_m).abs() <= 0.02
+        };
+        let last_outside = self.samples.iter().rposition(|s| !inside(s));
+        match last_outside {
+            None => Some(0.0),
+            Some(i) if i + 1 < self.samples.len() => Some(self.samples[i + 1].t_secs),
+            Some(_) => None,
+        }
+    }
+
+    fn max_abs_tilt_rad(&self) -> f64 {
+        self.samples
+            .iter()
+            .map(|s| s.state[TILT].abs())
+            .fold(0.0, f64::max)
+    }
+
+    fn max_abs_torque_nm(&self) -> f64 {
+        self.samples
+            .iter()
+            .map(|s| s.torque_nm.abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Runs `controller` on the plant for `duration_secs` from `initial`, the command state
+/// given by `command(t)`.
+fn simulate(
+    preset: &Preset,
+    controller: &mut Controller,
+    friction: Friction,
+    initial: WipState<f64>,
+    command: impl Fn(f64) -> WipState<f64>,
+    duration_secs: f64,
+) -> Trace {
+    let mut plant = Plant {
+        wip: wip(preset),
+        friction,
+        state: initial,
+    };
+    let inner_dt = 1.0 / INNER_HZ;
+    let plant_dt = inner_dt / PLANT_SUBSTEPS as f64;
+    let steps = (duration_secs * INNER_HZ).round() as usize;
+    let mut samples = Vec::with_capacity(steps / INNER_PER_OUTER + 1);
+    let mut torque = 0.0;
+    let mut sc = command(0.0);
+    for k in 0..steps {
+        let t = k as f64 * inner_dt;
+        let outer_due = k % INNER_PER_OUTER == 0;
+        if outer_due {
+            sc = command(t);
+        }
+        torque = controller.tick(&plant.state, &sc, outer_due, torque);
+        assert!(torque.is_finite() && torque.abs() <= preset.max_torque_nm + 1e-9);
+        if outer_due {
+            samples.push(Sample {
+                t_secs: t,
+                state: plant.state,
+                command: sc,
+                torque_nm: torque,
+            });
+        }
+        for _ in 0..PLANT_SUBSTEPS {
+            plant.step(torque, plant_dt);
+        }
+        assert!(
+            plant.state[TILT].abs() < 1.2,
+            "{}: fell over at t = {t:.3} s",
+            preset.name
+        );
+    }
+    Trace {
+        samples,
+        ball_radius_m: preset.params.ball_radius_m,
+    }
+}
+
+/// A speed command: `speed_m_per_s(t)` as the ball rate, upright, no tilt rate.
+fn speed_command(r: f64, speed_m_per_s: impl Fn(f64) -> f64) -> impl Fn(f64) -> WipState<f64> {
+    move |t| Vector4::new(0.0, 0.0, 0.0, speed_m_per_s(t) / r)
+}
+
+/// The paper's PIPTB profile without the braking phase: 0 -> 1 m/s in 2 s, hold.
+fn ramp_1m_per_s(t: f64) -> f64 {
+    (t / 2.0).min(1.0)
+}
+
+// ----------------------------------------------------------------------------------------
+// Recovery from a 10 deg tilt
+
+#[test]
+fn every_controller_recovers_every_preset_from_10_deg() {
+    let tilt0 = 10.0_f64.to_radians();
+    let mut ran = 0;
+    for preset in presets() {
+        for kind in [Kind::Lqr, Kind::PiPd, Kind::LqrPi] {
+            let Some(mut c) = Controller::new(kind, &preset) else {
+                continue;
+            };
+            let trace = simulate(
+                &preset,
+                &mut c,
+                Friction::None,
+                Vector4::new(tilt0, 0.0, 0.0, 0.0),
+                |_| Vector4::zeros(),
+                8.0,
+            );
+            let settle = trace.settle_time_secs();
+            eprintln!(
+                "{:>16} {kind:?}: settle {settle:?} s, max tilt {:.2} deg, max torque {:.1} N m",
+                preset.name,
+                trace.max_abs_tilt_rad().to_degrees(),
+                trace.max_abs_torque_nm()
+            );
+            let settle = settle.unwrap_or(f64::INFINITY);
+            assert!(settle <= 5.0, "{} {kind:?}: settle {settle} s", preset.name);
+            ran += 1;
+        }
+    }
+    assert!(ran >= 4, "only {ran} controller/preset pairs ran");
+}
+
+// ----------------------------------------------------------------------------------------
+// Tracking the paper's 1 m/s ramp
+
+#[test]
+fn lqr_and_lqr_pi_track_the_1_m_per_s_ramp() {
+    let mut results = Vec::new();
+    for preset in presets() {
+        for kind in [Kind::Lqr, Kind::LqrPi] {
+            let Some(mut c) = Controller::new(kind, &preset) else {
+                continue;
+            };
+            let r = preset.params.ball_radius_m;
+            let trace = simulate(
+                &preset,
+                &mut c,
+                Friction::None,
+                Vector4::zeros(),
+                speed_command(r, ramp_1m_per_s),
+                8.0,
+            );
+            let ramp = trace.max_speed_error(0.0, 2.0);
+            let lag = trace.mean_speed_error(1.5, 2.0);
+            let hold = trace.max_speed_error(6.0, 8.0);
+            eprintln!(
+                "{:>16} {kind:?}: speed error on the ramp max {ramp:.3} m/s (mean over the last \
+                 0.5 s {lag:+.3}), 4 s into the hold max {hold:.4} m/s",
+                preset.name
+            );
+            results.push((preset.name, kind, ramp, hold));
+        }
+    }
+    assert!(!results.is_empty());
+    for (name, kind, ramp, hold) in results {
+        // The command state carries only the speed (theta_c = 0): the lean needed to
+        // accelerate is fought by k1, so the controllers lag the ramp by a bounded amount.
+        assert!(ramp < 0.5, "{name} {kind:?}: ramp error {ramp}");
+        assert!(hold < 0.01, "{name} {kind:?}: hold error {hold}");
+    }
+}
+
+// ----------------------------------------------------------------------------------------
+// The paper's central claim: stiction
+
+/// With Coulomb friction on the drive, the LQR alone cruises with a steady speed error
+/// (`tau_c / |k3|` by the steady-state balance); the LQR-PI removes it.
+#[test]
+fn lqr_pi_removes_the_steady_speed_error_that_friction_leaves_under_lqr() {
+    let preset = miapure();
+    let r = preset.params.ball_radius_m;
+    let coulomb_nm = 5.0;
+    let friction = Friction::Coulomb {
+        torque_nm: coulomb_nm,
+        slip_rate_rad_per_s: 0.05,
+    };
+    let cruise = |t: f64| 0.5 * (t / 1.0).min(1.0);
+    let mut errors = [0.0; 2];
+    for (i, kind) in [Kind::Lqr, Kind::LqrPi].into_iter().enumerate() {
+        let mut c = Controller::new(kind, &preset).unwrap();
+        let trace = simulate(
+            &preset,
+            &mut c,
+            friction,
+            Vector4::zeros(),
+            speed_command(r, cruise),
+            8.0,
+        );
+        errors[i] = trace.mean_speed_error(7.0, 8.0);
+        eprintln!(
+            "{}: {kind:?} with {coulomb_nm} N m Coulomb friction, 0.5 m/s command: steady \
+             speed error {:+.4} m/s",
+            preset.name, errors[i]
+        );
+    }
+    let k3 = lqr_gains(&preset).unwrap().ball_rate_nm_s_per_rad;
+    let predicted = coulomb_nm / k3.abs() * r;
+    // LQR: the friction is balanced by k3 times the speed error.
+    assert!(
+        (errors[0].abs() - predicted).abs() < 0.1 * predicted,
+        "LQR error {} vs predicted {predicted}",
+        errors[0]
+    );
+    assert!(errors[0].abs() > 0.1);
+    // LQR-PI: removed.
+    assert!(errors[1].abs() < 0.005, "LQR-PI error {}", errors[1]);
+}
+
+// ----------------------------------------------------------------------------------------
+// Robustness
+
+#[test]
+fn non_finite_measurements_give_zero_finite_torque_then_recover() {
+    let preset = miapure();
+    let good = Vector4::new(0.05, 0.0, 0.1, 1.0);
+    let zero = Vector4::zeros();
+    let dt = 1.0 / OUTER_HZ;
+    let mut lqr = LqrController::new(lqr_gains(&preset).unwrap()).unwrap();
+    let mut pipd =
+        PiPdController::new(PiPdGains::for_wip(&wip(&preset), preset.max_torque_nm).unwrap())
+            .unwrap();
+    let inner_g = inner_gains(&preset);
+    let mut outer = LqrPiOuter::new(
+        wip(&preset),
+        LqrPiOuterConfig::new(lqr_gains(&preset).unwrap(), &inner_g).unwrap(),
+    )
+    .unwrap();
+    let mut inner = SpeedPi::new(inner_g).unwrap();
+    outer.step(&good, &zero, dt);
+    pipd.step(&good, &zero, dt);
+    let held_reference = outer.reference_ball_rate_rad_per_s();
+    let held_integral = pipd.speed_error_integral_rad();
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        for i in 0..4 {
+            let mut s = good;
+            s[i] = bad;
+            for (m, c) in [(&s, &zero), (&good, &s)] {
+                let a = lqr.step(m, c, dt);
+                assert_eq!((a.torque_nm, a.status), (0.0, StepStatus::InvalidInput));
+                let b = pipd.step(m, c, dt);
+                assert_eq!((b.torque_nm, b.status), (0.0, StepStatus::InvalidInput));
+                let o = outer.step(m, c, dt);
+                assert_eq!(
+                    (o.reference_torque_nm, o.status),
+                    (0.0, StepStatus::InvalidInput)
+                );
+                assert_eq!(Some(o.reference_ball_rate_rad_per_s), held_reference);
+                // The motor driver's PI sees a finite (held) reference and the measured
+                // speed; with the speed itself non-finite it gives zero torque.
+                let cmd = SpeedCommand {
+                    speed_rad_per_s: o.reference_ball_rate_rad_per_s,
+                    feedforward_torque_nm: o.reference_torque_nm,
+                };
+                let e = inner.step(m[BALL_RATE], &cmd, 1.0 / INNER_HZ);
+                assert!(e.torque_nm.is_finite() && e.torque_nm.abs() <= preset.max_torque_nm);
+                if !m[BALL_RATE].is_finite() {
+                    assert_eq!((e.torque_nm, e.status), (0.0, StepStatus::InvalidInput));
+                }
+            }
+        }
+    }
+    // State held through the bad steps.
+    assert_eq!(outer.reference_ball_rate_rad_per_s(), held_reference);
+    assert_eq!(pipd.speed_error_integral_rad(), held_integral);
+    // Valid again: a finite, positive balancing torque from each.
+    assert!(lqr.step(&good, &zero, dt).torque_nm > 0.0);
+    assert!(pipd.step(&good, &zero, dt).torque_nm > 0.0);
+    assert!(outer.step(&good, &zero, dt).reference_torque_nm > 0.0);
+}
+
+fn any_f64() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => -10.0..10.0f64,
+        2 => proptest::num::f64::ANY,
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(f64::MAX),
+    ]
+}
+
+fn any_state() -> impl Strategy<Value = WipState<f64>> {
+    [any_f64(), any_f64(), any_f64(), any_f64()].prop_map(Vector4::from)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// For arbitrary (including non-finite) inputs, no controller's `step` panics, and every
+    /// torque it returns is finite and within its limit; rejected steps are flagged.
+    #[test]
+    fn step_never_panics_and_torque_is_finite_and_bounded(
+        steps in proptest::collection::vec((any_state(), any_state(), any_f64(), any_f64()), 1..20)
+    ) {
+        let preset = miapure();
+        let limit = preset.max_torque_nm;
+        let mut lqr = LqrController::new(lqr_gains(&preset).unwrap()).unwrap();
+        let mut pipd = PiPdController::new(PiPdGains::for_wip(&wip(&preset), limit).unwrap()).unwrap();
+        let inner_g = inner_gains(&preset);
+        let mut outer = LqrPiOuter::new(
+            wip(&preset),
+            LqrPiOuterConfig::new(lqr_gains(&preset).unwrap(), &inner_g).unwrap(),
+        ).unwrap();
+        let mut inner = SpeedPi::new(inner_g).unwrap();
+        for (s, sc, dt, extra) in steps {
+            let a = lqr.step(&s, &sc, dt);
+            prop_assert!(a.torque_nm.is_finite() && a.torque_nm.abs() <= limit);
+            let b = pipd.step(&s, &sc, dt);
+            prop_assert!(b.torque_nm.is_finite() && b.torque_nm.abs() <= limit);
+            prop_assert!(b.reference_tilt_rad.is_finite());
+            let o = outer.step(&s, &sc, dt);
+            prop_assert!(o.reference_torque_nm.is_finite() && o.reference_torque_nm.abs() <= limit);
+            prop_assert!(o.reference_ball_rate_rad_per_s.is_finite());
+            let cmd = SpeedCommand { speed_rad_per_s: o.reference_ball_rate_rad_per_s, feedforward_torque_nm: o.reference_torque_nm };
+            let i = inner.step(s[BALL_RATE], &cmd, dt);
+            prop_assert!(i.torque_nm.is_finite() && i.torque_nm.abs() <= limit);
+            // The same with arbitrary raw inputs to the inner PI, and arbitrary bounds.
+            let raw = SpeedCommand { speed_rad_per_s: extra, feedforward_torque_nm: sc[0] };
+            let j = inner.step_within(s[1], &raw, dt, -extra.abs(), sc[2]);
+            prop_assert!(j.torque_nm.is_finite() && j.torque_nm.abs() <= limit);
+            prop_assert!(inner.integral_nm().is_finite());
+            let all_finite = s.iter().chain(sc.iter()).all(|v| v.is_finite());
+            if !all_finite {
+                prop_assert_eq!(a.status, StepStatus::InvalidInput);
+                prop_assert_eq!(o.status, StepStatus::InvalidInput);
+            }
+        }
+    }
+}
