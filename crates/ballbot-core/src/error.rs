@@ -16,6 +16,11 @@ pub enum Error {
         /// The bound it violates, in words (e.g. `"must be finite and > 0"`).
         requirement: &'static str,
     },
+    /// An LQR design found no stabilising gain: the Riccati solve ended with this status.
+    NoStabilizingGain {
+        /// How the Riccati solve ended.
+        status: crate::lqr::RiccatiStatus,
+    },
 }
 
 impl Error {
@@ -30,6 +35,9 @@ impl fmt::Display for Error {
         match self {
             Self::InvalidParameter { field, requirement } => {
                 write!(f, "invalid parameter `{field}`: {requirement}")
+            }
+            Self::NoStabilizingGain { status } => {
+                write!(f, "LQR design found no stabilising gain: {status}")
             }
         }
     }

@@ -26,6 +26,8 @@ mod error;
 pub mod estimation;
 pub mod integrate;
 pub mod kinematics;
+pub mod linalg;
+pub mod lqr;
 pub mod params;
 pub mod safety;
 pub mod spin;

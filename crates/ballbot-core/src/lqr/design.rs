@@ -1,0 +1,280 @@
+//! Single-input LQR gain design for the WIP (reduced state) and the spin model.
+//!
+//! Sign convention (MODEL.md, the paper's form): the controller is
+//! `tau = k . (s_c - s)`, `s_c` the reference state. With `s_c = 0` this is the textbook
+//! `u = -K s`, so `k` is the Riccati gain `K` itself. For the WIP on
+//! `[theta, theta_dot, phi_dot]` all three gains come out negative: a forward lean
+//! (`theta > 0`) gives a positive torque, which rolls the ball forward under the body.
+
+use super::riccati::{RiccatiSettings, RiccatiSolution, RiccatiStatus, solve_care, solve_dare};
+use crate::check::lit;
+use crate::linalg::{eigenvalues, is_finite, zoh};
+use crate::{Error, Spin, Wip};
+use nalgebra::allocator::Allocator;
+use nalgebra::{
+    Complex, Const, DefaultAllocator, DimDiff, DimSub, Matrix1, RealField, SMatrix, SVector, U1,
+    Vector4,
+};
+
+/// The paper's outer-loop (LQR) rate: 400 Hz.
+pub const OUTER_LOOP_RATE_HZ: f64 = 400.0;
+
+/// The outer-loop sample time `1 / 400` s, in `T`.
+pub fn outer_loop_dt_secs<T: RealField + Copy>() -> T {
+    lit(1.0 / OUTER_LOOP_RATE_HZ)
+}
+
+/// LQR weights for a single-input plant with `N` states: cost
+/// `integral (s^T q s + r u^2) dt` (continuous) or `sum (s^T q s + r u^2)` (discrete).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LqrWeights<T: RealField + Copy, const N: usize> {
+    /// State weight `Q` (symmetric positive semidefinite), in (input unit / state unit)^2
+    /// relative to `r`.
+    pub q: SMatrix<T, N, N>,
+    /// Input weight `R` (> 0).
+    pub r: T,
+}
+
+/// Weights on the WIP reduced state `[theta, theta_dot, phi_dot]` and the torque.
+pub type WipLqrWeights<T> = LqrWeights<T, 3>;
+/// Weights on the spin state `[theta_z, theta_z_dot]` and the yaw torque.
+pub type SpinLqrWeights<T> = LqrWeights<T, 2>;
+
+impl<T: RealField + Copy, const N: usize> LqrWeights<T, N> {
+    /// Full state weight `q` and input weight `r` (validated by the design functions).
+    pub fn new(q: SMatrix<T, N, N>, r: T) -> Self {
+        Self { q, r }
+    }
+
+    /// Diagonal state weight `diag(q_diag)` and input weight `r`.
+    pub fn diagonal(q_diag: [T; N], r: T) -> Self {
+        Self {
+            q: SMatrix::from_diagonal(&SVector::from(q_diag)),
+            r,
+        }
+    }
+
+    /// Checks `q` (finite, symmetric, positive semidefinite) and `r` (finite, > 0); the
+    /// error names the field.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.r.is_finite() && self.r > T::zero()) {
+            return Err(Error::invalid("r", "must be finite and > 0"));
+        }
+        super::riccati::validate_weights(&self.q, &Matrix1::new(self.r))
+    }
+}
+
+impl<T: RealField + Copy> LqrWeights<T, 3> {
+    /// MODEL.md's design weights for the WIP: `Q = diag(100, 10, 1)` on
+    /// `[theta, theta_dot, phi_dot]`, `R = 0.1`. For MiaPURE with 60 kg the continuous
+    /// gains are `k = [-234.8, -45.70, -3.162]`.
+    pub fn model_default() -> Self {
+        Self::diagonal([lit(100.0), lit(10.0), lit(1.0)], lit(0.1))
+    }
+}
+
+/// A single-input LQR design: the gain, the closed loop it gives, and how the Riccati solve
+/// went.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lqr<T: RealField + Copy, const N: usize> {
+    /// The gain `k` in `u = k . (s_c - s)` (so `u = -k . s` regulates to zero).
+    pub gain: SVector<T, N>,
+    /// The closed-loop matrix `A - B k^T`: continuous (`s_dot = ...`), or for a discrete
+    /// design the sampled one (`s[n+1] = ...`).
+    pub closed_loop: SMatrix<T, N, N>,
+    /// The Riccati solution `X` (cost-to-go `s^T X s`).
+    pub cost_to_go: SMatrix<T, N, N>,
+    /// The sample time of a discrete design (s); `None` for a continuous design.
+    pub dt_secs: Option<T>,
+    /// Doubling steps the Riccati solve took.
+    pub iterations: u32,
+    /// The Riccati solve's relative residual.
+    pub residual: T,
+}
+
+/// LQR on the WIP reduced state `[theta, theta_dot, phi_dot]`.
+pub type WipLqr<T> = Lqr<T, 3>;
+/// LQR on the spin state `[theta_z, theta_z_dot]`.
+pub type SpinLqr<T> = Lqr<T, 2>;
+
+impl<T: RealField + Copy, const N: usize> Lqr<T, N> {
+    /// Continuous-time LQR for `s_dot = A s + B u` (CARE).
+    ///
+    /// Errors: invalid weights (naming `q` or `r`), a non-finite plant (`a`, `b`), or
+    /// [`Error::NoStabilizingGain`] when the Riccati solve does not converge to a stabilising
+    /// solution.
+    #[allow(non_snake_case)]
+    pub fn continuous(
+        A: &SMatrix<T, N, N>,
+        B: &SVector<T, N>,
+        weights: &LqrWeights<T, N>,
+    ) -> Result<Self, Error> {
+        weights.validate()?;
+        let sol = solve_care(
+            A,
+            B,
+            &weights.q,
+            &Matrix1::new(weights.r),
+            &RiccatiSettings::default(),
+        )?;
+        Self::from_solution(A, B, &sol, None)
+    }
+
+    /// Discrete-time LQR at `dt_secs` for `s_dot = A s + B u` with the input held
+    /// (zero-order hold): DARE on `(Ad, Bd)` with the same `Q`, `R` per sample. Scaling
+    /// `Q` and `R` alike leaves the gain unchanged, so as `dt_secs -> 0` the gain tends to
+    /// the continuous one (with an `O(dt)` difference).
+    ///
+    /// Errors: as [`Self::continuous`], plus `dt_secs` not finite and > 0.
+    #[allow(non_snake_case)]
+    pub fn discrete(
+        A: &SMatrix<T, N, N>,
+        B: &SVector<T, N>,
+        weights: &LqrWeights<T, N>,
+        dt_secs: T,
+    ) -> Result<Self, Error> {
+        weights.validate()?;
+        let d = zoh(A, B, dt_secs)?;
+        let sol = solve_dare(
+            &d.a,
+            &d.b,
+            &weights.q,
+            &Matrix1::new(weights.r),
+            &RiccatiSettings::default(),
+        )?;
+        Self::from_solution(&d.a, &d.b, &sol, Some(dt_secs))
+    }
+
+    #[allow(non_snake_case)]
+    fn from_solution(
+        A: &SMatrix<T, N, N>,
+        B: &SVector<T, N>,
+        sol: &RiccatiSolution<T, N, 1>,
+        dt_secs: Option<T>,
+    ) -> Result<Self, Error> {
+        if sol.status != RiccatiStatus::Converged {
+            return Err(Error::NoStabilizingGain { status: sol.status });
+        }
+        let gain = sol.gain.transpose();
+        let closed_loop = A - B * sol.gain;
+        if !(is_finite(&gain) && is_finite(&closed_loop)) {
+            return Err(Error::NoStabilizingGain {
+                status: RiccatiStatus::NonFinite,
+            });
+        }
+        Ok(Self {
+            gain,
+            closed_loop,
+            cost_to_go: sol.x,
+            dt_secs,
+            iterations: sol.iterations,
+            residual: sol.residual,
+        })
+    }
+
+    /// The control `u = k . (reference - measured)`.
+    pub fn control(&self, reference: &SVector<T, N>, measured: &SVector<T, N>) -> T {
+        self.gain.dot(&(reference - measured))
+    }
+
+    /// Eigenvalues of [`Self::closed_loop`]: poles in rad/s for a continuous design,
+    /// z-plane eigenvalues for a discrete one. `None` if the bounded Schur iteration fails.
+    pub fn closed_loop_eigenvalues(&self) -> Option<SVector<Complex<T>, N>>
+    where
+        Const<N>: DimSub<U1>,
+        DefaultAllocator:
+            Allocator<Const<N>, DimDiff<Const<N>, U1>> + Allocator<DimDiff<Const<N>, U1>>,
+    {
+        eigenvalues(&self.closed_loop)
+    }
+}
+
+impl<T: RealField + Copy> Lqr<T, 3> {
+    /// The WIP gains `[k1, k2, k3]` on `[theta, theta_dot, phi_dot]`.
+    pub fn reduced_gains(&self) -> [T; 3] {
+        [self.gain[0], self.gain[1], self.gain[2]]
+    }
+
+    /// The paper's 4-vector `k = [k1, 0, k2, k3]` on the full state
+    /// `[theta, phi, theta_dot, phi_dot]` (the ball angle is not fed back).
+    pub fn paper_gains(&self) -> Vector4<T> {
+        Vector4::new(self.gain[0], T::zero(), self.gain[1], self.gain[2])
+    }
+}
+
+/// Continuous LQR for the WIP on the reduced state `[theta, theta_dot, phi_dot]`, designed
+/// on the linearisation about upright.
+///
+/// ```
+/// use ballbot_core::lqr::{wip_lqr, WipLqrWeights};
+/// use ballbot_core::{Wip, WipParams};
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let lqr = wip_lqr(&wip, &WipLqrWeights::model_default())?;
+/// let [k1, k2, k3] = lqr.reduced_gains();
+/// approx::assert_relative_eq!(k1, -234.8, max_relative = 1e-3);
+/// approx::assert_relative_eq!(k2, -45.70, max_relative = 1e-3);
+/// approx::assert_relative_eq!(k3, -3.162, max_relative = 1e-3);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[allow(non_snake_case)]
+pub fn wip_lqr<T: RealField + Copy>(
+    wip: &Wip<T>,
+    weights: &WipLqrWeights<T>,
+) -> Result<WipLqr<T>, Error> {
+    let (A, B) = wip.linearize_upright().reduced();
+    Lqr::continuous(&A, &B, weights)
+}
+
+/// Discrete LQR for the WIP on the reduced state at `dt_secs` (the paper runs it at 400 Hz,
+/// [`outer_loop_dt_secs`]), on the zero-order-hold discretisation of the upright
+/// linearisation.
+///
+/// ```
+/// use ballbot_core::lqr::{outer_loop_dt_secs, wip_lqr_discrete, WipLqrWeights};
+/// use ballbot_core::{Wip, WipParams};
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let lqr = wip_lqr_discrete(&wip, &WipLqrWeights::model_default(), outer_loop_dt_secs())?;
+/// let poles = lqr.closed_loop_eigenvalues().unwrap();
+/// assert!(poles.iter().all(|z| z.norm() < 1.0));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[allow(non_snake_case)]
+pub fn wip_lqr_discrete<T: RealField + Copy>(
+    wip: &Wip<T>,
+    weights: &WipLqrWeights<T>,
+    dt_secs: T,
+) -> Result<WipLqr<T>, Error> {
+    let (A, B) = wip.linearize_upright().reduced();
+    Lqr::discrete(&A, &B, weights, dt_secs)
+}
+
+/// Continuous LQR for the spin model on `[theta_z, theta_z_dot]`.
+///
+/// ```
+/// use ballbot_core::lqr::{spin_lqr, SpinLqrWeights};
+/// use ballbot_core::{Spin, SpinParams};
+/// let spin = Spin::new(SpinParams::<f64>::miapure_60kg())?;
+/// let lqr = spin_lqr(&spin, &SpinLqrWeights::diagonal([100.0, 1.0], 1.0))?;
+/// // Heading weight 100, R = 1: the heading gain is sqrt(100 / 1) = 10.
+/// approx::assert_relative_eq!(lqr.gain[0], 10.0, max_relative = 1e-9);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[allow(non_snake_case)]
+pub fn spin_lqr<T: RealField + Copy>(
+    spin: &Spin<T>,
+    weights: &SpinLqrWeights<T>,
+) -> Result<SpinLqr<T>, Error> {
+    let (A, B) = spin.state_space();
+    Lqr::continuous(&A, &B, weights)
+}
+
+/// Discrete LQR for the spin model at `dt_secs` (zero-order hold).
+#[allow(non_snake_case)]
+pub fn spin_lqr_discrete<T: RealField + Copy>(
+    spin: &Spin<T>,
+    weights: &SpinLqrWeights<T>,
+    dt_secs: T,
+) -> Result<SpinLqr<T>, Error> {
+    let (A, B) = spin.state_space();
+    Lqr::discrete(&A, &B, weights, dt_secs)
+}

@@ -1,0 +1,438 @@
+//! Discrete and continuous algebraic Riccati equations by the structure-preserving doubling
+//! algorithm (SDA).
+//!
+//! Symbols (this module allows `non_snake_case` for them): `A` (N x N) and `B` (N x M) the
+//! plant, `Q` (N x N, symmetric positive semidefinite) and `R` (M x M, symmetric positive
+//! definite) the weights, `X` the stabilising solution, `K` the optimal gain, `u = -K x`.
+//!
+//! # DARE
+//!
+//! `X = A^T X A - A^T X B (R + B^T X B)^-1 B^T X A + Q`, `K = (R + B^T X B)^-1 B^T X A`.
+//! With `G = B R^-1 B^T` this is `X = Q + A^T X (I + G X)^-1 A`. The SDA (Chu, Fan, Lin,
+//! Wang 2004) starts from `A_0 = A`, `G_0 = G`, `H_0 = Q` and iterates
+//!
+//! ```text
+//! W_k     = I + G_k H_k
+//! A_{k+1} = A_k W_k^-1 A_k
+//! G_{k+1} = G_k + A_k W_k^-1 G_k A_k^T
+//! H_{k+1} = H_k + A_k^T H_k W_k^-1 A_k
+//! ```
+//!
+//! `H_k` increases monotonically to `X`; each step doubles the horizon, so the error falls
+//! like `rho^(2^(k+1))`, `rho` the closed-loop spectral radius: quadratic convergence with one
+//! `N x N` inverse per step and no `(N + M)` or `2N` sized matrix. `W_k` is never singular
+//! (`G_k H_k` is similar to a positive semidefinite matrix). The increment
+//! `A_k^T H_k W_k^-1 A_k` is computed directly, not as a difference, so the stopping test
+//! has no round-off floor.
+//!
+//! # CARE
+//!
+//! `A^T X + X A - X B R^-1 B^T X + Q = 0`, `K = R^-1 B^T X`. Solved by SDA-1 (Chu, Fan, Lin
+//! 2005): a Cayley transform with shift `g > 0` maps the Hamiltonian's stable eigenvalues
+//! `lambda` to `(lambda + g) / (lambda - g)` inside the unit disc, giving a DARE-form start
+//!
+//! ```text
+//! A_g = A - g I,  W_g = A_g^T + Q A_g^-1 G,  V_g = A_g + G A_g^-T Q
+//! A_0 = I + 2 g V_g^-1,  G_0 = 2 g A_g^-1 G W_g^-1,  H_0 = 2 g W_g^-1 Q A_g^-1
+//! ```
+//!
+//! for the same doubling iteration, whose `H_k` converges to the CARE's stabilising `X`.
+//! The shift is `g = max(||A||_F, sqrt(||G||_F ||Q||_F))` (enlarged by 3/2 if `A_g` is
+//! singular).
+//!
+//! # Outcome
+//!
+//! Malformed input (non-finite entries, `Q` not symmetric positive semidefinite, `R` not
+//! symmetric positive definite) is an [`Error`] naming the argument. The numerical outcome is
+//! a [`RiccatiStatus`] in the [`RiccatiSolution`]: the closed loop `A - B K` is certified
+//! stable ([`is_schur_stable`], [`is_hurwitz`]) before `Converged` is reported. No stabilising
+//! solution (an unstable mode that `B` cannot move, or that `Q` does not weight) gives
+//! `NotStabilizable`, detected either by the doubling diverging or by the closed-loop check.
+#![allow(non_snake_case)]
+
+use crate::Error;
+use crate::check::lit;
+use crate::linalg::{is_finite, is_hurwitz, is_schur_stable, norm1, symmetrize};
+use core::fmt;
+use nalgebra::{Cholesky, RealField, SMatrix};
+
+/// The numerical outcome of a Riccati solve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RiccatiStatus {
+    /// Converged to the tolerance, and the closed loop `A - B K` is certified asymptotically
+    /// stable.
+    Converged,
+    /// Stopped at the iteration limit before the tolerance; the closed loop of the last
+    /// iterate is stable, but the solution is not accurate to the tolerance.
+    MaxIterations,
+    /// No stabilising solution: an unstable (or, for the DARE, unit-circle; for the CARE,
+    /// imaginary-axis) mode is not stabilisable through `B`, or is not weighted by `Q`
+    /// (not detectable). The doubling diverged or the closed loop is not stable.
+    NotStabilizable,
+    /// A non-finite number appeared (overflow in the setup or the gain).
+    NonFinite,
+}
+
+impl RiccatiStatus {
+    /// `true` for [`RiccatiStatus::Converged`].
+    pub fn is_converged(self) -> bool {
+        self == Self::Converged
+    }
+}
+
+impl fmt::Display for RiccatiStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Converged => "converged",
+            Self::MaxIterations => "iteration limit reached",
+            Self::NotStabilizable => "no stabilising solution (unstabilisable or undetectable)",
+            Self::NonFinite => "non-finite numbers",
+        })
+    }
+}
+
+/// Stopping rules of the Riccati solvers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RiccatiSettings<T> {
+    /// Stop when the 1-norm of the last increment of `X` is at most this times `||X||_1`
+    /// (dimensionless). Default `1000 eps` (`2.2e-13` in `f64`, `1.2e-4` in `f32`); the
+    /// convergence is quadratic, so the error left is far below it.
+    pub tolerance: T,
+    /// Iteration limit. Default 64: each doubling step doubles the horizon, so 64 steps
+    /// cover `2^64` samples.
+    pub max_iterations: u32,
+}
+
+impl<T: RealField + Copy> Default for RiccatiSettings<T> {
+    fn default() -> Self {
+        Self {
+            tolerance: T::default_epsilon() * lit(1000.0),
+            max_iterations: 64,
+        }
+    }
+}
+
+impl<T: RealField + Copy> RiccatiSettings<T> {
+    /// Checks the settings; the error names the field.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.tolerance.is_finite() && self.tolerance > T::zero()) {
+            return Err(Error::invalid("tolerance", "must be finite and > 0"));
+        }
+        if self.max_iterations == 0 {
+            return Err(Error::invalid("max_iterations", "must be > 0"));
+        }
+        Ok(())
+    }
+}
+
+/// The result of a Riccati solve: the solution, the optimal gain and how the solve went.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[must_use = "check `status` before using the gain"]
+pub struct RiccatiSolution<T: RealField + Copy, const N: usize, const M: usize> {
+    /// The solution `X` (symmetric): `x^T X x` is the optimal cost-to-go.
+    pub x: SMatrix<T, N, N>,
+    /// The optimal gain `K` for `u = -K x`.
+    pub gain: SMatrix<T, M, N>,
+    /// How the solve ended; use `x` and `gain` only when it is `Converged`.
+    pub status: RiccatiStatus,
+    /// Doubling steps taken.
+    pub iterations: u32,
+    /// Relative residual: the 1-norm of the Riccati equation's residual at `x` over
+    /// `max(||X||_1, ||Q||_1)`.
+    pub residual: T,
+}
+
+impl<T: RealField + Copy, const N: usize, const M: usize> RiccatiSolution<T, N, M> {
+    /// `true` when the status is [`RiccatiStatus::Converged`].
+    pub fn is_converged(&self) -> bool {
+        self.status.is_converged()
+    }
+
+    fn failed(status: RiccatiStatus, iterations: u32) -> Self {
+        Self {
+            x: SMatrix::zeros(),
+            gain: SMatrix::zeros(),
+            status,
+            iterations,
+            residual: T::max_value().unwrap_or(T::one()),
+        }
+    }
+}
+
+/// Checks that `q` is finite, symmetric and positive semidefinite (to round-off), and that
+/// `r` is symmetric positive definite. Errors name `q` or `r`.
+pub fn validate_weights<T: RealField + Copy, const N: usize, const M: usize>(
+    q: &SMatrix<T, N, N>,
+    r: &SMatrix<T, M, M>,
+) -> Result<(), Error> {
+    check_symmetric(q, "q")?;
+    let scale = norm1(q);
+    if scale > T::zero() {
+        // Positive semidefinite up to a round-off shift.
+        let shift = scale * T::default_epsilon() * lit(1000.0);
+        let shifted = q + SMatrix::<T, N, N>::identity() * shift;
+        if Cholesky::new(symmetrize(&shifted)).is_none() {
+            return Err(Error::invalid("q", "must be positive semidefinite"));
+        }
+    }
+    check_symmetric(r, "r")?;
+    if Cholesky::new(symmetrize(r)).is_none() {
+        return Err(Error::invalid("r", "must be positive definite"));
+    }
+    Ok(())
+}
+
+fn check_symmetric<T: RealField + Copy, const N: usize>(
+    m: &SMatrix<T, N, N>,
+    field: &'static str,
+) -> Result<(), Error> {
+    if !is_finite(m) {
+        return Err(Error::invalid(field, "must be finite"));
+    }
+    let tol = norm1(m) * T::default_epsilon() * lit(100.0);
+    for i in 0..N {
+        for j in 0..i {
+            if (m[(i, j)] - m[(j, i)]).abs() > tol {
+                return Err(Error::invalid(field, "must be symmetric"));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Validates everything and returns `(Q, R, G = B R^-1 B^T)`, symmetrised.
+#[allow(clippy::type_complexity)]
+fn prepare<T: RealField + Copy, const N: usize, const M: usize>(
+    A: &SMatrix<T, N, N>,
+    B: &SMatrix<T, N, M>,
+    Q: &SMatrix<T, N, N>,
+    R: &SMatrix<T, M, M>,
+    settings: &RiccatiSettings<T>,
+) -> Result<(SMatrix<T, N, N>, Cholesky<T, nalgebra::Const<M>>, SMatrix<T, N, N>), Error> {
+    settings.validate()?;
+    if !is_finite(A) {
+        return Err(Error::invalid("a", "must be finite"));
+    }
+    if !is_finite(B) {
+        return Err(Error::invalid("b", "must be finite"));
+    }
+    validate_weights(Q, R)?;
+    let r_chol = Cholesky::new(symmetrize(R)).ok_or(Error::invalid("r", "must be positive definite"))?;
+    let G = symmetrize(&(B * r_chol.solve(&B.transpose())));
+    Ok((symmetrize(Q), r_chol, G))
+}
+
+/// How the doubling loop ended.
+enum Doubling<T: RealField + Copy, const N: usize> {
+    /// `H` after convergence or the iteration limit (`true` if converged).
+    Done(SMatrix<T, N, N>, u32, bool),
+    /// The iterates grew without bound or became non-finite.
+    Diverged(u32),
+}
+
+/// The SDA iteration from `(A_0, G_0, H_0)` (see the module doc).
+fn doubling<T: RealField + Copy, const N: usize>(
+    mut a: SMatrix<T, N, N>,
+    mut g: SMatrix<T, N, N>,
+    mut h: SMatrix<T, N, N>,
+    settings: &RiccatiSettings<T>,
+) -> Doubling<T, N> {
+    let identity = SMatrix::<T, N, N>::identity();
+    // A_k ~ (closed loop)^(2^k) -> 0; growth beyond this means no stable closed loop.
+    let blow_up = norm1(&a).max(T::one()) / T::default_epsilon();
+    for k in 1..=settings.max_iterations {
+        let Some(w_inv) = (identity + g * h).try_inverse() else {
+            return Doubling::Diverged(k);
+        };
+        let aw = a * w_inv;
+        let wa = w_inv * a;
+        let dh = symmetrize(&(a.transpose() * (h * wa)));
+        let g_next = symmetrize(&(g + aw * g * a.transpose()));
+        a = aw * a;
+        g = g_next;
+        h += dh;
+        let growth = norm1(&a);
+        let step = norm1(&dh);
+        let size = norm1(&h);
+        if !(growth.is_finite() && step.is_finite() && size.is_finite() && is_finite(&g))
+            || growth > blow_up
+        {
+            return Doubling::Diverged(k);
+        }
+        if step <= settings.tolerance * size {
+            return Doubling::Done(h, k, true);
+        }
+    }
+    Doubling::Done(h, settings.max_iterations, false)
+}
+
+/// Solves the discrete algebraic Riccati equation (see the module doc) by structured
+/// doubling.
+///
+/// `Err` only for malformed input (the error names `a`, `b`, `q`, `r` or a settings field);
+/// the numerical outcome is the solution's [`RiccatiStatus`]. Never panics; at most
+/// `settings.max_iterations` steps of a few `N x N` products and one `N x N` inverse.
+///
+/// ```
+/// use ballbot_core::lqr::{solve_dare, RiccatiSettings, RiccatiStatus};
+/// use nalgebra::{Matrix1, Matrix2, Vector2};
+/// // Double integrator sampled at 0.1 s.
+/// let a = Matrix2::new(1.0, 0.1, 0.0, 1.0);
+/// let b = Vector2::new(0.005, 0.1);
+/// let sol = solve_dare(&a, &b, &Matrix2::identity(), &Matrix1::new(1.0), &RiccatiSettings::default())?;
+/// assert_eq!(sol.status, RiccatiStatus::Converged);
+/// assert!(sol.residual < 1e-12);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+pub fn solve_dare<T: RealField + Copy, const N: usize, const M: usize>(
+    A: &SMatrix<T, N, N>,
+    B: &SMatrix<T, N, M>,
+    Q: &SMatrix<T, N, N>,
+    R: &SMatrix<T, M, M>,
+    settings: &RiccatiSettings<T>,
+) -> Result<RiccatiSolution<T, N, M>, Error> {
+    let (Q, _, G) = prepare(A, B, Q, R, settings)?;
+    if !is_finite(&G) {
+        return Ok(RiccatiSolution::failed(RiccatiStatus::NonFinite, 0));
+    }
+    let (X, iterations, converged) = match doubling(*A, G, Q, settings) {
+        Doubling::Done(x, k, c) => (x, k, c),
+        Doubling::Diverged(k) => {
+            return Ok(RiccatiSolution::failed(RiccatiStatus::NotStabilizable, k));
+        }
+    };
+    // K = (R + B^T X B)^-1 B^T X A.
+    let btx = B.transpose() * X;
+    let Some(s_chol) = Cholesky::new(symmetrize(&(R + btx * B))) else {
+        return Ok(RiccatiSolution::failed(RiccatiStatus::NonFinite, iterations));
+    };
+    let btxa = btx * A;
+    let K = s_chol.solve(&btxa);
+    let residual_matrix = Q + A.transpose() * X * A - X - btxa.transpose() * K;
+    Ok(finish(
+        X,
+        K,
+        residual_matrix,
+        &Q,
+        iterations,
+        converged,
+        is_schur_stable(&(A - B * K)),
+    ))
+}
+
+/// Assembles the solution and its status from the pieces both solvers share.
+fn finish<T: RealField + Copy, const N: usize, const M: usize>(
+    X: SMatrix<T, N, N>,
+    K: SMatrix<T, M, N>,
+    residual_matrix: SMatrix<T, N, N>,
+    Q: &SMatrix<T, N, N>,
+    iterations: u32,
+    converged: bool,
+    stable: bool,
+) -> RiccatiSolution<T, N, M> {
+    let scale = norm1(&X).max(norm1(Q));
+    let scale = if scale > T::zero() { scale } else { T::one() };
+    let residual = norm1(&residual_matrix) / scale;
+    let status = if !(is_finite(&K) && residual.is_finite()) {
+        RiccatiStatus::NonFinite
+    } else if !stable {
+        RiccatiStatus::NotStabilizable
+    } else if converged {
+        RiccatiStatus::Converged
+    } else {
+        RiccatiStatus::MaxIterations
+    };
+    RiccatiSolution {
+        x: X,
+        gain: K,
+        status,
+        iterations,
+        residual,
+    }
+}
+
+/// Solves the continuous algebraic Riccati equation (see the module doc) by SDA-1: the
+/// doubling iteration of [`solve_dare`] on a Cayley transform of the Hamiltonian.
+///
+/// `Err` only for malformed input (the error names `a`, `b`, `q`, `r` or a settings field);
+/// the numerical outcome is the solution's [`RiccatiStatus`]. Never panics; bounded time.
+///
+/// ```
+/// use ballbot_core::lqr::{solve_care, RiccatiSettings, RiccatiStatus};
+/// use nalgebra::{Matrix1, Matrix2, Vector2};
+/// // Double integrator, Q = I, R = 1: K = [1, sqrt(3)].
+/// let a = Matrix2::new(0.0, 1.0, 0.0, 0.0);
+/// let b = Vector2::new(0.0, 1.0);
+/// let sol = solve_care(&a, &b, &Matrix2::identity(), &Matrix1::new(1.0), &RiccatiSettings::default())?;
+/// assert_eq!(sol.status, RiccatiStatus::Converged);
+/// approx::assert_relative_eq!(sol.gain[0], 1.0, epsilon = 1e-12);
+/// approx::assert_relative_eq!(sol.gain[1], 3.0_f64.sqrt(), epsilon = 1e-12);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+pub fn solve_care<T: RealField + Copy, const N: usize, const M: usize>(
+    A: &SMatrix<T, N, N>,
+    B: &SMatrix<T, N, M>,
+    Q: &SMatrix<T, N, N>,
+    R: &SMatrix<T, M, M>,
+    settings: &RiccatiSettings<T>,
+) -> Result<RiccatiSolution<T, N, M>, Error> {
+    let (Q, r_chol, G) = prepare(A, B, Q, R, settings)?;
+    if !is_finite(&G) {
+        return Ok(RiccatiSolution::failed(RiccatiStatus::NonFinite, 0));
+    }
+    let mut shift = A.norm().max((G.norm() * Q.norm()).sqrt());
+    if !(shift.is_finite() && shift > T::zero()) {
+        shift = T::one();
+    }
+    let mut start = None;
+    for _ in 0..8 {
+        start = cayley_start(A, &G, &Q, shift);
+        if start.is_some() {
+            break;
+        }
+        shift *= lit(1.5);
+    }
+    let Some((a0, g0, h0)) = start else {
+        return Ok(RiccatiSolution::failed(RiccatiStatus::NonFinite, 0));
+    };
+    let (X, iterations, converged) = match doubling(a0, g0, h0, settings) {
+        Doubling::Done(x, k, c) => (x, k, c),
+        Doubling::Diverged(k) => {
+            return Ok(RiccatiSolution::failed(RiccatiStatus::NotStabilizable, k));
+        }
+    };
+    // K = R^-1 B^T X; X G X = X B K.
+    let K = r_chol.solve(&(B.transpose() * X));
+    let xa = X * A;
+    let residual_matrix = xa.transpose() + xa - X * B * K + Q;
+    Ok(finish(
+        X,
+        K,
+        residual_matrix,
+        &Q,
+        iterations,
+        converged,
+        is_hurwitz(&(A - B * K)),
+    ))
+}
+
+/// The SDA-1 starting triple `(A_0, G_0, H_0)` for shift `g`; `None` if a matrix to invert is
+/// singular or the result is not finite.
+#[allow(clippy::type_complexity)]
+fn cayley_start<T: RealField + Copy, const N: usize>(
+    A: &SMatrix<T, N, N>,
+    G: &SMatrix<T, N, N>,
+    Q: &SMatrix<T, N, N>,
+    g: T,
+) -> Option<(SMatrix<T, N, N>, SMatrix<T, N, N>, SMatrix<T, N, N>)> {
+    let identity = SMatrix::<T, N, N>::identity();
+    let a_g = A - identity * g;
+    let a_g_inv = a_g.try_inverse()?;
+    let w_inv = (a_g.transpose() + Q * a_g_inv * G).try_inverse()?;
+    let v_inv = (a_g + G * a_g_inv.transpose() * Q).try_inverse()?;
+    let two_g = g * lit(2.0);
+    let a0 = identity + v_inv * two_g;
+    let g0 = symmetrize(&(a_g_inv * G * w_inv * two_g));
+    let h0 = symmetrize(&(w_inv * Q * a_g_inv * two_g));
+    (is_finite(&a0) && is_finite(&g0) && is_finite(&h0)).then_some((a0, g0, h0))
+}
