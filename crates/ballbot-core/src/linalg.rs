@@ -27,7 +27,9 @@
 use crate::Error;
 use crate::check::lit;
 use nalgebra::allocator::Allocator;
-use nalgebra::{Complex, Const, DefaultAllocator, DimDiff, DimSub, RealField, SMatrix, SVector, Schur, U1};
+use nalgebra::{
+    Complex, Const, DefaultAllocator, DimDiff, DimSub, RealField, SMatrix, SVector, Schur, U1,
+};
 
 /// The scaled matrix's 1-norm bound in [`expm`] and [`zoh`].
 const SCALED_NORM_BOUND: f64 = 0.5;
@@ -87,7 +89,7 @@ pub fn solve<T: RealField + Copy, const N: usize, const K: usize>(
                 pivot_row = row;
             }
         }
-        if !(pivot_abs > T::zero()) {
+        if pivot_abs <= T::zero() || !pivot_abs.is_finite() {
             return None;
         }
         if pivot_row != col {
@@ -255,11 +257,16 @@ pub fn zoh<T: RealField + Copy, const N: usize, const M: usize>(
     if !is_finite(B) {
         return Err(Error::invalid("b", "must be finite"));
     }
-    let (e, phi) = exp_phi1(&(A * dt_secs))
-        .ok_or(Error::invalid("dt_secs", "makes exp(A dt) overflow: reduce it"))?;
+    let (e, phi) = exp_phi1(&(A * dt_secs)).ok_or(Error::invalid(
+        "dt_secs",
+        "makes exp(A dt) overflow: reduce it",
+    ))?;
     let b = phi * B * dt_secs;
     if !is_finite(&b) {
-        return Err(Error::invalid("dt_secs", "makes exp(A dt) overflow: reduce it"));
+        return Err(Error::invalid(
+            "dt_secs",
+            "makes exp(A dt) overflow: reduce it",
+        ));
     }
     Ok(DiscreteLti { a: e, b, dt_secs })
 }
@@ -293,24 +300,25 @@ where
         .then_some(ev)
 }
 
-/// Number of squarings in [`is_schur_stable`]: enough to certify a spectral radius up to
-/// about `1 - 2^8 eps`.
+/// Number of squarings in [`is_schur_stable`]: `log2(1/eps) - 8`, so a spectral radius
+/// `1 - d` is certified for `d` above about `2^8 eps` (`M^(2^j)` shrinks like `exp(-2^j d)`).
 fn certificate_squarings<T: RealField + Copy>() -> u32 {
     let mut eps = T::default_epsilon();
-    let mut bits = 0;
+    let mut bits = 0_u32;
     while eps < T::one() && bits < 256 {
         eps *= lit(2.0);
         bits += 1;
     }
-    bits + 8
+    bits.saturating_sub(8).max(8)
 }
 
 /// `true` when every eigenvalue of `m` lies strictly inside the unit circle (the discrete
 /// closed loop is asymptotically stable), certified without eigenvalues: the spectral radius
 /// satisfies `rho(M) <= ||M^p||^(1/p)`, so a power `M^(2^j)` with 1-norm below 1 proves
-/// `rho(M) < 1`. Repeated squaring stops at that point, on overflow, or after about
-/// `log2(1/eps) + 8` squarings, which resolves spectral radii up to about `1 - 256 eps`;
-/// closer to 1 counts as not stable.
+/// `rho(M) < 1`. Repeated squaring stops at that point, on overflow, or after
+/// `log2(1/eps) - 8` squarings (44 in `f64`, 15 in `f32`), which resolves spectral radii up
+/// to about `1 - 256 eps` (a little less for strongly non-normal matrices); closer to 1
+/// counts as not stable, as it is within round-off of the boundary.
 ///
 /// ```
 /// use ballbot_core::linalg::is_schur_stable;
@@ -442,7 +450,11 @@ mod tests {
         let ev = eigenvalues(&m).unwrap();
         let mut re = [ev[0].re, ev[1].re, ev[2].re];
         re.sort_by(f64::total_cmp);
-        assert_relative_eq!(Vector3::from(re), Vector3::new(-4.0, 0.5, 1.0), epsilon = 1e-12);
+        assert_relative_eq!(
+            Vector3::from(re),
+            Vector3::new(-4.0, 0.5, 1.0),
+            epsilon = 1e-12
+        );
         assert!(eigenvalues(&Matrix2::new(f64::NAN, 0.0, 0.0, 0.0)).is_none());
     }
 

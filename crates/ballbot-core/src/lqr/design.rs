@@ -235,7 +235,7 @@ pub fn wip_lqr<T: RealField + Copy>(
 /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
 /// let lqr = wip_lqr_discrete(&wip, &WipLqrWeights::model_default(), outer_loop_dt_secs())?;
 /// let poles = lqr.closed_loop_eigenvalues().unwrap();
-/// assert!(poles.iter().all(|z| z.norm() < 1.0));
+/// assert!(poles.iter().all(|z| z.re.hypot(z.im) < 1.0));
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[allow(non_snake_case)]

@@ -208,7 +208,14 @@ fn prepare<T: RealField + Copy, const N: usize, const M: usize>(
     Q: &SMatrix<T, N, N>,
     R: &SMatrix<T, M, M>,
     settings: &RiccatiSettings<T>,
-) -> Result<(SMatrix<T, N, N>, Cholesky<T, nalgebra::Const<M>>, SMatrix<T, N, N>), Error> {
+) -> Result<
+    (
+        SMatrix<T, N, N>,
+        Cholesky<T, nalgebra::Const<M>>,
+        SMatrix<T, N, N>,
+    ),
+    Error,
+> {
     settings.validate()?;
     if !is_finite(A) {
         return Err(Error::invalid("a", "must be finite"));
@@ -217,7 +224,8 @@ fn prepare<T: RealField + Copy, const N: usize, const M: usize>(
         return Err(Error::invalid("b", "must be finite"));
     }
     validate_weights(Q, R)?;
-    let r_chol = Cholesky::new(symmetrize(R)).ok_or(Error::invalid("r", "must be positive definite"))?;
+    let r_chol =
+        Cholesky::new(symmetrize(R)).ok_or(Error::invalid("r", "must be positive definite"))?;
     let G = symmetrize(&(B * r_chol.solve(&B.transpose())));
     Ok((symmetrize(Q), r_chol, G))
 }
@@ -304,7 +312,10 @@ pub fn solve_dare<T: RealField + Copy, const N: usize, const M: usize>(
     // K = (R + B^T X B)^-1 B^T X A.
     let btx = B.transpose() * X;
     let Some(s_chol) = Cholesky::new(symmetrize(&(R + btx * B))) else {
-        return Ok(RiccatiSolution::failed(RiccatiStatus::NonFinite, iterations));
+        return Ok(RiccatiSolution::failed(
+            RiccatiStatus::NonFinite,
+            iterations,
+        ));
     };
     let btxa = btx * A;
     let K = s_chol.solve(&btxa);
