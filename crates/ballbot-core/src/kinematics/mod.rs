@@ -45,14 +45,14 @@
 //! `psi_dot = J omega_rel`, `omega_rel = J^-1 psi_dot`, `tau_wheel = J^-T S tau`,
 //! `tau = S J^T tau_wheel`. All four matrices are computed once, at construction.
 //!
+//! For the symmetric layout (0, 120, 240 deg) they reduce to MODEL.md's closed forms, e.g.
+//! `tau_i = (r_W / (3 r_S)) [(2 / cos a)(-cos b_i tau_x - sin b_i tau_y) - tau_z / sin a]`.
+//!
 //! **Forces.** [`contact`] gives the normal force, traction and friction-cone use at each
 //! contact for a given support force and wheel torques ([`OmniKinematics::contact_forces`]).
 //!
 //! [`limits`] gives the exact range of WIP torques that the actuators and the contacts allow
 //! for a planar motion at any heading.
-//!
-//! For the symmetric layout (0, 120, 240 deg) they reduce to MODEL.md's closed forms, e.g.
-//! `tau_i = (r_W / (3 r_S)) [(2 / cos a)(-cos b_i tau_x - sin b_i tau_y) - tau_z / sin a]`.
 //!
 //! ```
 //! use ballbot_core::{BallbotParams, OmniKinematics};

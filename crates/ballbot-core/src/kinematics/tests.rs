@@ -465,3 +465,25 @@ fn ball_rate_inverts_relative_rate_from_planar() {
     assert_eq!(ball_rate_from_relative_rate(&rel, [0.5, 0.25]), [3.0, -2.0]);
     assert_eq!(rel[2], -1.5);
 }
+
+/// The documented wheel rotation: wheel `i` spins at `psi_dot_i` about `-u_i` relative to the
+/// body; its rim at the contact then moves with the ball surface along `d_i` (no slip in the
+/// rolling direction; the rollers take the rest, along `u_i`, and there is none along `n_i`).
+#[test]
+fn wheel_rim_rolls_with_the_ball_surface() {
+    let mut drivetrain = DrivetrainParams::<f64>::miapure();
+    drivetrain.wheel_azimuths_rad = [0.2, 2.5, 4.1];
+    drivetrain.contact_angle_rad = 0.7;
+    let kin = OmniKinematics::new(drivetrain, 0.11).unwrap();
+    let rel = Vector3::new(1.3, -0.7, 2.1);
+    let psi = kin.wheel_speeds_rad_per_s(&rel);
+    for (w, &psi_i) in kin.wheels().iter().zip(psi.iter()) {
+        let ball_surface = rel.cross(&w.contact_point_m);
+        let wheel_rate = -w.axle_direction * psi_i;
+        let rim = wheel_rate.cross(&(-w.contact_normal * drivetrain.wheel_radius_m));
+        let slip = ball_surface - rim;
+        assert_abs_diff_eq!(slip.dot(&w.rolling_direction), 0.0, epsilon = 1e-12);
+        assert_abs_diff_eq!(slip.dot(&w.contact_normal), 0.0, epsilon = 1e-12);
+        assert_relative_eq!(w.axle_direction.norm(), 1.0, epsilon = 1e-12);
+    }
+}
