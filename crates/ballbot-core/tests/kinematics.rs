@@ -261,7 +261,8 @@ fn saturation_respects_the_peak<T: RealField + Copy>(
 #[cfg(test)] // clippy: test helpers may unwrap
 mod heading {
     use ballbot_core::kinematics::{
-        planar_support_force_n, planar_torque_at_heading, relative_rate_at_heading,
+        decoupled_support_force_n, planar_support_force_n, planar_torque_at_heading,
+        relative_rate_at_heading, support_force_in_body_n,
     };
     use ballbot_core::wip::{BALL_ANGLE, TILT};
     use ballbot_core::{BallbotParams, OmniKinematics, Wip, WipState};
@@ -524,5 +525,86 @@ mod heading {
         assert!((actuator.max_nm - 96.9).abs() < 0.05, "{actuator:?}");
         assert!((towards.min_nm + 20.92).abs() < 0.01, "{towards:?}");
         assert!((towards.max_nm - 17.10).abs() < 0.01, "{towards:?}");
+    }
+
+    fn assert_same_contacts(
+        a: &ballbot_core::ContactForces<f64>,
+        b: &ballbot_core::ContactForces<f64>,
+    ) -> Result<(), TestCaseError> {
+        for (x, y) in a.wheels.iter().zip(b.wheels.iter()) {
+            let scale = 1.0 + x.normal_force_n.abs() + x.traction_n.abs();
+            prop_assert!(
+                (x.normal_force_n - y.normal_force_n).abs() <= 1e-9 * scale,
+                "{a:?} vs {b:?}"
+            );
+            prop_assert!(
+                (x.traction_n - y.traction_n).abs() <= 1e-9 * scale,
+                "{a:?} vs {b:?}"
+            );
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// The decoupled 3D model with one plane upright and still reduces to the planar WIP
+        /// at heading 0 (sagittal) or -90 deg (frontal).
+        #[test]
+        fn decoupled_model_reduces_to_one_plane(
+            tilt in -0.4..0.4f64, tilt_rate in -3.0..3.0f64, ball_rate in -20.0..20.0f64,
+            torque in -80.0..80.0f64, wheel_inertia in 0.0..0.3f64,
+        ) {
+            let mut params = BallbotParams::<f64>::miapure_60kg();
+            params.sagittal.wheel_inertia_kg_m2 = wheel_inertia;
+            params.frontal.wheel_inertia_kg_m2 = wheel_inertia;
+            let kin = OmniKinematics::from_ballbot(&params).unwrap();
+            let wip = Wip::new(params.sagittal).unwrap();
+            let moving = Vector4::new(tilt, 0.3, tilt_rate, ball_rate);
+            let still = Vector4::zeros();
+            let sagittal_only = kin.decoupled_contact_forces(
+                (&wip, &moving), (&wip, &still), &Vector3::new(0.0, torque, 0.0));
+            assert_same_contacts(&sagittal_only, &kin.wip_contact_forces(&wip, 0.0, &moving, torque))?;
+            let frontal_only = kin.decoupled_contact_forces(
+                (&wip, &still), (&wip, &moving), &Vector3::new(torque, 0.0, 0.0));
+            let heading = -core::f64::consts::FRAC_PI_2;
+            assert_same_contacts(&frontal_only, &kin.wip_contact_forces(&wip, heading, &moving, torque))?;
+        }
+
+        /// With no motion the decoupled support force is the weight seen from the tilted
+        /// body (ZYX attitude, roll = theta_x, pitch = theta_y).
+        #[test]
+        fn decoupled_support_force_is_the_weight_at_rest(
+            roll in -0.5..0.5f64, pitch in -0.5..0.5f64,
+        ) {
+            let p = BallbotParams::<f64>::miapure_60kg().sagittal;
+            let zero = nalgebra::Vector2::zeros();
+            let ours = decoupled_support_force_n(
+                (&p, &Vector4::new(pitch, 0.0, 0.0, 0.0), &zero),
+                (&p, &Vector4::new(roll, 0.0, 0.0, 0.0), &zero),
+            );
+            let attitude = nalgebra::UnitQuaternion::from_euler_angles(roll, pitch, 0.0);
+            let weight = support_force_in_body_n(p.body_mass_kg, p.gravity_m_per_s2, &attitude, &Vector3::zeros());
+            prop_assert!((ours - weight).amax() <= 1e-9 * weight.norm(), "{ours} vs {weight}");
+        }
+    }
+
+    /// A pure yaw torque at rest loads every wheel alike: normal forces stay at the static
+    /// 344 N, tractions are equal.
+    #[test]
+    fn yaw_torque_leaves_normal_forces_static() {
+        let (kin, wip) = miapure();
+        let rest = Vector4::zeros();
+        let c = kin.decoupled_contact_forces(
+            (&wip, &rest),
+            (&wip, &rest),
+            &Vector3::new(0.0, 0.0, 30.0),
+        );
+        let static_n = 74.3 * 9.81 / (3.0 * 45f64.to_radians().cos());
+        for w in &c.wheels {
+            assert!((w.normal_force_n - static_n).abs() < 1e-9);
+            assert!((w.traction_n - c.wheels[0].traction_n).abs() < 1e-9);
+            assert!(w.traction_n.abs() > 1.0);
+        }
     }
 }

@@ -156,6 +156,41 @@ pub fn planar_support_force_n<T: RealField + Copy>(
     Vector3::new(along * cos_h, along * sin_h, up)
 }
 
+/// The support force `F_s` (N, body coordinates) of the decoupled 3D model (MODEL.md
+/// sections 1 to 3): the sagittal WIP (about y, travel +x) and the frontal WIP (about x,
+/// travel -y) at the same time.
+///
+/// Gravity is exact for the attitude with roll `theta_x` and pitch `theta_y` in the ZYX
+/// convention of [`crate::estimation`] (`m g [-sin theta_y, sin theta_x cos theta_y,
+/// cos theta_x cos theta_y]`); the inertial terms of the two planes add, as in
+/// [`planar_support_force_n`] (exact when either plane is upright and still, first order
+/// otherwise, like the decoupled model itself). The yaw motion adds nothing: the COM is on the
+/// spin axis. Mass and gravity of the gravity term are the sagittal plane's.
+pub fn decoupled_support_force_n<T: RealField + Copy>(
+    sagittal: (&WipParams<T>, &WipState<T>, &Vector2<T>),
+    frontal: (&WipParams<T>, &WipState<T>, &Vector2<T>),
+) -> Vector3<T> {
+    // Inertial part of one plane: (along its travel, up).
+    let inertial = |p: &WipParams<T>, s: &WipState<T>, acc: &Vector2<T>| {
+        let (sin_t, cos_t) = s[TILT].sin_cos();
+        let m = p.body_mass_kg;
+        (
+            m * (p.ball_radius_m * acc[1] * cos_t + p.com_height_m * acc[0]),
+            m * (p.ball_radius_m * acc[1] * sin_t - p.com_height_m * s[TILT_RATE] * s[TILT_RATE]),
+        )
+    };
+    let (along_x, up_sagittal) = inertial(sagittal.0, sagittal.1, sagittal.2);
+    let (along_minus_y, up_frontal) = inertial(frontal.0, frontal.1, frontal.2);
+    let weight = sagittal.0.body_mass_kg * sagittal.0.gravity_m_per_s2;
+    let (sin_y, cos_y) = sagittal.1[TILT].sin_cos();
+    let (sin_x, cos_x) = frontal.1[TILT].sin_cos();
+    Vector3::new(
+        along_x - weight * sin_y,
+        -along_minus_y + weight * sin_x * cos_y,
+        up_sagittal + up_frontal + weight * cos_x * cos_y,
+    )
+}
+
 impl<T: RealField + Copy> OmniKinematics<T> {
     /// The normal forces `[N_1, N_2, N_3]` (N, positive in compression) for the support force
     /// `support_force_n` (N, body coordinates: the net force of the ball on the upper body) and
@@ -246,14 +281,52 @@ impl<T: RealField + Copy> OmniKinematics<T> {
         s: &WipState<T>,
         torque_nm: T,
     ) -> ContactForces<T> {
-        let p = wip.params();
-        let acc = wip.accelerations(s, torque_nm);
-        let contact_torque_nm = torque_nm
-            - p.wheel_inertia_kg_m2 * (acc[1] - acc[0])
-            - p.drive_damping_nm_s_per_rad * (s[BALL_RATE] - s[TILT_RATE]);
+        let (acc, contact_torque_nm) = transmitted_torque(wip, s, torque_nm);
         let wheel =
             self.wheel_torques_nm(&planar_torque_at_heading(heading_rad, contact_torque_nm));
-        let support = planar_support_force_n(p, heading_rad, s, &acc);
+        let support = planar_support_force_n(wip.params(), heading_rad, s, &acc);
         self.contact_forces(&support, &wheel)
     }
+
+    /// The contact forces of the decoupled 3D model: the sagittal WIP `sagittal.0` in state
+    /// `sagittal.1`, the frontal WIP `frontal.0` in state `frontal.1`, driven by the planar
+    /// torque `planar_torque_nm = [tau_x, tau_y, tau_z]` (`tau_x` is the frontal WIP input,
+    /// `tau_y` the sagittal one, `tau_z` the yaw torque on the body).
+    ///
+    /// Each plane's accelerations come from [`Wip::accelerations`] and its transmitted torque
+    /// loses reflected wheel inertia and drivetrain friction as in
+    /// [`Self::wip_contact_forces`]; the support force is [`decoupled_support_force_n`]. With
+    /// one plane upright and still and no yaw torque this equals [`Self::wip_contact_forces`]
+    /// of the other (heading 0 for the sagittal plane, -90 deg for the frontal one).
+    pub fn decoupled_contact_forces(
+        &self,
+        sagittal: (&Wip<T>, &WipState<T>),
+        frontal: (&Wip<T>, &WipState<T>),
+        planar_torque_nm: &Vector3<T>,
+    ) -> ContactForces<T> {
+        let (acc_y, tau_y) = transmitted_torque(sagittal.0, sagittal.1, planar_torque_nm[1]);
+        let (acc_x, tau_x) = transmitted_torque(frontal.0, frontal.1, planar_torque_nm[0]);
+        let wheel = self.wheel_torques_nm(&Vector3::new(tau_x, tau_y, planar_torque_nm[2]));
+        let support = decoupled_support_force_n(
+            (sagittal.0.params(), sagittal.1, &acc_y),
+            (frontal.0.params(), frontal.1, &acc_x),
+        );
+        self.contact_forces(&support, &wheel)
+    }
+}
+
+/// The WIP accelerations `[theta_ddot, phi_ddot]` under `torque_nm`, and the torque the
+/// wheels transmit to the ball through the contacts,
+/// `tau - I_W (phi_ddot - theta_ddot) - b_m (phi_dot - theta_dot)`.
+fn transmitted_torque<T: RealField + Copy>(
+    wip: &Wip<T>,
+    s: &WipState<T>,
+    torque_nm: T,
+) -> (Vector2<T>, T) {
+    let p = wip.params();
+    let acc = wip.accelerations(s, torque_nm);
+    let contact_torque_nm = torque_nm
+        - p.wheel_inertia_kg_m2 * (acc[1] - acc[0])
+        - p.drive_damping_nm_s_per_rad * (s[BALL_RATE] - s[TILT_RATE]);
+    (acc, contact_torque_nm)
 }

@@ -71,7 +71,10 @@
 pub mod contact;
 pub mod limits;
 
-pub use contact::{ContactForces, WheelContact, planar_support_force_n, support_force_in_body_n};
+pub use contact::{
+    ContactForces, WheelContact, decoupled_support_force_n, planar_support_force_n,
+    support_force_in_body_n,
+};
 pub use limits::TorqueInterval;
 
 use crate::check::positive;
