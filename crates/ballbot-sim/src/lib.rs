@@ -5,3 +5,4 @@
 //! clarabel, MCAP logging, and the `ballbot` command line.
 
 pub mod log;
+pub mod plot;
