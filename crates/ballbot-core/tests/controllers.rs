@@ -117,16 +117,20 @@ impl Controller {
             Kind::LqrPi => {
                 let inner = inner_gains(preset);
                 let config = LqrPiOuterConfig::new(lqr_gains(preset)?, &inner).unwrap();
-                Self::LqrPi {
-                    outer: LqrPiOuter::new(wip(preset), config).unwrap(),
-                    inner: SpeedPi::new(inner).unwrap(),
-                    command: SpeedCommand {
-                        speed_rad_per_s: 0.0,
-                        feedforward_torque_nm: 0.0,
-                    },
-                }
+                Self::lqr_pi(preset, inner, config)
             }
         })
+    }
+
+    fn lqr_pi(preset: &Preset, inner: SpeedPiGains<f64>, config: LqrPiOuterConfig<f64>) -> Self {
+        Self::LqrPi {
+            outer: LqrPiOuter::new(wip(preset), config).unwrap(),
+            inner: SpeedPi::new(inner).unwrap(),
+            command: SpeedCommand {
+                speed_rad_per_s: 0.0,
+                feedforward_torque_nm: 0.0,
+            },
+        }
     }
 
     /// The torque for the coming inner period. `outer_due` marks an outer-rate tick; the LQR
@@ -175,6 +179,14 @@ enum Friction {
         torque_nm: f64,
         slip_rate_rad_per_s: f64,
     },
+    /// Karnopp stick-slip: within `stick_rate_rad_per_s` of zero relative rate the joint sticks
+    /// (friction cancels the net torque that would make it slip, up to `stiction_nm`); outside
+    /// it slides against `coulomb_nm`.
+    Karnopp {
+        stiction_nm: f64,
+        coulomb_nm: f64,
+        stick_rate_rad_per_s: f64,
+    },
 }
 
 struct Plant {
@@ -184,20 +196,69 @@ struct Plant {
 }
 
 impl Plant {
-    fn friction_nm(&self, s: &WipState<f64>) -> f64 {
+    /// Friction torque on the relative joint with the motor applying `torque_nm`.
+    fn friction_nm(&self, s: &WipState<f64>, torque_nm: f64) -> f64 {
         match self.friction {
             Friction::None => 0.0,
             Friction::Coulomb {
                 torque_nm,
                 slip_rate_rad_per_s,
             } => torque_nm * ((s[BALL_RATE] - s[TILT_RATE]) / slip_rate_rad_per_s).tanh(),
+            Friction::Karnopp {
+                stiction_nm,
+                coulomb_nm,
+                stick_rate_rad_per_s,
+            } => {
+                let w_rel = s[BALL_RATE] - s[TILT_RATE];
+                if w_rel.abs() > stick_rate_rad_per_s {
+                    return coulomb_nm * w_rel.signum();
+                }
+                // The relative acceleration is affine in the net torque: find the friction
+                // that holds it at zero, and stick if the joint can supply it.
+                let rel_accel = |net: f64| {
+                    let q = self.wip.accelerations(s, net);
+                    q[1] - q[0]
+                };
+                let at_zero = rel_accel(0.0);
+                let per_nm = rel_accel(1.0) - at_zero;
+                let hold = torque_nm + at_zero / per_nm;
+                hold.clamp(-stiction_nm, stiction_nm)
+            }
         }
     }
 
     fn step(&mut self, torque_nm: f64, dt_secs: f64) {
-        let f = |x: &WipState<f64>| self.wip.derivative(x, torque_nm - self.friction_nm(x));
+        let f = |x: &WipState<f64>| {
+            self.wip
+                .derivative(x, torque_nm - self.friction_nm(x, torque_nm))
+        };
         self.state = rk4_step(f, &self.state, dt_secs);
     }
+}
+
+#[test]
+fn karnopp_friction_sticks_below_stiction_and_slips_above() {
+    let preset = miapure();
+    let plant = Plant {
+        wip: wip(&preset),
+        friction: Friction::Karnopp {
+            stiction_nm: 6.0,
+            coulomb_nm: 5.0,
+            stick_rate_rad_per_s: 0.01,
+        },
+        state: Vector4::new(0.02, 0.0, 0.1, 0.1),
+    };
+    let rel_accel = |s: &WipState<f64>, tau: f64| {
+        let d = plant.wip.derivative(s, tau - plant.friction_nm(s, tau));
+        d[3] - d[2]
+    };
+    // Stuck (relative rate 0): a 2 N m motor torque does not make the joint slip.
+    assert!(rel_accel(&plant.state, 2.0).abs() < 1e-9);
+    // 20 N m exceeds the stiction: it slips.
+    assert!(rel_accel(&plant.state, 20.0) > 1.0);
+    // Sliding: the Coulomb level, against the motion.
+    let sliding = Vector4::new(0.0, 0.0, 0.0, 1.0);
+    assert_eq!(plant.friction_nm(&sliding, 0.0), 5.0);
 }
 
 /// One record per outer period.
@@ -212,6 +273,8 @@ struct Sample {
 struct Trace {
     samples: Vec<Sample>,
     ball_radius_m: f64,
+    /// When the body passed 1.2 rad (the run stops there).
+    fell_at_secs: Option<f64>,
 }
 
 impl Trace {
@@ -244,6 +307,9 @@ impl Trace {
     /// |theta_dot| <= 2 deg/s and |ball speed| <= 0.02 m/s (a regulation run to rest).
     /// `None` if it is outside the band at the end.
     fn settle_time_secs(&self) -> Option<f64> {
+        if self.fell_at_secs.is_some() {
+            return None;
+        }
         let deg = std::f64::consts::PI / 180.0;
         let inside = |s: &Sample| {
             s.state[TILT].abs() <= 0.5 * deg
@@ -294,6 +360,7 @@ fn simulate(
     let mut samples = Vec::with_capacity(steps / INNER_PER_OUTER + 1);
     let mut torque = 0.0;
     let mut sc = command(0.0);
+    let mut fell_at_secs = None;
     for k in 0..steps {
         let t = k as f64 * inner_dt;
         let outer_due = k % INNER_PER_OUTER == 0;
@@ -313,15 +380,15 @@ fn simulate(
         for _ in 0..PLANT_SUBSTEPS {
             plant.step(torque, plant_dt);
         }
-        assert!(
-            plant.state[TILT].abs() < 1.2,
-            "{}: fell over at t = {t:.3} s",
-            preset.name
-        );
+        if plant.state[TILT].abs() > 1.2 || !plant.state[TILT].is_finite() {
+            fell_at_secs = Some(t);
+            break;
+        }
     }
     Trace {
         samples,
         ball_radius_m: preset.params.ball_radius_m,
+        fell_at_secs,
     }
 }
 
@@ -390,6 +457,7 @@ fn lqr_and_lqr_pi_track_the_1_m_per_s_ramp() {
                 speed_command(r, ramp_1m_per_s),
                 8.0,
             );
+            assert_eq!(trace.fell_at_secs, None, "{} {kind:?} fell", preset.name);
             let ramp = trace.max_speed_error(0.0, 2.0);
             let lag = trace.mean_speed_error(1.5, 2.0);
             let hold = trace.max_speed_error(6.0, 8.0);
@@ -417,43 +485,165 @@ fn lqr_and_lqr_pi_track_the_1_m_per_s_ramp() {
 /// (`tau_c / |k3|` by the steady-state balance); the LQR-PI removes it.
 #[test]
 fn lqr_pi_removes_the_steady_speed_error_that_friction_leaves_under_lqr() {
-    let preset = miapure();
-    let r = preset.params.ball_radius_m;
-    let coulomb_nm = 5.0;
+    let cruise = |t: f64| 0.5 * t.min(1.0);
+    let mut ran = 0;
+    for preset in presets() {
+        let Some(gains) = lqr_gains(&preset) else {
+            continue;
+        };
+        let r = preset.params.ball_radius_m;
+        // "Several N m" on the drive: 5 N m on MiaPURE, 3 N m on the smaller PIPTB.
+        let coulomb_nm = if preset.name == "piptb" { 3.0 } else { 5.0 };
+        for friction in [
+            Friction::Coulomb {
+                torque_nm: coulomb_nm,
+                slip_rate_rad_per_s: 0.05,
+            },
+            Friction::Karnopp {
+                stiction_nm: 1.2 * coulomb_nm,
+                coulomb_nm,
+                stick_rate_rad_per_s: 0.01,
+            },
+        ] {
+            let mut errors = [0.0; 2];
+            for (i, kind) in [Kind::Lqr, Kind::LqrPi].into_iter().enumerate() {
+                let mut c = Controller::new(kind, &preset).unwrap();
+                let trace = simulate(
+                    &preset,
+                    &mut c,
+                    friction,
+                    Vector4::zeros(),
+                    speed_command(r, cruise),
+                    8.0,
+                );
+                assert_eq!(trace.fell_at_secs, None, "{} {kind:?} fell", preset.name);
+                errors[i] = trace.mean_speed_error(7.0, 8.0);
+                eprintln!(
+                    "{:>16} {kind:?} with {friction:?}, 0.5 m/s command: steady speed error \
+                     {:+.4} m/s",
+                    preset.name, errors[i]
+                );
+            }
+            // LQR: at a steady cruise the body is upright and the net torque zero, so the
+            // k3 term must supply the friction: |error| = coulomb / |k3| (times r, in m/s).
+            let predicted = coulomb_nm / gains.ball_rate_nm_s_per_rad.abs() * r;
+            assert!(
+                (errors[0].abs() - predicted).abs() < 0.1 * predicted,
+                "{}: LQR error {} vs predicted {predicted}",
+                preset.name,
+                errors[0]
+            );
+            assert!(errors[0].abs() > 0.05, "{}: {}", preset.name, errors[0]);
+            // LQR-PI: removed.
+            assert!(
+                errors[1].abs() < 0.005,
+                "{}: LQR-PI error {}",
+                preset.name,
+                errors[1]
+            );
+            ran += 1;
+        }
+    }
+    assert!(ran >= 2);
+}
+
+// ----------------------------------------------------------------------------------------
+// Anti-windup
+
+/// Long saturation: the motor driver is derated to 30 N m (thermal or supply limit) while the
+/// outer loop still plans with the full 83.9 N m, the drive has 5 N m of Coulomb friction, and
+/// the robot starts at 15 deg. The inner loop is saturated for about 0.2 s, six time constants
+/// of its 30 rad/s error dynamics: the speed error and the integral would wind up. With the
+/// anti-windup (back-calculation plus the reference anchor band) the LQR-PI's excursion stays
+/// close to that of the LQR (which has no integrator to wind up); with both disabled, the
+/// same run overshoots far more, which shows that this test can fail.
+#[test]
+fn lqr_pi_does_not_overshoot_after_a_long_saturation() {
+    let base = miapure();
+    let driver_limit_nm = 30.0;
+    let tilt0 = 15.0_f64.to_radians();
     let friction = Friction::Coulomb {
-        torque_nm: coulomb_nm,
+        torque_nm: 5.0,
         slip_rate_rad_per_s: 0.05,
     };
-    let cruise = |t: f64| 0.5 * (t / 1.0).min(1.0);
-    let mut errors = [0.0; 2];
-    for (i, kind) in [Kind::Lqr, Kind::LqrPi].into_iter().enumerate() {
-        let mut c = Controller::new(kind, &preset).unwrap();
+    let derated = Preset {
+        max_torque_nm: driver_limit_nm,
+        ..base
+    };
+    let inner = SpeedPiGains {
+        max_torque_nm: driver_limit_nm,
+        ..inner_gains(&base)
+    };
+    let with = LqrPiOuterConfig::new(lqr_gains(&base).unwrap(), &inner).unwrap();
+    let inner_without = SpeedPiGains {
+        anti_windup_per_s: 0.0,
+        ..inner
+    };
+    let without = LqrPiOuterConfig {
+        max_speed_error_rad_per_s: 1e6,
+        ..with
+    };
+    let lqr = LqrGains {
+        max_torque_nm: driver_limit_nm,
+        ..lqr_gains(&base).unwrap()
+    };
+    let mut results = Vec::new();
+    for (name, mut c) in [
+        ("LQR", Controller::Lqr(LqrController::new(lqr).unwrap())),
+        ("LQR-PI", Controller::lqr_pi(&derated, inner, with)),
+        (
+            "LQR-PI without anti-windup",
+            Controller::lqr_pi(&derated, inner_without, without),
+        ),
+    ] {
         let trace = simulate(
-            &preset,
+            &derated,
             &mut c,
             friction,
-            Vector4::zeros(),
-            speed_command(r, cruise),
+            Vector4::new(tilt0, 0.0, 0.0, 0.0),
+            |_| Vector4::zeros(),
             8.0,
         );
-        errors[i] = trace.mean_speed_error(7.0, 8.0);
+        assert_eq!(trace.fell_at_secs, None, "{name} fell");
+        let r = derated.params.ball_radius_m;
+        let saturated_secs = trace
+            .samples
+            .iter()
+            .filter(|s| s.torque_nm.abs() >= driver_limit_nm - 1e-9)
+            .count() as f64
+            / OUTER_HZ;
+        let peak_speed = trace
+            .samples
+            .iter()
+            .map(|s| (s.state[BALL_RATE] * r).abs())
+            .fold(0.0, f64::max);
+        let reverse_tilt = trace
+            .samples
+            .iter()
+            .map(|s| -s.state[TILT])
+            .fold(0.0, f64::max);
         eprintln!(
-            "{}: {kind:?} with {coulomb_nm} N m Coulomb friction, 0.5 m/s command: steady \
-             speed error {:+.4} m/s",
-            preset.name, errors[i]
+            "{name}: saturated {saturated_secs:.3} s, peak ball speed {peak_speed:.3} m/s, \
+             reverse tilt {:.2} deg",
+            reverse_tilt.to_degrees()
         );
+        results.push((saturated_secs, peak_speed, trace.settle_time_secs()));
     }
-    let k3 = lqr_gains(&preset).unwrap().ball_rate_nm_s_per_rad;
-    let predicted = coulomb_nm / k3.abs() * r;
-    // LQR: the friction is balanced by k3 times the speed error.
+    let [
+        (_, lqr_peak, _),
+        (sat, pi_peak, pi_settle),
+        (_, raw_peak, _),
+    ] = results[..]
+    else {
+        unreachable!()
+    };
+    assert!(sat >= 0.15, "the scenario must saturate for long: {sat} s");
     assert!(
-        (errors[0].abs() - predicted).abs() < 0.1 * predicted,
-        "LQR error {} vs predicted {predicted}",
-        errors[0]
+        pi_peak < 1.25 * lqr_peak,
+        "LQR-PI {pi_peak} vs LQR {lqr_peak}"
     );
-    assert!(errors[0].abs() > 0.1);
-    // LQR-PI: removed.
-    assert!(errors[1].abs() < 0.005, "LQR-PI error {}", errors[1]);
+    assert!(pi_settle.is_some_and(|t| t < 3.0), "{pi_settle:?}");
+    assert!(raw_peak > 1.5 * lqr_peak, "without anti-windup {raw_peak}");
 }
 
 // ----------------------------------------------------------------------------------------
