@@ -385,6 +385,26 @@ impl<T: RealField + Copy> OmniKinematics<T> {
         &self.wheel_torque_from_planar
     }
 
+    /// The drivetrain's inertia reflected onto the relative rate `omega_rel` (kg m^2): the
+    /// matrix `I_rel = (I_w + G^2 I_r) J^T J`, whose kinetic energy `omega_rel^T I_rel
+    /// omega_rel / 2` equals that of the three spinning omniwheels (inertia `wheel_inertia_kg_m2`
+    /// about the axle each) and their rotors (`rotor_inertia_kg_m2`, turning `G = gear_ratio`
+    /// times faster).
+    ///
+    /// For the symmetric layout it is diagonal, `k^2 (I_w + G^2 I_r) diag(1.5 cos^2 a,
+    /// 1.5 cos^2 a, 3 sin^2 a)` with `k = r_S / r_W`: entries 0 and 1 are the `I_W` of the
+    /// frontal and sagittal WIP planes ([`crate::WipParams::wheel_inertia_kg_m2`]), entry 2
+    /// adds to the spin inertia.
+    pub fn reflected_wheel_inertia_kg_m2(
+        &self,
+        wheel_inertia_kg_m2: T,
+        rotor_inertia_kg_m2: T,
+    ) -> Matrix3<T> {
+        let g = self.drivetrain.actuator.gear_ratio;
+        let per_wheel = wheel_inertia_kg_m2 + g * g * rotor_inertia_kg_m2;
+        self.wheel_speed_from_rel.transpose() * self.wheel_speed_from_rel * per_wheel
+    }
+
     // ---- capacity -----------------------------------------------------------------------
 
     /// The largest planar torque about each axis alone, `[x, y, z]` (N m), that no omniwheel

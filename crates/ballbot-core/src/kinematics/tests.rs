@@ -487,3 +487,26 @@ fn wheel_rim_rolls_with_the_ball_surface() {
         assert_relative_eq!(w.axle_direction.norm(), 1.0, epsilon = 1e-12);
     }
 }
+
+/// The reflected inertia carries the wheels' and rotors' kinetic energy; for the symmetric
+/// layout it is diagonal with MODEL.md's geometry factors.
+#[test]
+fn reflected_wheel_inertia_carries_the_wheel_energy() {
+    let kin = miapure::<f64>();
+    let (wheel, rotor) = (0.01, 2e-4);
+    let inertia = kin.reflected_wheel_inertia_kg_m2(wheel, rotor);
+    let rel = Vector3::new(0.7, -1.9, 2.6);
+    let psi = kin.wheel_speeds_rad_per_s(&rel);
+    let motor = kin.motor_speeds_rad_per_s(&rel);
+    let energy = 0.5 * (wheel * psi.norm_squared() + rotor * motor.norm_squared());
+    assert_relative_eq!(
+        0.5 * rel.dot(&(inertia * rel)),
+        energy,
+        max_relative = 1e-12
+    );
+    let k2 = (0.1145f64 / 0.0625).powi(2) * (wheel + 7.5 * 7.5 * rotor);
+    let (s, c) = 45f64.to_radians().sin_cos();
+    let expected =
+        Matrix3::from_diagonal(&Vector3::new(1.5 * c * c, 1.5 * c * c, 3.0 * s * s)) * k2;
+    assert_relative_eq!(inertia, expected, epsilon = 1e-12);
+}
