@@ -20,6 +20,7 @@ mod error;
 pub mod foxglove;
 mod reader;
 mod schema;
+pub mod topics;
 mod writer;
 
 pub use error::LogError;

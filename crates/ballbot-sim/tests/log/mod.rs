@@ -1,5 +1,7 @@
 //! MCAP logging: round trip with the `mcap` crate's readers, recovery after SIGKILL, schemas.
 
+mod layout;
+
 use std::{
     collections::{BTreeMap, BTreeSet},
     io::{BufRead, BufReader},
