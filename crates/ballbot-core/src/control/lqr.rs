@@ -10,7 +10,8 @@
 //! the step length.
 
 use super::{StepStatus, check_gain, check_limit, saturate, state_is_finite};
-use crate::{Error, WipState};
+use crate::lqr::{WipLqr, WipLqrWeights, wip_lqr, wip_lqr_discrete};
+use crate::{Error, Wip, WipState};
 use nalgebra::{RealField, Vector3, Vector4};
 
 /// Gains and torque limit of [`LqrController`], in the paper's form `tau = k (s_c - s)`.
@@ -39,6 +40,56 @@ impl<T: RealField + Copy> LqrGains<T> {
             ball_rate_nm_s_per_rad: k[2],
             max_torque_nm,
         }
+    }
+
+    /// Gains designed by the continuous LQR ([`crate::lqr::wip_lqr`]) on `wip`'s upright
+    /// linearisation with `weights` on `[theta, theta_dot, phi_dot]` and the torque.
+    ///
+    /// ```
+    /// use ballbot_core::control::LqrGains;
+    /// use ballbot_core::lqr::WipLqrWeights;
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let g = LqrGains::design(&wip, &WipLqrWeights::model_default(), 83.9)?;
+    /// // MODEL.md section 6: k = [-234.8, -45.70, -3.162].
+    /// approx::assert_relative_eq!(g.tilt_nm_per_rad, -234.8, max_relative = 1e-3);
+    /// approx::assert_relative_eq!(g.ball_rate_nm_s_per_rad, -3.162, max_relative = 1e-3);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    ///
+    /// Errors: the synthesis' errors (weights naming `q` or `r`, no stabilising gain), and
+    /// `max_torque_nm` when not finite and positive.
+    pub fn design(
+        wip: &Wip<T>,
+        weights: &WipLqrWeights<T>,
+        max_torque_nm: T,
+    ) -> Result<Self, Error> {
+        Self::from_lqr(&wip_lqr(wip, weights)?, max_torque_nm)
+    }
+
+    /// Gains designed by the discrete LQR at the controller's period `dt_secs`
+    /// ([`crate::lqr::wip_lqr_discrete`], zero-order hold): the better choice when the loop
+    /// is slow relative to the closed-loop poles.
+    pub fn design_discrete(
+        wip: &Wip<T>,
+        weights: &WipLqrWeights<T>,
+        dt_secs: T,
+        max_torque_nm: T,
+    ) -> Result<Self, Error> {
+        Self::from_lqr(&wip_lqr_discrete(wip, weights, dt_secs)?, max_torque_nm)
+    }
+
+    /// The documented default for `wip`: [`Self::design`] with MODEL.md's weights
+    /// [`WipLqrWeights::model_default`] (`Q = diag(100, 10, 1)`, `R = 0.1`).
+    pub fn for_wip(wip: &Wip<T>, max_torque_nm: T) -> Result<Self, Error> {
+        Self::design(wip, &WipLqrWeights::model_default(), max_torque_nm)
+    }
+
+    /// The gains of a finished design, with the torque limit `max_torque_nm`; validated.
+    pub fn from_lqr(lqr: &WipLqr<T>, max_torque_nm: T) -> Result<Self, Error> {
+        let gains = Self::from_reduced(lqr.reduced_gains(), max_torque_nm);
+        gains.validate()?;
+        Ok(gains)
     }
 
     /// The reduced-state gain `[k1, k2, k3]`.
@@ -115,13 +166,14 @@ impl<T: RealField + Copy> LqrOutput<T> {
 ///
 /// ```
 /// use ballbot_core::control::{LqrController, LqrGains, StepStatus};
+/// use ballbot_core::{Wip, WipParams};
 /// use nalgebra::Vector4;
-/// // MODEL.md section 6: MiaPURE with 60 kg, Q = diag(100, 10, 1), R = 0.1.
-/// let gains = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
-/// let mut lqr = LqrController::new(gains)?;
-/// // Leaning forward 0.1 rad: push the ball forward, under the body.
+/// // MiaPURE with 60 kg, MODEL.md's weights Q = diag(100, 10, 1), R = 0.1, 83.9 N m limit.
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let mut lqr = LqrController::new(LqrGains::for_wip(&wip, 83.9)?)?;
+/// // Leaning forward 0.1 rad: push the ball forward, under the body (k1 = -234.8).
 /// let out = lqr.step(&Vector4::new(0.1, 0.0, 0.0, 0.0), &Vector4::zeros(), 0.0025);
-/// approx::assert_relative_eq!(out.torque_nm, 23.48, epsilon = 1e-9);
+/// approx::assert_relative_eq!(out.torque_nm, 23.48, max_relative = 1e-3);
 /// assert_eq!(out.status, StepStatus::Nominal);
 /// // A NaN measurement gives zero torque, flagged.
 /// let out = lqr.step(&Vector4::new(f64::NAN, 0.0, 0.0, 0.0), &Vector4::zeros(), 0.0025);
@@ -184,7 +236,29 @@ mod tests {
     use crate::Error;
 
     fn gains() -> LqrGains<f64> {
-        LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9)
+        let wip = Wip::new(crate::WipParams::miapure_60kg()).unwrap();
+        LqrGains::for_wip(&wip, 83.9).unwrap()
+    }
+
+    #[test]
+    fn designed_gains_match_model_md_and_discrete_tends_to_continuous() {
+        let g = gains();
+        let expected = [-234.8, -45.70, -3.162];
+        for (k, e) in g.reduced().iter().zip(expected) {
+            approx::assert_relative_eq!(*k, e, max_relative = 1e-3);
+        }
+        let wip = Wip::new(crate::WipParams::miapure_60kg()).unwrap();
+        let weights = WipLqrWeights::model_default();
+        let d = LqrGains::design_discrete(&wip, &weights, 1.0 / 400.0, 83.9).unwrap();
+        // At 400 Hz the sampled design differs from the continuous one by O(dt).
+        assert!((d.reduced() - g.reduced()).norm() < 0.05 * g.reduced().norm());
+        assert!(matches!(
+            LqrGains::design(&wip, &weights, -1.0),
+            Err(Error::InvalidParameter {
+                field: "max_torque_nm",
+                ..
+            })
+        ));
     }
 
     #[test]
@@ -229,7 +303,8 @@ mod tests {
         let out = c.step(&Vector4::new(1.0, 0.0, 0.0, 0.0), &Vector4::zeros(), 0.0025);
         assert_eq!(out.torque_nm, 83.9);
         assert_eq!(out.status, StepStatus::Saturated);
-        approx::assert_relative_eq!(out.saturation_nm, 83.9 - 234.8, epsilon = 1e-9);
+        let requested = -gains().tilt_nm_per_rad;
+        approx::assert_relative_eq!(out.saturation_nm, 83.9 - requested, epsilon = 1e-9);
     }
 
     #[test]

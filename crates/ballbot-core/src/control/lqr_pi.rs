@@ -112,8 +112,8 @@ pub struct LqrPiOuterOutput<T> {
 /// use nalgebra::Vector4;
 /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
 /// let inner_gains = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, 83.9)?;
-/// // MODEL.md section 6 gains.
-/// let lqr = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+/// // MODEL.md's LQR weights, 83.9 N m planar torque limit.
+/// let lqr = LqrGains::for_wip(&wip, 83.9)?;
 /// let mut outer = LqrPiOuter::new(wip, LqrPiOuterConfig::new(lqr, &inner_gains)?)?;
 /// let mut inner = SpeedPi::new(inner_gains)?;
 /// let s = Vector4::new(0.05, 0.0, 0.0, 0.0);
@@ -241,7 +241,7 @@ mod tests {
     fn outer() -> LqrPiOuter<f64> {
         let wip = Wip::new(WipParams::miapure_60kg()).unwrap();
         let config = LqrPiOuterConfig {
-            lqr: LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9),
+            lqr: LqrGains::for_wip(&wip, 83.9).unwrap(),
             max_speed_error_rad_per_s: 2.0,
         };
         LqrPiOuter::new(wip, config).unwrap()
@@ -316,7 +316,8 @@ mod tests {
 
     #[test]
     fn config_band_from_inner_gains() {
-        let lqr = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+        let wip = Wip::new(WipParams::miapure_60kg()).unwrap();
+        let lqr = LqrGains::for_wip(&wip, 83.9).unwrap();
         let inner = SpeedPiGains {
             proportional_nm_s_per_rad: 10.0,
             integral_nm_per_rad: 100.0,
