@@ -5,4 +5,5 @@
 //! clarabel, MCAP logging, and the `ballbot` command line.
 
 pub mod log;
+pub mod planar;
 pub mod plot;
