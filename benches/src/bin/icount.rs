@@ -61,6 +61,57 @@ fn kinematics_speeds_and_torques(n: u64) -> Result<(), String> {
     Ok(())
 }
 
+/// MiaPURE's inner speed PI (8 kHz, on the motor driver), fed a varying speed.
+fn speed_pi_step<T: nalgebra::RealField + Copy>(n: u64) -> Result<(), String> {
+    use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains};
+    let wip = Wip::new(WipParams::<T>::miapure_60kg()).map_err(|e| e.to_string())?;
+    let gains =
+        SpeedPiGains::for_wip_ball_rate(&wip, nalgebra::convert(30.0), nalgebra::convert(43.2))
+            .map_err(|e| e.to_string())?;
+    let mut pi = SpeedPi::new(gains).map_err(|e| e.to_string())?;
+    let cmd = SpeedCommand {
+        speed_rad_per_s: nalgebra::convert(2.0),
+        feedforward_torque_nm: nalgebra::convert(5.0),
+    };
+    let dt: T = nalgebra::convert(1.0 / 8000.0);
+    let speeds: [T; 8] = core::array::from_fn(|i| nalgebra::convert(1.9 + i as f64 * 0.01));
+    let mut acc = T::zero();
+    for i in 0..n {
+        let speed = speeds[(i & 7) as usize];
+        acc += pi.step(black_box(speed), black_box(&cmd), dt).torque_nm;
+    }
+    black_box(acc);
+    Ok(())
+}
+
+fn speed_pi_step_f32(n: u64) -> Result<(), String> {
+    speed_pi_step::<f32>(n)
+}
+
+fn speed_pi_step_f64(n: u64) -> Result<(), String> {
+    speed_pi_step::<f64>(n)
+}
+
+/// MiaPURE's LQR-PI outer step (400 Hz): LQR, the reference model, the anchored integral.
+fn lqr_pi_outer_step_f64(n: u64) -> Result<(), String> {
+    use ballbot_core::control::{LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedPiGains};
+    let wip = Wip::new(WipParams::<f64>::miapure_60kg()).map_err(|e| e.to_string())?;
+    let inner = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, 83.9).map_err(|e| e.to_string())?;
+    let lqr = LqrGains::for_wip(&wip, 83.9).map_err(|e| e.to_string())?;
+    let config = LqrPiOuterConfig::new(lqr, &inner).map_err(|e| e.to_string())?;
+    let mut outer = LqrPiOuter::new(wip, config).map_err(|e| e.to_string())?;
+    let command = Vector4::new(0.0, 0.0, 0.0, 5.0);
+    let mut acc = 0.0;
+    for i in 0..n {
+        let s = Vector4::new(0.02 + (i % 5) as f64 * 1e-3, 0.0, 0.1, 4.0);
+        acc += outer
+            .step(black_box(&s), black_box(&command), 0.0025)
+            .reference_torque_nm;
+    }
+    black_box(acc);
+    Ok(())
+}
+
 const OPERATIONS: &[Operation] = &[
     Operation {
         name: "wip_rk4_step_f64",
@@ -73,6 +124,18 @@ const OPERATIONS: &[Operation] = &[
     Operation {
         name: "kinematics_speeds_and_torques",
         run: kinematics_speeds_and_torques,
+    },
+    Operation {
+        name: "speed_pi_step_f32",
+        run: speed_pi_step_f32,
+    },
+    Operation {
+        name: "speed_pi_step_f64",
+        run: speed_pi_step_f64,
+    },
+    Operation {
+        name: "lqr_pi_outer_step_f64",
+        run: lqr_pi_outer_step_f64,
     },
 ];
 

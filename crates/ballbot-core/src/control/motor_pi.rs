@@ -212,7 +212,7 @@ impl<T: RealField + Copy> SpeedPi<T> {
         dt_secs: T,
     ) -> SpeedPiOutput<T> {
         let max = self.gains.max_torque_nm;
-        self.step_within(measured_speed_rad_per_s, command, dt_secs, -max, max)
+        self.update(measured_speed_rad_per_s, command, dt_secs, -max, max)
     }
 
     /// One PI step with the torque range `[lower_nm, upper_nm]` intersected with the symmetric
@@ -229,8 +229,7 @@ impl<T: RealField + Copy> SpeedPi<T> {
         lower_nm: T,
         upper_nm: T,
     ) -> SpeedPiOutput<T> {
-        let g = &self.gains;
-        let max = g.max_torque_nm;
+        let max = self.gains.max_torque_nm;
         let lower = if lower_nm.is_finite() {
             lower_nm.max(-max)
         } else {
@@ -241,17 +240,29 @@ impl<T: RealField + Copy> SpeedPi<T> {
         } else {
             max
         };
-        let inputs_ok = measured_speed_rad_per_s.is_finite()
-            && command.speed_rad_per_s.is_finite()
-            && command.feedforward_torque_nm.is_finite()
-            && dt_is_valid(dt_secs);
-        if !inputs_ok || lower > T::zero() || upper < T::zero() {
+        if lower > T::zero() || upper < T::zero() {
             return SpeedPiOutput::rejected();
         }
+        self.update(measured_speed_rad_per_s, command, dt_secs, lower, upper)
+    }
+
+    /// The PI law with a range `lower <= 0 <= upper` already checked.
+    #[inline(always)]
+    fn update(
+        &mut self,
+        measured_speed_rad_per_s: T,
+        command: &SpeedCommand<T>,
+        dt_secs: T,
+        lower: T,
+        upper: T,
+    ) -> SpeedPiOutput<T> {
+        let g = &self.gains;
         let error = command.speed_rad_per_s - measured_speed_rad_per_s;
         let proportional = g.proportional_nm_s_per_rad * error;
         let requested = command.feedforward_torque_nm + proportional + self.integral_nm;
-        if !requested.is_finite() {
+        // A non-finite speed or reference makes `error` non-finite, a non-finite feedforward
+        // (or an overflow) makes `requested` non-finite.
+        if !(error.is_finite() && requested.is_finite() && dt_is_valid(dt_secs)) {
             return SpeedPiOutput::rejected();
         }
         let (torque, status) = if requested > upper {
@@ -267,6 +278,7 @@ impl<T: RealField + Copy> SpeedPi<T> {
         let next =
             self.integral_nm + g.integral_nm_per_rad * error * dt_secs + aw_step * saturation;
         if next.is_finite() {
+            let max = g.max_torque_nm;
             self.integral_nm = next.max(-max).min(max);
         }
         SpeedPiOutput {
