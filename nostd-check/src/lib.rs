@@ -36,3 +36,35 @@ pub extern "C" fn ballbot_nostd_wip_step_f64(tilt_rad: f64, torque_nm: f64) -> f
         Err(_) => f64::NAN,
     }
 }
+
+/// One step of the motor driver's speed PI (the LQR-PI inner loop) in f32, fed one step of the
+/// LQR-PI outer loop: the planar controllers link without std or an allocator.
+#[unsafe(no_mangle)]
+pub extern "C" fn ballbot_nostd_lqr_pi_step_f32(tilt_rad: f32, ball_rate_rad_per_s: f32) -> f32 {
+    use ballbot_core::control::{
+        LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi, SpeedPiGains,
+    };
+    let Ok(wip) = Wip::new(WipParams::<f32>::miapure_60kg()) else {
+        return f32::NAN;
+    };
+    let (Ok(lqr), Ok(inner)) = (
+        LqrGains::for_wip(&wip, 83.9),
+        SpeedPiGains::for_wip_ball_rate(&wip, 30.0, 83.9),
+    ) else {
+        return f32::NAN;
+    };
+    let Ok(config) = LqrPiOuterConfig::new(lqr, &inner) else {
+        return f32::NAN;
+    };
+    let (Ok(mut outer), Ok(mut pi)) = (LqrPiOuter::new(wip, config), SpeedPi::new(inner)) else {
+        return f32::NAN;
+    };
+    let s = Vector4::new(tilt_rad, 0.0, 0.0, ball_rate_rad_per_s);
+    let o = outer.step(&s, &Vector4::zeros(), 0.0025);
+    let command = SpeedCommand {
+        speed_rad_per_s: o.reference_ball_rate_rad_per_s,
+        feedforward_torque_nm: o.reference_torque_nm,
+    };
+    pi.step(ball_rate_rad_per_s, &command, 1.0 / 8000.0)
+        .torque_nm
+}
