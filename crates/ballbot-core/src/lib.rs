@@ -19,6 +19,7 @@
 #![no_std]
 #![forbid(unsafe_code)]
 
+pub mod ballbot;
 mod check;
 pub mod command;
 pub mod control;

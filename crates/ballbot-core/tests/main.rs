@@ -1,5 +1,7 @@
 //! Integration tests of ballbot-core, one module per area.
 
+mod ballbot3d;
 mod controllers;
 mod kinematics;
 mod lqr;
+mod safety;

@@ -1,0 +1,773 @@
+//! The 3D ballbot controller: the paper's cascaded LQR-PI on MiaPURE (Sec. IV-D, Fig.
+//! "PURE_control"), with command shaping and safety supervision.
+//!
+//! Two pieces, because on the robot they run on different processors:
+//!
+//! - [`BallbotController`], the **outer loop** (main controller, 400 Hz):
+//!   1. [`SafetySupervisor`] checks the samples, timing and command link, runs the mode
+//!      machine;
+//!   2. [`Estimator`] builds the sagittal, frontal and spin states (inverse kinematics);
+//!   3. [`CommandShaper`] turns the command (or, in a controlled stop, "come to rest") into
+//!      jerk-limited planar command states;
+//!   4. two [`LqrPiOuter`] planes (frontal x, sagittal y) and a [`SpinOuter`] give the reference
+//!      planar torques `u_r = [tau_rx, tau_ry, tau_rz]` and reference rates
+//!      `[phi_dot_rx, phi_dot_ry, theta_dot_rz]` (reference WIP and spin models);
+//!   5. the kinematics ([`OmniKinematics`]) maps them to per-omniwheel feedforward torques
+//!      `tau_r = J^-T S u_r` (scaled uniformly into the actuator limits) and reference
+//!      omniwheel speeds `psi_dot_r = J [phi_dot_rx - theta_dot_x, phi_dot_ry - theta_dot_y,
+//!      -theta_dot_rz]` (measured tilt rates: the motor driver controls the relative rate).
+//!
+//!   Its output is a small [`MotorReferences`] value: what the main controller sends to the
+//!   motor drivers.
+//! - [`MotorSpeedLoop`], the **inner loop** (motor drivers, 8 kHz): one [`SpeedPi`] per
+//!   omniwheel, `tau_i = sat(tau_ri + kp (psi_dot_ri - psi_dot_i) + I_i)` within the actuator's
+//!   torque-speed limits ([`ActuatorParams::torque_bounds_nm`]), back-calculation anti-windup
+//!   driven by the applied torque.
+//!
+//! **Guarantees**, whatever the input (tested with proptest): no panic, no allocation, bounded
+//! time; every output finite; feedforward torques within the actuator peak, reference speeds
+//! within the no-load speed, applied torques within the actuator's torque-speed limits; motors
+//! disabled (zero torque, integrators cleared) outside [`Mode::Balancing`] and
+//! [`Mode::ControlledStop`].
+//!
+//! **Per-motor PI gains** ([`motor_speed_pi_gains`]). With the reference model equal to the
+//! plant, each plane's ball-rate error obeys `e_dot = -B4 tau_e`. The wheel error is
+//! `J e` and a wheel PI `tau_w = kp e_w` gives the planar torque `S J^T kp J e`; for the
+//! symmetric layout `J^T J = (r_S / r_W)^2 diag(3/2 cos^2 a, 3/2 cos^2 a, 3 sin^2 a)`, so in
+//! translation the wheel loop acts like a planar PI on the plant `b_w = B4 (J^T J)_xx`.
+//! Designing the wheel PI for `b_w` reproduces the planar PI of the paper exactly.
+//!
+//! ```
+//! use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, MotorSpeedLoop, OuterInput};
+//! use ballbot_core::command::{Command, VelocityCommand};
+//! use ballbot_core::estimation::{EncoderSample, ImuSample};
+//! use ballbot_core::safety::{Mode, ModeRequest};
+//! use ballbot_core::BallbotParams;
+//! let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+//! let mut outer = BallbotController::new(config)?;
+//! let mut inner = MotorSpeedLoop::new(&config)?;
+//! let input = OuterInput {
+//!     now_us: 0,
+//!     imu: ImuSample::upright(0),
+//!     encoders: EncoderSample::still(0),
+//!     command: Command::Velocity(VelocityCommand::zero()),
+//!     command_timestamp_us: Some(0),
+//!     request: ModeRequest::Arm,
+//! };
+//! let out = outer.step(&input);
+//! assert_eq!(out.safety.mode, Mode::Balancing);
+//! // 20 inner steps per outer step at 8 kHz.
+//! inner.set_references(&out.motors);
+//! let torques = inner.step(&input.encoders.wheel_speeds_rad_per_s, 1.25e-4);
+//! assert!(torques.torque_nm.iter().all(|t| t.abs() <= 43.2));
+//! # Ok::<(), ballbot_core::Error>(())
+//! ```
+
+use crate::check::{lit, positive};
+use crate::command::{Command, CommandShaper, CommandShaperParams, PlanarCommands};
+use crate::control::{
+    LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi, SpeedPiGains, StepStatus,
+};
+use crate::estimation::{EncoderSample, Estimator, ImuSample, PlanarStates};
+use crate::lqr::{
+    SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
+};
+use crate::safety::{
+    Fault, Mode, ModeRequest, SafetyInput, SafetyParams, SafetyStatus, SafetySupervisor,
+};
+use crate::spin::SpinState;
+use crate::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE, WipState};
+use crate::{ActuatorParams, BallbotParams, Error, OmniKinematics, Spin, Wip};
+use nalgebra::{RealField, Vector3};
+
+/// Gains of the spin LQR `tau_rz = k_heading (theta_zc - theta_z) + k_rate (theta_dot_zc -
+/// theta_dot_z)`, saturated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpinGains<T> {
+    /// On the heading error (N m/rad).
+    pub heading_nm_per_rad: T,
+    /// On the yaw-rate error (N m s/rad).
+    pub rate_nm_s_per_rad: T,
+    /// Symmetric yaw-torque limit (N m, > 0).
+    pub max_torque_nm: T,
+}
+
+/// Configuration of [`SpinOuter`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpinOuterConfig<T> {
+    /// The LQR gains.
+    pub gains: SpinGains<T>,
+    /// Largest distance between the integrated reference yaw rate and the measured yaw rate
+    /// (rad/s, > 0), as [`LqrPiOuterConfig::max_speed_error_rad_per_s`].
+    pub max_rate_error_rad_per_s: T,
+}
+
+impl<T: RealField + Copy> SpinOuterConfig<T> {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), Error> {
+        let g = &self.gains;
+        crate::check::finite(g.heading_nm_per_rad, "heading_nm_per_rad")?;
+        crate::check::finite(g.rate_nm_s_per_rad, "rate_nm_s_per_rad")?;
+        positive(g.max_torque_nm, "max_torque_nm")?;
+        positive(self.max_rate_error_rad_per_s, "max_rate_error_rad_per_s")
+    }
+}
+
+/// One [`SpinOuter`] step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpinOuterOutput<T> {
+    /// Reference yaw torque `tau_rz` after saturation (N m).
+    pub reference_torque_nm: T,
+    /// Reference yaw rate `theta_dot_rz` over the coming period (rad/s).
+    pub reference_rate_rad_per_s: T,
+    /// Reference yaw acceleration of the spin model (rad/s^2).
+    pub reference_accel_rad_per_s2: T,
+    /// Nominal, saturated or rejected.
+    pub status: StepStatus,
+}
+
+/// The spin plane of the cascaded LQR-PI: LQR reference torque, reference spin model
+/// `theta_ddot_rz = (tau_rz - D_z theta_dot_z) / I_z` at the measured state, integrated to the
+/// reference yaw rate (anchored to the measured rate as [`LqrPiOuter`] does).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpinOuter<T> {
+    model: Spin<T>,
+    config: SpinOuterConfig<T>,
+    reference_rate_rad_per_s: Option<T>,
+}
+
+impl<T: RealField + Copy> SpinOuter<T> {
+    /// Validates `config`; `model` is the reference spin model.
+    pub fn new(model: Spin<T>, config: SpinOuterConfig<T>) -> Result<Self, Error> {
+        config.validate()?;
+        Ok(Self {
+            model,
+            config,
+            reference_rate_rad_per_s: None,
+        })
+    }
+
+    /// Forgets the reference integral (re-anchored at the next step).
+    pub fn reset(&mut self) {
+        self.reference_rate_rad_per_s = None;
+    }
+
+    /// One step: `measured` and `command` are `[theta_z, theta_dot_z]`. A non-finite input or
+    /// a bad `dt_secs` gives zero torque, the held reference and
+    /// [`StepStatus::InvalidInput`].
+    pub fn step(
+        &mut self,
+        measured: &SpinState<T>,
+        command: &SpinState<T>,
+        dt_secs: T,
+    ) -> SpinOuterOutput<T> {
+        let g = &self.config.gains;
+        let requested = g.heading_nm_per_rad * (command[0] - measured[0])
+            + g.rate_nm_s_per_rad * (command[1] - measured[1]);
+        let rate = measured[1];
+        if !(requested.is_finite() && rate.is_finite() && dt_secs.is_finite())
+            || dt_secs <= T::zero()
+        {
+            return SpinOuterOutput {
+                reference_torque_nm: T::zero(),
+                reference_rate_rad_per_s: self.reference_rate_rad_per_s.unwrap_or(T::zero()),
+                reference_accel_rad_per_s2: T::zero(),
+                status: StepStatus::InvalidInput,
+            };
+        }
+        let max = g.max_torque_nm;
+        let torque = requested.max(-max).min(max);
+        let status = if torque == requested {
+            StepStatus::Nominal
+        } else {
+            StepStatus::Saturated
+        };
+        let accel = self.model.acceleration(measured, torque);
+        let band = self.config.max_rate_error_rad_per_s;
+        let anchored = self
+            .reference_rate_rad_per_s
+            .unwrap_or(rate)
+            .max(rate - band)
+            .min(rate + band);
+        self.reference_rate_rad_per_s = Some(anchored + accel * dt_secs);
+        SpinOuterOutput {
+            reference_torque_nm: torque,
+            reference_rate_rad_per_s: anchored + accel * dt_secs * lit(0.5),
+            reference_accel_rad_per_s2: accel,
+            status,
+        }
+    }
+}
+
+/// Everything the 3D controller needs, validated by [`BallbotController::new`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallbotControllerConfig<T> {
+    /// The robot (reference models and kinematics).
+    pub robot: BallbotParams<T>,
+    /// Frontal plane (x) outer LQR-PI.
+    pub frontal: LqrPiOuterConfig<T>,
+    /// Sagittal plane (y) outer LQR-PI.
+    pub sagittal: LqrPiOuterConfig<T>,
+    /// Spin outer loop.
+    pub spin: SpinOuterConfig<T>,
+    /// The per-omniwheel speed PI (torques at the omniwheel).
+    pub motor: SpeedPiGains<T>,
+    /// Command shaping.
+    pub shaping: CommandShaperParams<T>,
+    /// Safety thresholds.
+    pub safety: SafetyParams<T>,
+    /// Outer-loop period (s): 1/400 on MiaPURE.
+    pub outer_dt_secs: T,
+}
+
+/// LQR weights and bandwidths for [`BallbotControllerConfig::design_with`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallbotDesign<T: RealField + Copy> {
+    /// Weights of both WIP planes on `[theta, theta_dot, phi_dot]` and the torque.
+    pub plane_weights: WipLqrWeights<T>,
+    /// Weights of the spin plane on `[theta_z, theta_dot_z]` and the yaw torque.
+    pub spin_weights: SpinLqrWeights<T>,
+    /// Bandwidth of the per-motor speed PI (rad/s): critically damped double pole.
+    pub motor_bandwidth_rad_per_s: T,
+    /// Outer-loop period (s).
+    pub outer_dt_secs: T,
+}
+
+impl<T: RealField + Copy> BallbotDesign<T> {
+    /// MODEL.md's plane weights `Q = diag(100, 10, 1)`, `R = 0.1`; spin `Q = diag(100, 10)`,
+    /// `R = 1` (an engineering choice: heading error 0.1 rad costs like 1 N m); a 30 rad/s
+    /// motor PI; 400 Hz.
+    pub fn paper() -> Self {
+        Self {
+            plane_weights: WipLqrWeights::model_default(),
+            spin_weights: SpinLqrWeights::diagonal([lit(100.0), lit(10.0)], T::one()),
+            motor_bandwidth_rad_per_s: lit(30.0),
+            outer_dt_secs: outer_loop_dt_secs(),
+        }
+    }
+}
+
+impl<T: RealField + Copy> BallbotControllerConfig<T> {
+    /// [`Self::design_with`] the [`BallbotDesign::paper`] weights.
+    pub fn design(robot: &BallbotParams<T>) -> Result<Self, Error> {
+        Self::design_with(robot, &BallbotDesign::paper())
+    }
+
+    /// Designs every gain from the model: discrete LQR at the outer period on each plane's
+    /// upright linearisation and on the spin model (torque limits: the planar torque
+    /// capacity of the drivetrain), the motor PI from [`motor_speed_pi_gains`], and the
+    /// MiaPURE shaping and safety defaults (wheel-speed limits from the robot's actuator).
+    pub fn design_with(robot: &BallbotParams<T>, design: &BallbotDesign<T>) -> Result<Self, Error> {
+        let kin = OmniKinematics::from_ballbot(robot)?;
+        let capacity = kin.planar_torque_capacity_nm();
+        let dt = design.outer_dt_secs;
+        positive(dt, "outer_dt_secs")?;
+        let motor = motor_speed_pi_gains(robot, &kin, design.motor_bandwidth_rad_per_s)?;
+        let plane = |params, max_torque_nm| -> Result<LqrPiOuterConfig<T>, Error> {
+            let wip = Wip::new(params)?;
+            let lqr = wip_lqr_discrete(&wip, &design.plane_weights, dt)?;
+            let gains = LqrGains::from_reduced(lqr.reduced_gains(), max_torque_nm);
+            // The anchor band: the speed error at which the planar-equivalent P term alone
+            // saturates (see LqrPiOuterConfig::new), from the wheel PI's planar equivalent.
+            let planar_pi = SpeedPiGains::for_wip_ball_rate(
+                &wip,
+                design.motor_bandwidth_rad_per_s,
+                max_torque_nm,
+            )?;
+            LqrPiOuterConfig::new(gains, &planar_pi)
+        };
+        let spin = Spin::new(robot.spin)?;
+        let spin_lqr = spin_lqr_discrete(&spin, &design.spin_weights, dt)?;
+        let spin_config = SpinOuterConfig {
+            gains: SpinGains {
+                heading_nm_per_rad: spin_lqr.gain[0],
+                rate_nm_s_per_rad: spin_lqr.gain[1],
+                max_torque_nm: capacity[2],
+            },
+            max_rate_error_rad_per_s: lit(2.0),
+        };
+        Ok(Self {
+            robot: *robot,
+            frontal: plane(robot.frontal, capacity[0])?,
+            sagittal: plane(robot.sagittal, capacity[1])?,
+            spin: spin_config,
+            motor,
+            shaping: CommandShaperParams::miapure(),
+            safety: SafetyParams::for_actuator(&robot.drivetrain.actuator),
+            outer_dt_secs: dt,
+        })
+    }
+}
+
+/// Per-omniwheel speed PI gains (torques at the omniwheel) with a critically damped double
+/// pole at `-bandwidth_rad_per_s` for translation (see the module docs): the plant gain is
+/// `b_w = B4 (J^T J)_xy`, averaged over the two planes' `B4` and the x and y diagonal entries.
+pub fn motor_speed_pi_gains<T: RealField + Copy>(
+    robot: &BallbotParams<T>,
+    kinematics: &OmniKinematics<T>,
+    bandwidth_rad_per_s: T,
+) -> Result<SpeedPiGains<T>, Error> {
+    let b4 = |p| -> Result<T, Error> { Ok(Wip::new(p)?.linearize_upright().B[BALL_RATE]) };
+    let b4_mean = (b4(robot.frontal)? + b4(robot.sagittal)?) * lit(0.5);
+    let j = kinematics.wheel_speed_matrix();
+    let jtj = j.transpose() * j;
+    let b_w = b4_mean * (jtj[(0, 0)] + jtj[(1, 1)]) * lit(0.5);
+    SpeedPiGains::from_bandwidth(
+        b_w,
+        bandwidth_rad_per_s,
+        robot.drivetrain.actuator.peak_torque_nm,
+    )
+}
+
+/// What the outer loop reads in one step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OuterInput<'a, T: nalgebra::Scalar> {
+    /// Now, on the robot's monotonic clock (us).
+    pub now_us: u64,
+    /// The latest IMU sample.
+    pub imu: ImuSample<T>,
+    /// The latest encoder sample.
+    pub encoders: EncoderSample<T>,
+    /// The operator's command.
+    pub command: Command<'a, T>,
+    /// When the command was last received (us); `None`: never.
+    pub command_timestamp_us: Option<u64>,
+    /// The operator's mode request.
+    pub request: ModeRequest,
+}
+
+/// What the main controller sends to the three motor drivers once per outer period.
+///
+/// The reference speed of each omniwheel over the coming period is the ramp
+/// `speed_rad_per_s + accel_rad_per_s2 * t`, `t` the time since the references were produced:
+/// the reference models' acceleration, so the motor drivers follow the reference speed between
+/// outer updates instead of holding it (a held reference leaves a speed error of
+/// `±accel dt / 2` that the PIs would fight every period; see
+/// [`MotorSpeedLoop::set_references`]). A driver that can only hold a speed should hold the
+/// period's mean, `speed_rad_per_s + accel_rad_per_s2 * dt / 2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotorReferences<T: nalgebra::Scalar> {
+    /// Whether the drivers may apply torque; when `false` every other field is 0.
+    pub enabled: bool,
+    /// Reference omniwheel speeds `psi_dot_r` at the start of the period (rad/s, at the
+    /// omniwheel), within the actuator's no-load speed.
+    pub speed_rad_per_s: Vector3<T>,
+    /// Reference omniwheel accelerations over the period (rad/s^2).
+    pub accel_rad_per_s2: Vector3<T>,
+    /// Feedforward omniwheel torques `tau_r` (N m, at the omniwheel), within the actuator's
+    /// peak torque.
+    pub feedforward_torque_nm: Vector3<T>,
+}
+
+impl<T: RealField + Copy> MotorReferences<T> {
+    /// Motors off.
+    pub fn disabled() -> Self {
+        Self {
+            enabled: false,
+            speed_rad_per_s: Vector3::zeros(),
+            accel_rad_per_s2: Vector3::zeros(),
+            feedforward_torque_nm: Vector3::zeros(),
+        }
+    }
+}
+
+/// One outer step: the motor references and everything that made them (for logging).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OuterOutput<T: nalgebra::Scalar> {
+    /// For the motor drivers.
+    pub motors: MotorReferences<T>,
+    /// The supervisor's verdict (mode, faults of this step).
+    pub safety: SafetyStatus,
+    /// The estimated planar states.
+    pub states: PlanarStates<T>,
+    /// The shaped planar command states (zero when the motors are off).
+    pub commands: PlanarCommands<T>,
+    /// Reference planar torques `[tau_rx, tau_ry, tau_rz]` actually fed forward, after the
+    /// uniform scaling into the actuator limits (N m).
+    pub reference_torque_nm: Vector3<T>,
+    /// Reference planar rates `[phi_dot_rx, phi_dot_ry, theta_dot_rz]` (rad/s).
+    pub reference_rate_rad_per_s: Vector3<T>,
+    /// In a controlled stop, whether the shaped command has come to rest (the robot is
+    /// holding).
+    pub stopped: bool,
+}
+
+/// The outer loop of the 3D controller (see the module docs).
+///
+/// **Input feedforward.** The LQR `tau = k (s_c - s)` has no torque feedforward; at a
+/// commanded steady acceleration `phi_ddot_c` the plane needs `tau = b phi_ddot_c` with the
+/// body at its equilibrium lean, and without help the LQR would find it only through a
+/// standing speed error (0.35 m/s at 1 m/s^2 on MiaPURE). The controller shifts each tilt
+/// command by `b phi_ddot_c / k1`, so the LQR's output at the accelerating equilibrium is
+/// exactly that torque, and the heading command by `(I_z theta_ddot_zc + D_z theta_dot_zc) /
+/// k_heading` for the spin plane. The logged [`OuterOutput::commands`] are the unshifted,
+/// physical command states.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallbotController<T: RealField + Copy> {
+    config: BallbotControllerConfig<T>,
+    kinematics: OmniKinematics<T>,
+    supervisor: SafetySupervisor<T>,
+    estimator: Estimator<T>,
+    shaper: CommandShaper<T>,
+    frontal: LqrPiOuter<T>,
+    sagittal: LqrPiOuter<T>,
+    spin: SpinOuter<T>,
+    feedforward: InputFeedforward<T>,
+}
+
+/// The shifts of the command states that make each LQR's output equal the torque its plane
+/// needs to follow the commanded acceleration (see [`BallbotController`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct InputFeedforward<T> {
+    /// Frontal tilt-command shift per m/s^2 of body-y acceleration (rad s^2/m).
+    frontal_rad_per_m_per_s2: T,
+    /// Sagittal tilt-command shift per m/s^2 of body-x acceleration (rad s^2/m).
+    sagittal_rad_per_m_per_s2: T,
+    /// Heading-command shift per rad/s^2 of yaw acceleration (s^2).
+    heading_per_yaw_accel_s2: T,
+    /// Heading-command shift per rad/s of yaw rate (s).
+    heading_per_yaw_rate_s: T,
+}
+
+impl<T: RealField + Copy> InputFeedforward<T> {
+    fn new(config: &BallbotControllerConfig<T>) -> Self {
+        // The torque that accelerates the ball at phi_ddot with the body steadily leaning is
+        // b phi_ddot, b = I_S + (m_S + m_U) r^2 + I_W (second row of the WIP equations).
+        let plane = |p: &crate::WipParams<T>, k1: T| {
+            let b = p.ball_inertia_kg_m2
+                + (p.ball_mass_kg + p.body_mass_kg) * p.ball_radius_m * p.ball_radius_m
+                + p.wheel_inertia_kg_m2;
+            let shift = b / (k1 * p.ball_radius_m);
+            if shift.is_finite() { shift } else { T::zero() }
+        };
+        let k_heading = config.spin.gains.heading_nm_per_rad;
+        let per = |x: T| {
+            let v = x / k_heading;
+            if v.is_finite() { v } else { T::zero() }
+        };
+        Self {
+            frontal_rad_per_m_per_s2: -plane(
+                &config.robot.frontal,
+                config.frontal.lqr.tilt_nm_per_rad,
+            ),
+            sagittal_rad_per_m_per_s2: plane(
+                &config.robot.sagittal,
+                config.sagittal.lqr.tilt_nm_per_rad,
+            ),
+            heading_per_yaw_accel_s2: per(config.robot.spin.inertia_kg_m2),
+            heading_per_yaw_rate_s: per(config.robot.spin.damping_nm_s_per_rad),
+        }
+    }
+}
+
+impl<T: RealField + Copy> BallbotController<T> {
+    /// Validates `config` and builds every piece; starts in [`Mode::Idle`].
+    pub fn new(config: BallbotControllerConfig<T>) -> Result<Self, Error> {
+        let kinematics = OmniKinematics::from_ballbot(&config.robot)?;
+        positive(config.outer_dt_secs, "outer_dt_secs")?;
+        config.motor.validate()?;
+        Ok(Self {
+            config,
+            kinematics,
+            supervisor: SafetySupervisor::new(config.safety)?,
+            estimator: Estimator::new(kinematics),
+            shaper: CommandShaper::new(config.shaping, &config.robot)?,
+            frontal: LqrPiOuter::new(Wip::new(config.robot.frontal)?, config.frontal)?,
+            sagittal: LqrPiOuter::new(Wip::new(config.robot.sagittal)?, config.sagittal)?,
+            spin: SpinOuter::new(Spin::new(config.robot.spin)?, config.spin)?,
+            feedforward: InputFeedforward::new(&config),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &BallbotControllerConfig<T> {
+        &self.config
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> Mode {
+        self.supervisor.mode()
+    }
+
+    /// The supervisor (latched faults, thresholds).
+    pub fn supervisor(&self) -> &SafetySupervisor<T> {
+        &self.supervisor
+    }
+
+    /// Reports a fault found by the application (e.g. a measured compute overrun); see
+    /// [`SafetySupervisor::report`]. The next [`Self::step`] acts on the new mode.
+    pub fn report(&mut self, fault: Fault) -> Mode {
+        self.supervisor.report(fault)
+    }
+
+    /// One outer step (see the module docs). Never panics; every output is finite and within
+    /// the actuator's limits.
+    pub fn step(&mut self, input: &OuterInput<'_, T>) -> OuterOutput<T> {
+        let dt = self.config.outer_dt_secs;
+        let safety = self.supervisor.step(&SafetyInput {
+            now_us: input.now_us,
+            imu: input.imu,
+            encoders: input.encoders,
+            command_timestamp_us: input.command_timestamp_us,
+            command_finite: input.command.is_finite(),
+            request: input.request,
+        });
+        let states = self.estimator.update(
+            safety.imu_valid.then_some(&input.imu),
+            safety.encoders_valid.then_some(&input.encoders),
+            dt,
+        );
+        if !safety.mode.motors_enabled() {
+            return self.disabled(safety, states);
+        }
+        let command = if safety.mode == Mode::Balancing {
+            input.command
+        } else {
+            Command::Stop
+        };
+        let shaped = self.shaper.step(&command, dt);
+        // Equilibrium-input feedforward through the command states (see the type's docs).
+        let mut c = shaped.planar;
+        let ff = &self.feedforward;
+        let a = &shaped.acceleration;
+        c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y;
+        c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x;
+        let yaw_rate_c = c.spin[1];
+        c.spin[0] += ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_s * yaw_rate_c;
+        let fro = self.frontal.step(&states.frontal, &c.frontal, dt);
+        let sag = self.sagittal.step(&states.sagittal, &c.sagittal, dt);
+        let spin = self.spin.step(&states.spin, &c.spin, dt);
+        let planar_torque = Vector3::new(
+            fro.reference_torque_nm,
+            sag.reference_torque_nm,
+            spin.reference_torque_nm,
+        );
+        let saturation = self.kinematics.saturate_planar_torque(&planar_torque);
+        let reference_rate = Vector3::new(
+            fro.reference_ball_rate_rad_per_s,
+            sag.reference_ball_rate_rad_per_s,
+            spin.reference_rate_rad_per_s,
+        );
+        let relative = Vector3::new(
+            reference_rate[0] - states.frontal[TILT_RATE],
+            reference_rate[1] - states.sagittal[TILT_RATE],
+            -reference_rate[2],
+        );
+        // The planes report the mean reference rate over the period; the drivers ramp from the
+        // start value with the reference models' accelerations (tilt rate held).
+        let relative_accel = Vector3::new(
+            fro.reference_ball_accel_rad_per_s2,
+            sag.reference_ball_accel_rad_per_s2,
+            -spin.reference_accel_rad_per_s2,
+        );
+        let accel = self.kinematics.wheel_speeds_rad_per_s(&relative_accel);
+        let limit = self
+            .config
+            .robot
+            .drivetrain
+            .actuator
+            .no_load_speed_rad_per_s;
+        let half_dt = dt * lit(0.5);
+        let speed = (self.kinematics.wheel_speeds_rad_per_s(&relative) - accel * half_dt)
+            .map(|w| w.max(-limit).min(limit));
+        // A ramp may not leave the speed range within the period either.
+        let accel_limit = limit / dt;
+        let accel = accel.map(|a| a.max(-accel_limit).min(accel_limit));
+        let rejected = |s: StepStatus| s == StepStatus::InvalidInput;
+        let all_finite = speed.iter().all(|x| x.is_finite())
+            && accel.iter().all(|x| x.is_finite())
+            && saturation.wheel_torques_nm.iter().all(|x| x.is_finite())
+            && reference_rate.iter().all(|x| x.is_finite());
+        if rejected(fro.status) || rejected(sag.status) || rejected(spin.status) || !all_finite {
+            let safety = SafetyStatus {
+                mode: self.supervisor.report(Fault::StateNonFinite),
+                ..safety
+            };
+            return self.disabled(safety, states);
+        }
+        OuterOutput {
+            motors: MotorReferences {
+                enabled: true,
+                speed_rad_per_s: speed,
+                accel_rad_per_s2: accel,
+                feedforward_torque_nm: saturation.wheel_torques_nm,
+            },
+            safety,
+            states,
+            commands: shaped.planar,
+            reference_torque_nm: saturation.planar_torque_nm,
+            reference_rate_rad_per_s: reference_rate,
+            stopped: safety.mode == Mode::ControlledStop && self.shaper.is_at_rest(),
+        }
+    }
+
+    /// Motors off: clears every controller state so that arming starts from the measured
+    /// state (heading and ball-angle commands from the estimate).
+    fn disabled(&mut self, safety: SafetyStatus, states: PlanarStates<T>) -> OuterOutput<T> {
+        self.frontal.reset();
+        self.sagittal.reset();
+        self.spin.reset();
+        self.shaper.reset(
+            states.spin[0],
+            states.frontal[BALL_ANGLE],
+            states.sagittal[BALL_ANGLE],
+        );
+        OuterOutput {
+            motors: MotorReferences::disabled(),
+            safety,
+            states,
+            commands: PlanarCommands {
+                frontal: WipState::zeros(),
+                sagittal: WipState::zeros(),
+                spin: SpinState::zeros(),
+            },
+            reference_torque_nm: Vector3::zeros(),
+            reference_rate_rad_per_s: Vector3::zeros(),
+            stopped: false,
+        }
+    }
+}
+
+/// One inner step's result.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InnerOutput<T: nalgebra::Scalar> {
+    /// Omniwheel torques to apply (N m, at the omniwheel; divide by the gear ratio for the
+    /// rotor), finite and within the actuator's torque-speed limits.
+    pub torque_nm: Vector3<T>,
+    /// Applied minus requested torque per wheel (N m): nonzero when saturated.
+    pub saturation_nm: Vector3<T>,
+    /// The reference speeds used in this step (rad/s).
+    pub reference_speed_rad_per_s: Vector3<T>,
+    /// Whether the references were older than the timeout (torque 0, integrators cleared).
+    pub timed_out: bool,
+}
+
+/// The inner loop: one speed PI per omniwheel, as the motor drivers run it (see the module
+/// docs).
+///
+/// Each outer period, hand it the new references ([`Self::set_references`]); then call
+/// [`Self::step`] at the inner rate. The reference speed ramps with the references'
+/// acceleration for at most one outer period (then holds), and references older than
+/// [`Self::REFERENCE_TIMEOUT_PERIODS`] outer periods switch the torque off (the main
+/// controller is gone; nothing can balance without it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotorSpeedLoop<T: RealField + Copy> {
+    pis: [SpeedPi<T>; 3],
+    actuator: ActuatorParams<T>,
+    references: MotorReferences<T>,
+    outer_dt_secs: T,
+    /// Time since the references were set (s), capped just beyond the timeout.
+    elapsed_secs: T,
+}
+
+impl<T: RealField + Copy> MotorSpeedLoop<T> {
+    /// How many outer periods a reference stays valid without an update.
+    pub const REFERENCE_TIMEOUT_PERIODS: f64 = 8.0;
+
+    /// Three PIs with `config.motor` gains and the robot's actuator limits; motors disabled
+    /// until the first references.
+    pub fn new(config: &BallbotControllerConfig<T>) -> Result<Self, Error> {
+        let pi = SpeedPi::new(config.motor)?;
+        config.robot.drivetrain.actuator.validate()?;
+        positive(config.outer_dt_secs, "outer_dt_secs")?;
+        Ok(Self {
+            pis: [pi; 3],
+            actuator: config.robot.drivetrain.actuator,
+            references: MotorReferences::disabled(),
+            outer_dt_secs: config.outer_dt_secs,
+            elapsed_secs: T::zero(),
+        })
+    }
+
+    /// Clears the integrators.
+    pub fn reset(&mut self) {
+        for pi in &mut self.pis {
+            pi.reset();
+        }
+    }
+
+    /// Takes the outer loop's new references (the ramp restarts). References with a
+    /// non-finite number disable the motors.
+    pub fn set_references(&mut self, references: &MotorReferences<T>) {
+        let finite = |v: &Vector3<T>| v.iter().all(|x| x.is_finite());
+        self.references = if finite(&references.speed_rad_per_s)
+            && finite(&references.accel_rad_per_s2)
+            && finite(&references.feedforward_torque_nm)
+        {
+            *references
+        } else {
+            MotorReferences::disabled()
+        };
+        self.elapsed_secs = T::zero();
+    }
+
+    /// One inner step of `dt_secs` with the measured omniwheel speeds (rad/s). Disabled or
+    /// timed-out references give zero torque and clear the integrators.
+    pub fn step(&mut self, wheel_speeds_rad_per_s: &Vector3<T>, dt_secs: T) -> InnerOutput<T> {
+        let mut out = InnerOutput {
+            torque_nm: Vector3::zeros(),
+            saturation_nm: Vector3::zeros(),
+            reference_speed_rad_per_s: Vector3::zeros(),
+            timed_out: false,
+        };
+        let timeout = self.outer_dt_secs * lit(Self::REFERENCE_TIMEOUT_PERIODS);
+        out.timed_out = self.elapsed_secs > timeout;
+        if !self.references.enabled || out.timed_out {
+            self.reset();
+            return out;
+        }
+        let step_ok = dt_secs.is_finite() && dt_secs > T::zero();
+        // Reference at the middle of this step, ramping for one outer period at most.
+        let t = if step_ok {
+            (self.elapsed_secs + dt_secs * lit(0.5)).min(self.outer_dt_secs)
+        } else {
+            self.elapsed_secs.min(self.outer_dt_secs)
+        };
+        let r = &self.references;
+        for (i, pi) in self.pis.iter_mut().enumerate() {
+            let reference = r.speed_rad_per_s[i] + r.accel_rad_per_s2[i] * t;
+            let (torque, saturation) = motor_pi_step(
+                pi,
+                &self.actuator,
+                reference,
+                r.feedforward_torque_nm[i],
+                wheel_speeds_rad_per_s[i],
+                dt_secs,
+            );
+            out.torque_nm[i] = torque;
+            out.saturation_nm[i] = saturation;
+            out.reference_speed_rad_per_s[i] = reference;
+        }
+        if step_ok {
+            self.elapsed_secs = (self.elapsed_secs + dt_secs).min(timeout + dt_secs);
+        }
+        out
+    }
+}
+
+/// One motor driver's step: the speed PI within the actuator's torque-speed limits at the
+/// measured speed, with a final clamp (a non-finite result gives 0). Returns
+/// `(torque_nm, saturation_nm)`.
+#[inline]
+pub fn motor_pi_step<T: RealField + Copy>(
+    pi: &mut SpeedPi<T>,
+    actuator: &ActuatorParams<T>,
+    reference_speed_rad_per_s: T,
+    feedforward_torque_nm: T,
+    measured_speed_rad_per_s: T,
+    dt_secs: T,
+) -> (T, T) {
+    let (lower, upper) = actuator.torque_bounds_nm(measured_speed_rad_per_s);
+    let out = pi.step_within(
+        measured_speed_rad_per_s,
+        &SpeedCommand {
+            speed_rad_per_s: reference_speed_rad_per_s,
+            feedforward_torque_nm,
+        },
+        dt_secs,
+        lower,
+        upper,
+    );
+    let torque = actuator.clamp_torque_nm(out.torque_nm, measured_speed_rad_per_s);
+    (torque, out.saturation_nm)
+}
