@@ -22,11 +22,13 @@
 //! untouched and reports [`StepStatus::InvalidInput`]; what to do then (a controlled stop, or
 //! disabling the motors) is the safety supervisor's decision, not the controller's.
 
+mod feedforward;
 mod lqr;
 mod lqr_pi;
 mod motor_pi;
 mod pi_pd;
 
+pub use feedforward::accelerating_command;
 pub use lqr::{LqrController, LqrGains, LqrOutput};
 pub use lqr_pi::{LqrPiOuter, LqrPiOuterConfig, LqrPiOuterOutput};
 pub use motor_pi::{SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput};
