@@ -125,6 +125,90 @@ pub fn solve<T: RealField + Copy, const N: usize, const K: usize>(
     is_finite(&x).then_some(x)
 }
 
+/// `A B` with plain loops, inlined: faster than nalgebra's generic product for the small
+/// fixed sizes of the Riccati iterations.
+#[inline(always)]
+pub(crate) fn mul<T: RealField + Copy, const R: usize, const K: usize, const C: usize>(
+    a: &SMatrix<T, R, K>,
+    b: &SMatrix<T, K, C>,
+) -> SMatrix<T, R, C> {
+    SMatrix::from_fn(|i, j| {
+        let mut sum = T::zero();
+        for k in 0..K {
+            sum += a[(i, k)] * b[(k, j)];
+        }
+        sum
+    })
+}
+
+/// `A B^T`.
+#[inline(always)]
+pub(crate) fn mul_nt<T: RealField + Copy, const R: usize, const K: usize, const C: usize>(
+    a: &SMatrix<T, R, K>,
+    b: &SMatrix<T, C, K>,
+) -> SMatrix<T, R, C> {
+    SMatrix::from_fn(|i, j| {
+        let mut sum = T::zero();
+        for k in 0..K {
+            sum += a[(i, k)] * b[(j, k)];
+        }
+        sum
+    })
+}
+
+/// `A B` for a product known to be symmetric: the upper triangle, mirrored.
+#[inline(always)]
+pub(crate) fn mul_sym<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, N, K>,
+    b: &SMatrix<T, K, N>,
+) -> SMatrix<T, N, N> {
+    let mut out = SMatrix::<T, N, N>::zeros();
+    for j in 0..N {
+        for i in 0..=j {
+            let mut sum = T::zero();
+            for k in 0..K {
+                sum += a[(i, k)] * b[(k, j)];
+            }
+            out[(i, j)] = sum;
+            out[(j, i)] = sum;
+        }
+    }
+    out
+}
+
+/// `A^T B` for a product known to be symmetric: the upper triangle, mirrored.
+#[inline(always)]
+pub(crate) fn mul_tn_sym<T: RealField + Copy, const N: usize, const K: usize>(
+    a: &SMatrix<T, K, N>,
+    b: &SMatrix<T, K, N>,
+) -> SMatrix<T, N, N> {
+    let mut out = SMatrix::<T, N, N>::zeros();
+    for j in 0..N {
+        for i in 0..=j {
+            let mut sum = T::zero();
+            for k in 0..K {
+                sum += a[(k, i)] * b[(k, j)];
+            }
+            out[(i, j)] = sum;
+            out[(j, i)] = sum;
+        }
+    }
+    out
+}
+
+/// The sum of the absolute values of all entries (an entrywise 1-norm; submultiplicative).
+/// Cheap, and NaN or infinity in any entry makes it non-finite.
+#[inline(always)]
+pub(crate) fn entry_norm<T: RealField + Copy, const R: usize, const C: usize>(
+    m: &SMatrix<T, R, C>,
+) -> T {
+    let mut sum = T::zero();
+    for x in m.iter() {
+        sum += x.abs();
+    }
+    sum
+}
+
 /// `(A + A^T) / 2`.
 pub(crate) fn symmetrize<T: RealField + Copy, const N: usize>(
     m: &SMatrix<T, N, N>,

@@ -45,14 +45,20 @@
 //! Malformed input (non-finite entries, `Q` not symmetric positive semidefinite, `R` not
 //! symmetric positive definite) is an [`Error`] naming the argument. The numerical outcome is
 //! a [`RiccatiStatus`] in the [`RiccatiSolution`]: the closed loop `A - B K` is certified
-//! stable ([`is_schur_stable`], [`is_hurwitz`]) before `Converged` is reported. No stabilising
+//! stable before `Converged` is reported, by the Lyapunov theorem when it applies (`X > 0`
+//! and `X - A_cl^T X A_cl > 0`, resp. `-(A_cl^T X + X A_cl) > 0`, both with a round-off
+//! margin; the Riccati equation makes the latter `Q + K^T R K`), otherwise by
+//! [`is_schur_stable`] or [`is_hurwitz`]. No stabilising
 //! solution (an unstable mode that `B` cannot move, or that `Q` does not weight) gives
 //! `NotStabilizable`, detected either by the doubling diverging or by the closed-loop check.
 #![allow(non_snake_case)]
 
 use crate::Error;
 use crate::check::lit;
-use crate::linalg::{is_finite, is_hurwitz, is_schur_stable, norm1, symmetrize};
+use crate::linalg::{
+    entry_norm, is_finite, is_hurwitz, is_schur_stable, mul, mul_nt, mul_sym, mul_tn_sym, norm1,
+    symmetrize,
+};
 use core::fmt;
 use nalgebra::{Cholesky, RealField, SMatrix};
 
@@ -95,8 +101,9 @@ impl fmt::Display for RiccatiStatus {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RiccatiSettings<T> {
     /// Stop when the 1-norm of the last increment of `X` is at most this times `||X||_1`
-    /// (dimensionless). Default `1000 eps` (`2.2e-13` in `f64`, `1.2e-4` in `f32`); the
-    /// convergence is quadratic, so the error left is far below it.
+    /// (dimensionless) and `||A_k||_1 <= 1`. Default `sqrt(eps)` (`1.5e-8` in `f64`,
+    /// `3.5e-4` in `f32`): the convergence is quadratic, the next increment is about the
+    /// square of this one, so the error left is at round-off level.
     pub tolerance: T,
     /// Iteration limit. Default 64: each doubling step doubles the horizon, so 64 steps
     /// cover `2^64` samples.
@@ -106,7 +113,7 @@ pub struct RiccatiSettings<T> {
 impl<T: RealField + Copy> Default for RiccatiSettings<T> {
     fn default() -> Self {
         Self {
-            tolerance: T::default_epsilon() * lit(1000.0),
+            tolerance: T::default_epsilon().sqrt(),
             max_iterations: 64,
         }
     }
@@ -247,27 +254,32 @@ fn doubling<T: RealField + Copy, const N: usize>(
 ) -> Doubling<T, N> {
     let identity = SMatrix::<T, N, N>::identity();
     // A_k ~ (closed loop)^(2^k) -> 0; growth beyond this means no stable closed loop.
-    let blow_up = norm1(&a).max(T::one()) / T::default_epsilon();
+    let blow_up = entry_norm(&a).max(T::one()) / T::default_epsilon();
     for k in 1..=settings.max_iterations {
-        let Some(w_inv) = (identity + g * h).try_inverse() else {
+        let Some(w_inv) = (identity + mul(&g, &h)).try_inverse() else {
             return Doubling::Diverged(k);
         };
-        let aw = a * w_inv;
-        let wa = w_inv * a;
-        let dh = symmetrize(&(a.transpose() * (h * wa)));
-        let g_next = symmetrize(&(g + aw * g * a.transpose()));
-        a = aw * a;
-        g = g_next;
+        // A W^-1; H W^-1 = (I + H G)^-1 H and W^-1 G are symmetric, so the increments of H
+        // and G are symmetric products (upper triangles only).
+        let aw = mul(&a, &w_inv);
+        let hwa = mul(&mul_sym(&h, &w_inv), &a);
+        let dh = mul_tn_sym(&a, &hwa);
+        let dg = mul_sym(&aw, &mul_nt(&g, &a));
+        a = mul(&aw, &a);
+        g += dg;
         h += dh;
-        let growth = norm1(&a);
-        let step = norm1(&dh);
-        let size = norm1(&h);
-        if !(growth.is_finite() && step.is_finite() && size.is_finite() && is_finite(&g))
-            || growth > blow_up
-        {
+        let growth = entry_norm(&a);
+        let step = entry_norm(&dh);
+        let size = entry_norm(&h);
+        let finite = growth.is_finite()
+            && step.is_finite()
+            && size.is_finite()
+            && entry_norm(&g).is_finite();
+        if !finite || growth > blow_up {
             return Doubling::Diverged(k);
         }
-        if step <= settings.tolerance * size {
+        // Next increment ~ ||A_{k+1}||^2 ||H||: small once A_{k+1} has shrunk below 1.
+        if step <= settings.tolerance * size && growth <= T::one() {
             return Doubling::Done(h, k, true);
         }
     }
@@ -327,8 +339,44 @@ pub fn solve_dare<T: RealField + Copy, const N: usize, const M: usize>(
         &Q,
         iterations,
         converged,
-        is_schur_stable(&(A - B * K)),
+        discrete_lyapunov_stable(&(A - B * K), &X),
     ))
+}
+
+/// `true` if `P` is positive definite with a margin of `1000 eps ||X||_1`.
+fn positive_definite_with_margin<T: RealField + Copy, const N: usize>(
+    p: &SMatrix<T, N, N>,
+    scale: T,
+) -> bool {
+    let margin = scale * T::default_epsilon() * lit(1000.0);
+    Cholesky::new(symmetrize(&(p - SMatrix::<T, N, N>::identity() * margin))).is_some()
+}
+
+/// Certifies that the discrete closed loop `a_cl` is asymptotically stable. Fast path, the
+/// Lyapunov theorem: `X > 0` and `X - A_cl^T X A_cl > 0` (both with a round-off margin; the
+/// DARE makes the latter `Q + K^T R K`). Otherwise (e.g. a singular `Q`) the eigenvalue-free
+/// squaring certificate [`is_schur_stable`].
+fn discrete_lyapunov_stable<T: RealField + Copy, const N: usize>(
+    a_cl: &SMatrix<T, N, N>,
+    x: &SMatrix<T, N, N>,
+) -> bool {
+    let scale = norm1(x);
+    let lyapunov = x - a_cl.transpose() * x * a_cl;
+    (positive_definite_with_margin(x, scale) && positive_definite_with_margin(&lyapunov, scale))
+        || is_schur_stable(a_cl)
+}
+
+/// Certifies that the continuous closed loop `a_cl` is asymptotically stable: `X > 0` and
+/// `-(A_cl^T X + X A_cl) > 0` (the CARE makes it `Q + K^T R K`), else [`is_hurwitz`].
+fn continuous_lyapunov_stable<T: RealField + Copy, const N: usize>(
+    a_cl: &SMatrix<T, N, N>,
+    x: &SMatrix<T, N, N>,
+) -> bool {
+    let scale = norm1(x);
+    let xa = x * a_cl;
+    let lyapunov = -(xa + xa.transpose());
+    (positive_definite_with_margin(x, scale) && positive_definite_with_margin(&lyapunov, scale))
+        || is_hurwitz(a_cl)
 }
 
 /// Assembles the solution and its status from the pieces both solvers share.
@@ -423,7 +471,7 @@ pub fn solve_care<T: RealField + Copy, const N: usize, const M: usize>(
         &Q,
         iterations,
         converged,
-        is_hurwitz(&(A - B * K)),
+        continuous_lyapunov_stable(&(A - B * K), &X),
     ))
 }
 
