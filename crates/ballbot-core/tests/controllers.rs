@@ -17,7 +17,7 @@ use proptest::prelude::*;
 
 const OUTER_HZ: f64 = 400.0;
 const INNER_HZ: f64 = 8000.0;
-/// Plant substeps per inner period (plant at 16 kHz).
+/// Plant RK4 substeps per inner period (2: plant at 16 kHz).
 const PLANT_SUBSTEPS: usize = 2;
 const INNER_PER_OUTER: usize = 20;
 /// Bandwidth of the inner speed PI's error dynamics (rad/s).
@@ -573,7 +573,8 @@ fn lqr_and_lqr_pi_track_the_1_m_per_s_ramp() {
 // The paper's central claim: stiction
 
 /// With Coulomb friction on the drive, the LQR alone cruises with a steady speed error
-/// (`tau_c / |k3|` by the steady-state balance); the LQR-PI removes it.
+/// (`tau_c / |k3|` by the steady-state balance); the LQR-PI removes it (and so does the PI-PD's
+/// integral).
 #[test]
 fn lqr_pi_removes_the_steady_speed_error_that_friction_leaves_under_lqr() {
     let cruise = |t: f64| 0.5 * t.min(1.0);
@@ -593,8 +594,8 @@ fn lqr_pi_removes_the_steady_speed_error_that_friction_leaves_under_lqr() {
                 stick_rate_rad_per_s: 0.01,
             },
         ] {
-            let mut errors = [0.0; 2];
-            for (i, kind) in [Kind::Lqr, Kind::LqrPi].into_iter().enumerate() {
+            let mut errors = [0.0; 3];
+            for (i, kind) in [Kind::Lqr, Kind::LqrPi, Kind::PiPd].into_iter().enumerate() {
                 let mut c = Controller::new(kind, &preset);
                 let trace = simulate(
                     &preset,
@@ -622,12 +623,19 @@ fn lqr_pi_removes_the_steady_speed_error_that_friction_leaves_under_lqr() {
                 errors[0]
             );
             assert!(errors[0].abs() > 0.05, "{}: {}", preset.name, errors[0]);
-            // LQR-PI: removed.
+            // LQR-PI: removed. The PI-PD's speed integral removes it too (the paper: the
+            // PI "can break the stiction"), at the price of its harder tuning.
             assert!(
                 errors[1].abs() < 0.005,
                 "{}: LQR-PI error {}",
                 preset.name,
                 errors[1]
+            );
+            assert!(
+                errors[2].abs() < 0.005,
+                "{}: PI-PD error {}",
+                preset.name,
+                errors[2]
             );
         }
     }
@@ -849,6 +857,53 @@ proptest! {
             if !all_finite {
                 prop_assert_eq!(a.status, StepStatus::InvalidInput);
                 prop_assert_eq!(o.status, StepStatus::InvalidInput);
+            }
+        }
+    }
+}
+
+fn any_f32() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        4 => -10.0..10.0f32,
+        2 => proptest::num::f32::ANY,
+        1 => Just(f32::NAN),
+        1 => Just(f32::INFINITY),
+        1 => Just(f32::MAX),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// The same contract in f32, where overflow comes much sooner (`f32::MAX` is 3.4e38).
+    #[test]
+    fn f32_step_never_panics_and_torque_is_finite_and_bounded(
+        steps in proptest::collection::vec(
+            ([any_f32(), any_f32(), any_f32(), any_f32()], [any_f32(), any_f32(), any_f32(), any_f32()], any_f32()),
+            1..20,
+        )
+    ) {
+        let wip = Wip::new(WipParams::<f32>::miapure_60kg()).unwrap();
+        let limit = 83.9_f32;
+        let inner_g = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, limit).unwrap();
+        let lqr = LqrGains::for_wip(&wip, limit).unwrap();
+        let mut lqr_c = LqrController::new(lqr).unwrap();
+        let mut pipd = PiPdController::new(PiPdGains::for_wip(&wip, limit).unwrap()).unwrap();
+        let mut outer = LqrPiOuter::new(wip, LqrPiOuterConfig::new(lqr, &inner_g).unwrap()).unwrap();
+        let mut inner = SpeedPi::new(inner_g).unwrap();
+        for (s, sc, dt) in steps {
+            let (s, sc) = (Vector4::from(s), Vector4::from(sc));
+            let a = lqr_c.step(&s, &sc, dt).torque_nm;
+            let b = pipd.step(&s, &sc, dt).torque_nm;
+            let o = outer.step(&s, &sc, dt);
+            prop_assert!(o.reference_ball_rate_rad_per_s.is_finite());
+            let cmd = SpeedCommand {
+                speed_rad_per_s: o.reference_ball_rate_rad_per_s,
+                feedforward_torque_nm: o.reference_torque_nm,
+            };
+            let i = inner.step(s[BALL_RATE], &cmd, dt).torque_nm;
+            for t in [a, b, o.reference_torque_nm, i] {
+                prop_assert!(t.is_finite() && t.abs() <= limit, "{t}");
             }
         }
     }
