@@ -7,3 +7,4 @@
 pub mod log;
 pub mod planar;
 pub mod plot;
+pub mod trajopt;

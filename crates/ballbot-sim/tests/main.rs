@@ -7,3 +7,4 @@ mod log;
 mod planar_plant;
 mod planar_sim;
 mod plot;
+mod trajopt;
