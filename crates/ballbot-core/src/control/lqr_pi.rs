@@ -31,6 +31,12 @@
 //!    band is the error at which the inner P term alone reaches the torque limit,
 //!    `max_torque / kp` ([`LqrPiOuterConfig::new`]): beyond it the inner loop is saturated anyway.
 //!
+//! **Which speed the inner loop tracks.** As in the paper's equations, the planar inner loop
+//! tracks the ball rate `phi_dot` (absolute), for which the decoupling above is exact. A motor
+//! encoder measures the wheel relative to the body, `phi_dot - theta_dot` (times the kinematic
+//! ratio): a driver-side loop on that speed is given `phi_dot_r - theta_dot` with the tilt rate
+//! measured at the outer rate, and its plant gain is the relative one, `B4 - B3`, not `B4`.
+//!
 //! **Timing.** The integral is advanced over the outer period; the reference sent to the inner
 //! loop is the mean over the coming period, `phi_dot_r + dt phi_ddot_r / 2`, so that a
 //! steady acceleration leaves no mean tracking error in the inner loop (which holds the

@@ -21,6 +21,45 @@
 //! A non-finite measurement, command or step length gives zero torque, leaves the state
 //! untouched and reports [`StepStatus::InvalidInput`]; what to do then (a controlled stop, or
 //! disabling the motors) is the safety supervisor's decision, not the controller's.
+//!
+//! | controller | rate | gains from the model | default |
+//! |---|---|---|---|
+//! | [`LqrController`] | 400 Hz | [`LqrGains::design`] (CARE), [`LqrGains::design_discrete`] (DARE) | [`LqrGains::for_wip`]: MODEL.md weights |
+//! | [`PiPdController`] | 400 Hz | [`PiPdGains::design`] (pole placement) | [`PiPdGains::for_wip`]: poles [`PI_PD_DEFAULT_POLES_PER_P0`] |
+//! | [`LqrPiOuter`] | 400 Hz | its [`LqrGains`] | [`LqrPiOuterConfig::new`]: anchor band from the inner PI |
+//! | [`SpeedPi`] | 8 kHz | [`SpeedPiGains::for_wip_ball_rate`], [`SpeedPiGains::from_bandwidth`] | 30 rad/s in the tests |
+//!
+//! The cascaded LQR-PI on one plane, outer loop at 400 Hz and inner loop at 8 kHz:
+//!
+//! ```
+//! use ballbot_core::control::{
+//!     LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi, SpeedPiGains,
+//! };
+//! use ballbot_core::{Wip, WipParams, rk4_step};
+//! use nalgebra::Vector4;
+//! let wip = Wip::new(WipParams::<f64>::piptb())?;
+//! let max_torque_nm = 43.2;
+//! let inner_gains = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, max_torque_nm)?;
+//! let config = LqrPiOuterConfig::new(LqrGains::for_wip(&wip, max_torque_nm)?, &inner_gains)?;
+//! let mut outer = LqrPiOuter::new(wip, config)?;
+//! let mut inner = SpeedPi::new(inner_gains)?;
+//! let mut s = Vector4::new(0.1, 0.0, 0.0, 0.0); // 5.7 deg forward
+//! let command = Vector4::zeros(); // stand still, upright
+//! let mut reference = SpeedCommand { speed_rad_per_s: 0.0, feedforward_torque_nm: 0.0 };
+//! for k in 0..3 * 8000 {
+//!     if k % 20 == 0 {
+//!         let o = outer.step(&s, &command, 1.0 / 400.0);
+//!         reference = SpeedCommand {
+//!             speed_rad_per_s: o.reference_ball_rate_rad_per_s,
+//!             feedforward_torque_nm: o.reference_torque_nm,
+//!         };
+//!     }
+//!     let tau = inner.step(s[3], &reference, 1.0 / 8000.0).torque_nm;
+//!     s = rk4_step(|x| wip.derivative(x, tau), &s, 1.0 / 8000.0);
+//! }
+//! assert!(s[0].abs() < 1e-3 && s[3].abs() < 0.1);
+//! # Ok::<(), ballbot_core::Error>(())
+//! ```
 
 mod feedforward;
 mod lqr;
