@@ -1,24 +1,31 @@
-//! Planar torque and rate mapped to the actuators, and the omniwheel contact forces.
+//! Planar torque and rate mapped to the actuators, and the omniwheel contact forces, from the
+//! core's omniwheel kinematics ([`ballbot_core::kinematics`], MODEL.md sections 4 and 5).
 //!
-//! For travel at heading `h` the planar torque vector is `tau e_perp`, `e_perp = [-sin h,
-//! cos h, 0]`, and the relative rate is `(phi_dot - theta_dot) e_perp`. MODEL.md section 4 then
-//! gives each omniwheel's torque and speed:
+//! For travel at heading `h` the planar torque `tau` and the relative rate
+//! `phi_dot - theta_dot` act about the plane's axis; each omniwheel then sees
+//! `tau_i = kappa_i tau` and `psi_dot_i = rho_i (phi_dot - theta_dot)` (constants of the
+//! layout and heading, taken from [`OmniKinematics`]).
+//!
+//! Contact forces: the wheels transmit the contact torque
+//! `tau_c = tau - I_W (phi_ddot - theta_ddot) - b_m (phi_dot - theta_dot)`, so traction
+//! `F_i = kappa_i tau_c / r_W`, and the normal forces are `N = P F_s + Q kappa tau_c` with
+//! the body's support force `F_s` ([`kinematics::planar_support_force_n`]):
 //!
 //! ```text
-//! tau_i = kappa_i tau,        kappa_i = 2 r_W sin(h - beta_i) / (3 r_S cos a)
-//! psi_dot_i = rho_i (phi_dot - theta_dot),   rho_i = (r_S / r_W) cos a sin(h - beta_i)
+//! F_s . e_b = m (r phi_ddot cos(theta) + l theta_ddot - g sin(theta))
+//! F_s . z   = m (r phi_ddot sin(theta) - l theta_dot^2 + g cos(theta))
 //! ```
 //!
-//! (so `sum tau_i psi_dot_i = tau (phi_dot - theta_dot)`). Traction on the body at wheel `i` is
-//! `F_i = -tau_i / r_W` along `d_i`, so that its moment about the ball centre,
-//! `sum r_S F_i u_i`, is the `-tau e_perp` the body feels. The normal forces follow from the
-//! body's force balance (MODEL.md section 5), written in body coordinates:
-//! `sum_i N_i n_i + sum_i F_i d_i = m_U (a_COM + g e_z)`, with the body COM acceleration of the
-//! WIP, `a_e = r phi_ddot + l (cos th th_ddot - sin th th_dot^2)`,
-//! `a_z = -l (sin th th_ddot + cos th th_dot^2)`, rotated by the tilt into the body frame.
+//! The values come from the core; this module adds their exact gradients with respect to the
+//! knot variables `[theta, phi, theta_dot, phi_dot, tau]`, through the analytic Jacobian of the
+//! accelerations ([`Wip::linearize`]), for the SQP's linearised traction cones.
 
+use super::TrajoptError;
 use super::problem::Drive;
-use ballbot_core::{Wip, WipState};
+use ballbot_core::kinematics::{
+    self, planar_support_force_n, planar_torque_at_heading, relative_rate_at_heading,
+};
+use ballbot_core::{OmniKinematics, Wip, WipState};
 use nalgebra::{Matrix3, Vector3};
 
 /// Gradient with respect to the knot variables `[theta, phi, theta_dot, phi_dot, tau]`.
@@ -35,19 +42,28 @@ pub(crate) struct Motor {
     pub peak_torque_nm: f64,
     /// No-load speed (rad/s).
     pub no_load_speed_rad_per_s: f64,
-    /// Traction force on the body per planar torque (N per N m), omniwheels only.
-    pub traction_per_planar: f64,
+}
+
+/// Normal forces and tractions at one knot with their gradients.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct KnotForces {
+    /// Normal force `N_i` (N).
+    pub normal_n: [f64; 3],
+    /// `d N_i / d v`.
+    pub normal_grad: [KnotGradient; 3],
+    /// Traction `F_i` of wheel `i` on the ball (N), signed.
+    pub traction_n: [f64; 3],
+    /// `d F_i / d v`.
+    pub traction_grad: [KnotGradient; 3],
 }
 
 /// Omniwheel contact geometry for the normal forces.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Contacts {
-    /// Inverse of the matrix whose columns are the contact normals `n_i` (body frame).
-    normals_inv: Matrix3<f64>,
-    /// `sum_i (F_i / tau) d_i`: the traction force on the body per planar torque.
-    traction_per_planar: Vector3<f64>,
-    /// Travel direction in the body frame.
-    travel: Vector3<f64>,
+    kin: OmniKinematics<f64>,
+    heading_rad: f64,
+    /// `kappa`: omniwheel torque per planar torque.
+    kappa: Vector3<f64>,
     /// Roller-ball friction coefficient.
     pub friction: f64,
 }
@@ -61,7 +77,7 @@ pub(crate) struct DriveMap {
 }
 
 impl DriveMap {
-    pub fn new(drive: &Drive, ball_radius_m: f64) -> Self {
+    pub fn new(drive: &Drive, ball_radius_m: f64) -> Result<Self, TrajoptError> {
         match *drive {
             Drive::Direct(a) => {
                 let m = Motor {
@@ -69,72 +85,51 @@ impl DriveMap {
                     speed_per_relative_rate: 1.0,
                     peak_torque_nm: a.peak_torque_nm,
                     no_load_speed_rad_per_s: a.no_load_speed_rad_per_s,
-                    traction_per_planar: 0.0,
                 };
-                Self {
+                Ok(Self {
                     motors: [m; 3],
                     count: 1,
                     contacts: None,
-                }
+                })
             }
             Drive::Omniwheels {
                 params,
                 heading_rad,
             } => {
-                let (sa, ca) = params.contact_angle_rad.sin_cos();
-                let rs = ball_radius_m;
-                let rw = params.wheel_radius_m;
-                let mut normals = Matrix3::zeros();
-                let mut traction = Vector3::zeros();
-                let motors = core::array::from_fn(|i| {
-                    let beta = params.wheel_azimuths_rad[i];
-                    let (sb, cb) = beta.sin_cos();
-                    let s = (heading_rad - beta).sin();
-                    let kappa = 2.0 * rw * s / (3.0 * rs * ca);
-                    normals.set_column(i, &Vector3::new(sa * cb, sa * sb, ca));
-                    let f = -kappa / rw;
-                    traction += Vector3::new(-sb, cb, 0.0) * f;
-                    Motor {
-                        torque_per_planar: kappa,
-                        speed_per_relative_rate: rs / rw * ca * s,
-                        peak_torque_nm: params.actuator.peak_torque_nm,
-                        no_load_speed_rad_per_s: params.actuator.no_load_speed_rad_per_s,
-                        traction_per_planar: f,
-                    }
+                let kin = OmniKinematics::new(params, ball_radius_m)?;
+                let kappa = kin.wheel_torques_nm(&planar_torque_at_heading(heading_rad, 1.0));
+                let rho =
+                    kin.wheel_speeds_rad_per_s(&relative_rate_at_heading(heading_rad, 1.0, 0.0));
+                let motors = core::array::from_fn(|i| Motor {
+                    torque_per_planar: kappa[i],
+                    speed_per_relative_rate: rho[i],
+                    peak_torque_nm: params.actuator.peak_torque_nm,
+                    no_load_speed_rad_per_s: params.actuator.no_load_speed_rad_per_s,
                 });
-                // The layout was validated non-singular (DrivetrainParams::validate); a
-                // failure here leaves the normal forces at the static share.
-                let normals_inv = normals.try_inverse().unwrap_or_else(Matrix3::zeros);
-                let (sh, ch) = heading_rad.sin_cos();
-                Self {
+                Ok(Self {
                     motors,
                     count: 3,
                     contacts: Some(Contacts {
-                        normals_inv,
-                        traction_per_planar: traction,
-                        travel: Vector3::new(ch, sh, 0.0),
+                        kin,
+                        heading_rad,
+                        kappa,
                         friction: params.wheel_ball_friction,
                     }),
-                }
+                })
             }
         }
     }
 
-    /// The actuators that carry load in this plane (a wheel whose axle is along the travel,
-    /// like omniwheel 1 in the sagittal plane, is skipped for torque limits).
+    /// Every actuator of the drive (a wheel the plane does not load, like omniwheel 1 in the
+    /// sagittal plane, has zero coefficients).
     pub fn motors(&self) -> &[Motor] {
         &self.motors[..self.count]
     }
 }
 
 impl Contacts {
-    /// Normal forces `N_i` (N) and their gradients with respect to the knot variables.
-    pub fn normal_forces(
-        &self,
-        wip: &Wip<f64>,
-        s: &WipState<f64>,
-        torque_nm: f64,
-    ) -> ([f64; 3], [KnotGradient; 3]) {
+    /// Normal forces and tractions at a knot, with their gradients.
+    pub fn forces(&self, wip: &Wip<f64>, s: &WipState<f64>, torque_nm: f64) -> KnotForces {
         let p = wip.params();
         let (m, l, r, g) = (
             p.body_mass_kg,
@@ -142,61 +137,60 @@ impl Contacts {
             p.ball_radius_m,
             p.gravity_m_per_s2,
         );
+        let (iw, bm) = (p.wheel_inertia_kg_m2, p.drive_damping_nm_s_per_rad);
         let (st, ct) = s[0].sin_cos();
         let thd = s[2];
-        let qdd = wip.accelerations(s, torque_nm);
+        let acc = wip.accelerations(s, torque_nm);
         let lin = wip.linearize(s, torque_nm);
-        let grad_row = |row: usize| -> KnotGradient {
+        let row = |k: usize| -> KnotGradient {
             [
-                lin.A[(row, 0)],
-                lin.A[(row, 1)],
-                lin.A[(row, 2)],
-                lin.A[(row, 3)],
-                lin.B[row],
+                lin.A[(k, 0)],
+                lin.A[(k, 1)],
+                lin.A[(k, 2)],
+                lin.A[(k, 3)],
+                lin.B[k],
             ]
         };
-        let g_th = grad_row(2);
-        let g_ph = grad_row(3);
-        // COM acceleration in the world (travel, vertical).
-        let a_e = r * qdd[1] + l * (ct * qdd[0] - st * thd * thd);
-        let a_z = -l * (st * qdd[0] + ct * thd * thd);
-        let mut da_e = [0.0; 5];
-        let mut da_z = [0.0; 5];
+        let (g_th, g_ph) = (row(2), row(3));
+        let support = planar_support_force_n(p, self.heading_rad, s, &acc);
+        // Gradients of the support force's components along travel and up (body frame).
+        let mut d_along = [0.0; 5];
+        let mut d_up = [0.0; 5];
+        let mut d_contact = [0.0; 5];
         for k in 0..5 {
-            da_e[k] = r * g_ph[k] + l * ct * g_th[k];
-            da_z[k] = -l * st * g_th[k];
+            d_along[k] = m * (r * ct * g_ph[k] + l * g_th[k]);
+            d_up[k] = m * r * st * g_ph[k];
+            d_contact[k] = -iw * (g_ph[k] - g_th[k]);
         }
-        da_e[0] += l * (-st * qdd[0] - ct * thd * thd);
-        da_e[2] += -2.0 * l * st * thd;
-        da_z[0] += -l * (ct * qdd[0] - st * thd * thd);
-        da_z[2] += -2.0 * l * ct * thd;
-        let pe = m * a_e;
-        let pz = m * (a_z + g);
-        // Into the tilted body frame.
-        let pb_e = pe * ct - pz * st;
-        let pb_z = pe * st + pz * ct;
-        let mut dpb_e = [0.0; 5];
-        let mut dpb_z = [0.0; 5];
+        d_along[0] += m * (-r * acc[1] * st - g * ct);
+        d_up[0] += m * (r * acc[1] * ct - g * st);
+        d_up[2] += -2.0 * m * l * thd;
+        d_contact[4] += 1.0;
+        d_contact[3] -= bm;
+        d_contact[2] += bm;
+        let contact_torque = torque_nm - iw * (acc[1] - acc[0]) - bm * (s[3] - s[2]);
+        let wheel = self.kappa * contact_torque;
+        let normal = self.kin.normal_forces_n(&support, &wheel);
+        let (pm, qm): (&Matrix3<f64>, &Matrix3<f64>) = self.kin.normal_force_matrices();
+        let travel = kinematics::plane_axis_at_heading(self.heading_rad);
+        // e = z x a rotated back: the travel direction is a rotated by -90 deg about z.
+        let e = Vector3::new(travel[1], -travel[0], 0.0);
+        let q_kappa = qm * self.kappa;
+        let rw = self.kin.drivetrain().wheel_radius_m;
+        let mut out = KnotForces {
+            normal_n: [normal[0], normal[1], normal[2]],
+            normal_grad: [[0.0; 5]; 3],
+            traction_n: core::array::from_fn(|i| wheel[i] / rw),
+            traction_grad: [[0.0; 5]; 3],
+        };
         for k in 0..5 {
-            dpb_e[k] = m * (ct * da_e[k] - st * da_z[k]);
-            dpb_z[k] = m * (st * da_e[k] + ct * da_z[k]);
-        }
-        dpb_e[0] += -pe * st - pz * ct;
-        dpb_z[0] += pe * ct - pz * st;
-        let rhs = self.travel * pb_e + Vector3::z() * pb_z - self.traction_per_planar * torque_nm;
-        let n = self.normals_inv * rhs;
-        let mut grads = [[0.0; 5]; 3];
-        for k in 0..5 {
-            let mut d = self.travel * dpb_e[k] + Vector3::z() * dpb_z[k];
-            if k == 4 {
-                d -= self.traction_per_planar;
-            }
-            let dn = self.normals_inv * d;
-            for (i, gr) in grads.iter_mut().enumerate() {
-                gr[k] = dn[i];
+            let dn = pm * (e * d_along[k] + Vector3::z() * d_up[k]) + q_kappa * d_contact[k];
+            for i in 0..3 {
+                out.normal_grad[i][k] = dn[i];
+                out.traction_grad[i][k] = self.kappa[i] / rw * d_contact[k];
             }
         }
-        ([n[0], n[1], n[2]], grads)
+        out
     }
 }
 
@@ -215,20 +209,64 @@ mod tests {
                 heading_rad,
             },
             wip.params().ball_radius_m,
-        );
+        )
+        .unwrap();
+        (wip, map)
+    }
+
+    /// MiaPURE with wheel inertia and drivetrain friction, so every term is exercised.
+    fn lossy(heading_rad: f64) -> (Wip<f64>, DriveMap) {
+        let params = WipParams {
+            wheel_inertia_kg_m2: 0.05,
+            drive_damping_nm_s_per_rad: 0.3,
+            ball_damping_nm_s_per_rad: 0.2,
+            ..WipParams::miapure_60kg()
+        };
+        let wip = Wip::new(params).unwrap();
+        let map = DriveMap::new(
+            &Drive::Omniwheels {
+                params: DrivetrainParams::miapure(),
+                heading_rad,
+            },
+            params.ball_radius_m,
+        )
+        .unwrap();
         (wip, map)
     }
 
     #[test]
     fn static_load_is_shared_equally() {
         let (wip, map) = miapure(0.0);
-        let (n, _) = map
-            .contacts
-            .unwrap()
-            .normal_forces(&wip, &Vector4::zeros(), 0.0);
-        for ni in n {
+        let f = map.contacts.unwrap().forces(&wip, &Vector4::zeros(), 0.0);
+        for ni in f.normal_n {
             // MODEL.md section 5: m_U g / (3 cos a) = 344 N.
             approx::assert_relative_eq!(ni, 74.3 * 9.81 / (3.0 * 0.5f64.sqrt()), epsilon = 1e-9);
+        }
+    }
+
+    #[test]
+    fn forces_are_the_core_kinematics_contact_forces() {
+        let (wip, map) = lossy(0.7);
+        let c = map.contacts.unwrap();
+        let kin = OmniKinematics::new(DrivetrainParams::miapure(), 0.1145).unwrap();
+        for (s, tau) in [
+            (Vector4::new(0.1, 0.3, -0.4, 7.0), 12.0),
+            (Vector4::new(-0.2, 1.0, 0.8, -3.0), -30.0),
+        ] {
+            let mine = c.forces(&wip, &s, tau);
+            let core = kin.wip_contact_forces(&wip, 0.7, &s, tau);
+            for i in 0..3 {
+                approx::assert_relative_eq!(
+                    mine.normal_n[i],
+                    core.wheels[i].normal_force_n,
+                    max_relative = 1e-12
+                );
+                approx::assert_relative_eq!(
+                    mine.traction_n[i],
+                    core.wheels[i].traction_n,
+                    epsilon = 1e-9
+                );
+            }
         }
     }
 
@@ -264,7 +302,7 @@ mod tests {
             let s = Vector4::zeros();
             let qdd = wip.accelerations(&s, torque_nm);
             let a_e = 0.1145 * qdd[1] + 0.5 * qdd[0];
-            let (n, _) = c.normal_forces(&wip, &s, torque_nm);
+            let n = c.forces(&wip, &s, torque_nm).normal_n;
             // Towards OW1 (+x) loads OW1 and unloads OW2 and OW3 (MODEL.md section 5).
             assert!((n[0] - n[1]) * a_e > 0.0, "{n:?} {a_e}");
             approx::assert_relative_eq!(n[1], n[2], epsilon = 1e-9);
@@ -276,11 +314,11 @@ mod tests {
 
     #[test]
     fn gradients_match_finite_differences() {
-        let (wip, map) = miapure(0.4);
+        let (wip, map) = lossy(0.4);
         let c = map.contacts.unwrap();
         let s = Vector4::new(0.1, 0.3, -0.4, 7.0);
         let tau = 12.0;
-        let (_, grads) = c.normal_forces(&wip, &s, tau);
+        let f = c.forces(&wip, &s, tau);
         for k in 0..5 {
             let h = 1e-6;
             let (mut sp, mut sm) = (s, s);
@@ -292,11 +330,22 @@ mod tests {
                 tp += h;
                 tm -= h;
             }
-            let (np, _) = c.normal_forces(&wip, &sp, tp);
-            let (nm, _) = c.normal_forces(&wip, &sm, tm);
+            let (fp, fm) = (c.forces(&wip, &sp, tp), c.forces(&wip, &sm, tm));
             for i in 0..3 {
-                let fd = (np[i] - nm[i]) / (2.0 * h);
-                approx::assert_relative_eq!(grads[i][k], fd, epsilon = 1e-5, max_relative = 1e-6);
+                let fd = (fp.normal_n[i] - fm.normal_n[i]) / (2.0 * h);
+                approx::assert_relative_eq!(
+                    f.normal_grad[i][k],
+                    fd,
+                    epsilon = 1e-5,
+                    max_relative = 1e-6
+                );
+                let fd = (fp.traction_n[i] - fm.traction_n[i]) / (2.0 * h);
+                approx::assert_relative_eq!(
+                    f.traction_grad[i][k],
+                    fd,
+                    epsilon = 1e-5,
+                    max_relative = 1e-6
+                );
             }
         }
     }

@@ -198,10 +198,11 @@ impl BrakingProblem {
         self.limits.validate()
     }
 
-    pub(crate) fn drive_map(&self) -> Option<DriveMap> {
+    pub(crate) fn drive_map(&self) -> Result<Option<DriveMap>, TrajoptError> {
         self.limits
             .drive
             .map(|d| DriveMap::new(&d, self.plane.ball_radius_m))
+            .transpose()
     }
 }
 

@@ -88,7 +88,7 @@ impl Transcription {
                 problem.initial_speed_m_per_s / problem.plane.ball_radius_m,
             ),
             problem: *problem,
-            drive: problem.drive_map(),
+            drive: problem.drive_map()?,
             weights: Vec::new(),
             cones: ConeSizes {
                 zero: 0,
@@ -281,15 +281,9 @@ impl Transcription {
     /// Normal forces `N_i` and traction magnitudes `|F_i|` at knot `k` (N), when the drive
     /// has omniwheels.
     pub fn contact_forces(&self, z: &[f64], k: usize) -> Option<([f64; 3], [f64; 3])> {
-        let d = self.drive.as_ref()?;
-        let c = d.contacts.as_ref()?;
-        let tau = z[self.torque(k)];
-        let (n, _) = c.normal_forces(&self.wip, &self.knot_state(z, k), tau);
-        let mut f = [0.0; 3];
-        for (fi, m) in f.iter_mut().zip(d.motors()) {
-            *fi = (m.traction_per_planar * tau).abs();
-        }
-        Some((n, f))
+        let c = self.drive.as_ref()?.contacts.as_ref()?;
+        let f = c.forces(&self.wip, &self.knot_state(z, k), z[self.torque(k)]);
+        Some((f.normal_n, f.traction_n.map(f64::abs)))
     }
 
     /// Emits `A` (linearised at `z`) and `b` in the fixed order that defines the pattern.
@@ -443,8 +437,8 @@ impl Transcription {
             }
         }
         debug_assert_eq!(row, self.cones.zero + self.cones.nonnegative);
-        // Traction cones: (mu N_i, F_i) in SOC(2), N_i linearised at z.
-        // s = b - A x: s_0 = mu (N(z) + grad N (x - z)), s_1 = F_i = f tau.
+        // Traction cones: (mu N_i, F_i) in SOC(2), both linearised at z:
+        // s = b - A x, s_0 = mu (N(z) + grad N (x - z)), s_1 = F(z) + grad F (x - z).
         if self.traction_wheels() > 0
             && let Some((d, c)) = self
                 .drive
@@ -455,25 +449,25 @@ impl Transcription {
                 let mu = c.friction;
                 for k in 0..=n {
                     let sk = self.knot_state(z, k);
-                    let u = self.torque(k);
-                    let tau = z[u];
-                    let (normal, grads) = if jacobians {
-                        c.normal_forces(&self.wip, &sk, tau)
-                    } else {
-                        (c.normal_forces(&self.wip, &sk, tau).0, [[0.0; 5]; 3])
-                    };
+                    let tau = z[self.torque(k)];
+                    let f = c.forces(&self.wip, &sk, tau);
                     let cols = self.knot_columns(k);
-                    for (i, m) in d.motors().iter().enumerate() {
-                        let g: &KnotGradient = &grads[i];
-                        let mut lin = normal[i];
-                        for (col, gk) in cols.iter().zip(g) {
-                            sink.entry(row, *col, -mu * gk);
-                            lin -= gk * z[*col];
+                    for i in 0..d.motors().len() {
+                        // Row pair (mu N_i, F_i), each linearised at z (exact values at z).
+                        for (value, grad, scale) in [
+                            (f.normal_n[i], &f.normal_grad[i], mu),
+                            (f.traction_n[i], &f.traction_grad[i], 1.0),
+                        ] {
+                            let g: &KnotGradient = grad;
+                            let mut lin = value;
+                            for (col, gk) in cols.iter().zip(g) {
+                                let gk = if jacobians { *gk } else { 0.0 };
+                                sink.entry(row, *col, -scale * gk);
+                                lin -= gk * z[*col];
+                            }
+                            sink.rhs(row, scale * lin);
+                            row += 1;
                         }
-                        sink.rhs(row, mu * lin);
-                        sink.entry(row + 1, u, -m.traction_per_planar);
-                        sink.rhs(row + 1, 0.0);
-                        row += 2;
                     }
                 }
             }
