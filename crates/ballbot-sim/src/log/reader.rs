@@ -271,61 +271,77 @@ impl McapLog {
 
     /// A JSON channel's numeric fields as columns (see [`NumericSeries`]).
     pub fn numeric_series(&self, topic: &str) -> Result<NumericSeries, LogError> {
-        let decoded = self.decode::<Value>(topic)?;
-        let mut series = NumericSeries {
-            time_secs: Vec::with_capacity(decoded.len()),
-            columns: BTreeMap::new(),
-        };
-        let mut fields = Vec::new();
-        for (row, (time_secs, value)) in decoded.into_iter().enumerate() {
-            series.time_secs.push(time_secs);
-            fields.clear();
-            flatten(&value, String::new(), &mut fields);
-            for (name, number) in fields.drain(..) {
-                let column = series
-                    .columns
-                    .entry(name)
-                    .or_insert_with(|| vec![f64::NAN; row]);
+        let messages = self.json_messages(topic)?;
+        let mut time_secs = Vec::with_capacity(messages.len());
+        let mut columns: HashMap<String, Vec<f64>> = HashMap::new();
+        let mut path = String::new();
+        for (row, message) in messages.iter().enumerate() {
+            let value: Value =
+                serde_json::from_slice(&message.data).map_err(|source| LogError::Decode {
+                    path: self.path.clone(),
+                    topic: topic.to_owned(),
+                    index: row,
+                    source,
+                })?;
+            time_secs.push(ns_to_secs(message.log_time_ns));
+            path.clear();
+            flatten(&value, &mut path, &mut |name, number| {
+                let column = match columns.get_mut(name) {
+                    Some(column) => column,
+                    None => columns
+                        .entry(name.to_owned())
+                        .or_insert_with(|| Vec::with_capacity(messages.len())),
+                };
+                // A column first seen now, or a field repeated by a malformed message: align.
+                column.resize(row, f64::NAN);
                 column.push(number);
-            }
-            for column in series.columns.values_mut() {
+            });
+            for column in columns.values_mut() {
                 column.resize(row + 1, f64::NAN);
             }
         }
-        Ok(series)
+        Ok(NumericSeries {
+            time_secs,
+            columns: columns.into_iter().collect(),
+        })
     }
 }
 
-/// Collects the numeric leaves of a JSON value with their Foxglove-style paths.
-fn flatten(value: &Value, path: String, out: &mut Vec<(String, f64)>) {
-    let name = |path: String| {
-        if path.is_empty() {
-            "value".to_owned()
-        } else {
-            path
-        }
-    };
+/// Calls `emit` with each numeric leaf of a JSON value and its Foxglove-style path, built in
+/// `path` (left as it was found).
+fn flatten(value: &Value, path: &mut String, emit: &mut impl FnMut(&str, f64)) {
     match value {
-        Value::Number(number) => out.push((name(path), number.as_f64().unwrap_or(f64::NAN))),
-        Value::Bool(flag) => out.push((name(path), if *flag { 1.0 } else { 0.0 })),
-        Value::Null => out.push((name(path), f64::NAN)),
+        Value::Number(number) => emit(leaf_name(path), number.as_f64().unwrap_or(f64::NAN)),
+        Value::Bool(flag) => emit(leaf_name(path), if *flag { 1.0 } else { 0.0 }),
+        Value::Null => emit(leaf_name(path), f64::NAN),
         Value::String(_) => {}
         Value::Array(elements) => {
+            let base = path.len();
             for (i, element) in elements.iter().enumerate() {
-                flatten(element, format!("{path}[{i}]"), out);
+                path.push('[');
+                path.push_str(&i.to_string());
+                path.push(']');
+                flatten(element, path, emit);
+                path.truncate(base);
             }
         }
         Value::Object(fields) => {
+            let base = path.len();
             for (key, field) in fields {
-                let child = if path.is_empty() {
-                    key.clone()
-                } else {
-                    format!("{path}.{key}")
-                };
-                flatten(field, child, out);
+                if base > 0 {
+                    path.push('.');
+                }
+                path.push_str(key);
+                flatten(field, path, emit);
+                path.truncate(base);
             }
         }
     }
+}
+
+/// The column name of a leaf: its path, or `value` for a message that is a bare scalar.
+fn leaf_name(path: &str) -> &str {
+    if path.is_empty() { "value" } else { path }
 }
 
 #[cfg(test)]
@@ -336,18 +352,20 @@ mod tests {
 
     #[test]
     fn flatten_names_nested_paths_like_foxglove() {
-        let mut out = Vec::new();
+        let mut out: Vec<(String, f64)> = Vec::new();
+        let mut collect = |name: &str, v: f64| out.push((name.to_owned(), v));
         flatten(
             &json!({"body": {"tilt_rad": 0.1}, "wheels": [{"n": 1.0}, {"n": 2.0}], "ok": true, "name": "x"}),
-            String::new(),
-            &mut out,
+            &mut String::new(),
+            &mut collect,
         );
         out.sort_by(|a, b| a.0.cmp(&b.0));
         let names: Vec<&str> = out.iter().map(|(n, _)| n.as_str()).collect();
         assert_eq!(names, ["body.tilt_rad", "ok", "wheels[0].n", "wheels[1].n"]);
         assert_eq!(out[1].1, 1.0);
-        let mut scalar = Vec::new();
-        flatten(&json!(2.5), String::new(), &mut scalar);
+        let mut scalar: Vec<(String, f64)> = Vec::new();
+        let mut collect = |name: &str, v: f64| scalar.push((name.to_owned(), v));
+        flatten(&json!(2.5), &mut String::new(), &mut collect);
         assert_eq!(scalar, [("value".to_owned(), 2.5)]);
     }
 }

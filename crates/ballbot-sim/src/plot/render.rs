@@ -134,6 +134,57 @@ pub(crate) fn finite_segments(xs: &[f64], ys: &[f64]) -> Vec<Vec<(f64, f64)>> {
     segments
 }
 
+/// Thins a line of points sorted by x for drawing `columns` pixel columns wide over
+/// `x_range`: when it has more than four points per column, each column keeps its first,
+/// lowest, highest and last point, in x order. The drawn envelope (every peak, every step) is
+/// unchanged while an 8 kHz trace shrinks to a few thousand points; shorter lines, and lines
+/// that are not sorted by x, are returned whole.
+pub(crate) fn decimate(
+    points: &[(f64, f64)],
+    x_range: (f64, f64),
+    columns: u32,
+) -> Vec<(f64, f64)> {
+    let columns = columns.max(1) as usize;
+    let (start, end) = x_range;
+    let sorted = points.windows(2).all(|w| w[0].0 <= w[1].0);
+    let range_is_valid = end > start;
+    if points.len() <= 4 * columns || !sorted || !range_is_valid {
+        return points.to_vec();
+    }
+    let column_of = |x: f64| -> usize {
+        let fraction = ((x - start) / (end - start)).clamp(0.0, 1.0);
+        // In [0, columns]: fits in usize.
+        (fraction * columns as f64) as usize
+    };
+    let mut kept = Vec::with_capacity(4 * columns + 4);
+    let mut index = 0;
+    while index < points.len() {
+        let column = column_of(points[index].0);
+        let mut last = index;
+        let (mut low, mut high) = (index, index);
+        while last + 1 < points.len() && column_of(points[last + 1].0) == column {
+            last += 1;
+            if points[last].1 < points[low].1 {
+                low = last;
+            }
+            if points[last].1 > points[high].1 {
+                high = last;
+            }
+        }
+        let mut picks = [index, low, high, last];
+        picks.sort_unstable();
+        let mut previous = None;
+        for pick in picks {
+            if previous != Some(pick) {
+                kept.push(points[pick]);
+                previous = Some(pick);
+            }
+        }
+        index = last + 1;
+    }
+    kept
+}
+
 /// Labels a drawn series and gives it a legend sample: a short line, a dashed line, or a dot.
 pub(crate) fn add_legend<'a, DB: DrawingBackend + 'a>(
     anno: &mut SeriesAnno<'a, DB>,
@@ -182,6 +233,30 @@ mod tests {
         assert_eq!(tick_label(-0.0), "0");
         assert_eq!(tick_label(-1.25), "-1.25");
         assert_eq!(tick_label(8.2e5), "8.2e5");
+    }
+
+    #[test]
+    fn decimation_keeps_the_envelope_and_bounds_the_point_count() {
+        let points: Vec<(f64, f64)> = (0..80_000)
+            .map(|i| {
+                let t = f64::from(i) / 8000.0;
+                (t, (40.0 * t).sin() + if i == 12_345 { 5.0 } else { 0.0 })
+            })
+            .collect();
+        let kept = decimate(&points, (0.0, 10.0), 1000);
+        assert!(kept.len() <= 4 * 1001, "{}", kept.len());
+        assert!(kept.windows(2).all(|w| w[0].0 <= w[1].0));
+        let max = |p: &[(f64, f64)]| p.iter().map(|q| q.1).fold(f64::MIN, f64::max);
+        let min = |p: &[(f64, f64)]| p.iter().map(|q| q.1).fold(f64::MAX, f64::min);
+        assert_eq!(max(&kept), max(&points));
+        assert_eq!(min(&kept), min(&points));
+        assert_eq!(kept.first(), points.first());
+        assert_eq!(kept.last(), points.last());
+        // Short lines are untouched.
+        assert_eq!(
+            decimate(&points[..100], (0.0, 10.0), 1000),
+            points[..100].to_vec()
+        );
     }
 
     #[test]

@@ -397,6 +397,7 @@ impl TimeSeriesFigure {
             let style: ShapeStyle = color.stroke_width(2);
             let mut labelled = false;
             for segment in render::finite_segments(&series.time_secs, &series.values) {
+                let segment = render::decimate(&segment, (start_secs, end_secs), self.width_px);
                 let drawn = match series.style {
                     LineStyle::Solid => {
                         chart.draw_series(LineSeries::new(segment.iter().copied(), style))?

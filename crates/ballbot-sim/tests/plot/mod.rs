@@ -260,3 +260,29 @@ fn malformed_figures_are_rejected_with_the_path() {
         Err(PlotError::InvalidFigure { .. })
     ));
 }
+
+#[test]
+fn long_traces_are_thinned_for_drawing_without_losing_peaks() {
+    // 10 s at 8 kHz with a single-sample spike: the SVG stays small (the thinning keeps every
+    // column's extremes; see the unit test of `decimate`).
+    let time_secs: Vec<f64> = (0..80_000).map(|i| f64::from(i) / 8000.0).collect();
+    let values: Vec<f64> = time_secs
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (5.0 * t).sin() + if i == 40_000 { 3.0 } else { 0.0 })
+        .collect();
+    let figure = TimeSeriesFigure::new("")
+        .with(Subplot::new("torque τ (N·m)").with(Series::new("plant", &time_secs, &values)));
+    let svg = figure.to_svg_string().unwrap();
+    assert!(svg.len() < 300_000, "{} bytes", svg.len());
+    let document = roxmltree::Document::parse(&svg).unwrap();
+    let points: usize = document
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .filter_map(|n| n.attribute("points"))
+        .map(|p| p.split_whitespace().count())
+        .max()
+        .unwrap();
+    assert!(points < 4 * 1000 + 8, "{points} points drawn");
+    assert!(points > 1000, "{points} points drawn");
+}
