@@ -171,8 +171,9 @@ fn check_schema_at(schema: &Value, pointer: &str) -> Result<(), SchemaViolation>
 /// Checks a message against a schema: types (`integer` means an integral JSON number), required
 /// properties, `additionalProperties: false`, array items, `enum`, `const`, `minimum`,
 /// `maximum`, `oneOf`/`anyOf`/`allOf`. Every property the message has must be declared by the
-/// schema, so a schema that forgets a field fails here even when it allows extra ones: the point
-/// is that Foxglove sees a typed field for every value logged.
+/// schema's `properties` (or, for maps, typed by an `additionalProperties` schema), so a schema
+/// that forgets a field fails here even when it allows extra ones: the point is that Foxglove
+/// sees a typed field for every value logged.
 ///
 /// ```
 /// use ballbot_sim::log::{check_message, schema_for};
@@ -279,11 +280,13 @@ fn check_value_at(schema: &Value, value: &Value, pointer: &str) -> Result<(), Sc
                 }
             }
         }
+        // A map (e.g. `BTreeMap<String, f64>`) declares its values by `additionalProperties`.
+        let additional = object.get("additionalProperties").filter(|a| a.is_object());
         for (name, field) in fields {
             let field_pointer = format!("{pointer}/{}", escape(name));
-            match properties.and_then(|p| p.get(name)) {
-                Some(sub) => check_value_at(sub, field, &field_pointer)?,
-                None => {
+            match (properties.and_then(|p| p.get(name)), additional) {
+                (Some(sub), _) | (None, Some(sub)) => check_value_at(sub, field, &field_pointer)?,
+                (None, None) => {
                     return Err(violation(
                         &field_pointer,
                         "field is not declared in the schema's `properties`",
@@ -362,6 +365,25 @@ mod tests {
         assert!(check_message(&schema, &json!(3.5)).is_err());
         assert!(check_message(&schema, &json!(-1)).is_err());
         assert!(check_message(&schema, &json!(11)).is_err());
+    }
+
+    #[test]
+    fn maps_and_options_are_typed() {
+        #[derive(serde::Serialize, JsonSchema)]
+        struct Control {
+            terms: std::collections::BTreeMap<String, f64>,
+            reference: Option<f64>,
+        }
+        let schema = schema_for::<Control>();
+        check_schema(&schema).unwrap();
+        let message = serde_json::to_value(Control {
+            terms: [("p_nm".to_owned(), 1.5)].into_iter().collect(),
+            reference: None,
+        })
+        .unwrap();
+        check_message(&schema, &message).unwrap();
+        let bad = json!({"terms": {"p_nm": "high"}, "reference": 1.0});
+        assert!(check_message(&schema, &bad).is_err());
     }
 
     #[test]
