@@ -377,7 +377,7 @@ where
     if !is_finite(m) {
         return None;
     }
-    let schur = Schur::try_new(*m, T::default_epsilon(), 64 * N.max(1))?;
+    let schur = Schur::<T, Const<N>>::try_new(*m, T::default_epsilon(), 64 * N.max(1))?;
     let ev = schur.complex_eigenvalues();
     ev.iter()
         .all(|z| z.re.is_finite() && z.im.is_finite())
