@@ -16,6 +16,7 @@ use nalgebra::{
     Complex, Matrix1, Matrix2, Matrix3, Matrix4, RealField, SMatrix, SVector, Vector2, Vector3,
     Vector4,
 };
+use proptest::prelude::*;
 
 const MODEL_GAINS: [f64; 3] = [-234.8, -45.70, -3.162];
 const MODEL_POLES: [f64; 3] = [-19.5, -4.78, -2.06];
@@ -579,5 +580,71 @@ fn zoh_matches_fine_rk4() {
     for dt in [1.0 / 8000.0, 0.0025, 0.05, 0.5] {
         check_zoh_against_rk4::<f64>(dt, 1e-12);
         check_zoh_against_rk4::<f32>(dt, 1e-4);
+    }
+}
+
+// ---------------------------------------------------------------- properties
+
+fn matrix3(entries: [f64; 9]) -> Matrix3<f64> {
+    Matrix3::from_row_slice(&entries)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Two ZOH steps are one ZOH step of twice the length: Ad(2h) = Ad(h)^2,
+    /// Bd(2h) = Ad(h) Bd(h) + Bd(h).
+    #[test]
+    fn zoh_semigroup(a in proptest::array::uniform9(-20.0f64..20.0),
+                     b in proptest::array::uniform3(-5.0f64..5.0),
+                     dt in 1e-4f64..0.1) {
+        let a = matrix3(a);
+        let b = Vector3::from(b);
+        let one = zoh(&a, &b, dt).unwrap();
+        let two = zoh(&a, &b, 2.0 * dt).unwrap();
+        let ad2 = one.a * one.a;
+        let bd2 = one.a * one.b + one.b;
+        prop_assert!((two.a - ad2).norm() <= 1e-12 * ad2.norm().max(1.0), "{} vs {}", two.a, ad2);
+        prop_assert!((two.b - bd2).norm() <= 1e-12 * (bd2.norm() + one.a.norm() * one.b.norm()),
+            "{} vs {}", two.b, bd2);
+    }
+
+    /// exp(A) exp(-A) = I, and Pade-based expm agrees with the Taylor-based ZOH.
+    #[test]
+    fn expm_inverse_and_zoh_agree(a in proptest::array::uniform9(-3.0f64..3.0)) {
+        let a = matrix3(a);
+        let e = expm(&a).unwrap();
+        let e_inv = expm(&(-a)).unwrap();
+        let scale = e.norm() * e_inv.norm();
+        prop_assert!((e * e_inv - Matrix3::identity()).norm() <= 1e-13 * scale);
+        let d = zoh(&a, &Vector3::zeros(), 1.0).unwrap();
+        prop_assert!((d.a - e).norm() <= 1e-13 * e.norm().max(1.0));
+    }
+
+    /// Any controllable single-input plant in companion form (open-loop poles anywhere)
+    /// gives a converged DARE with a small residual and a closed loop inside the unit circle;
+    /// its CARE likewise gives a Hurwitz closed loop.
+    #[test]
+    fn riccati_converges_for_controllable_companion_plants(
+        c in proptest::array::uniform3(-3.0f64..3.0),
+        q_diag in proptest::array::uniform3(0.01f64..100.0),
+        r in 0.01f64..10.0,
+    ) {
+        let a = Matrix3::new(0.0, 1.0, 0.0, 0.0, 0.0, 1.0, c[0], c[1], c[2]);
+        let b = Vector3::new(0.0, 0.0, 1.0);
+        let q = Matrix3::from_diagonal(&Vector3::from(q_diag));
+        let r = Matrix1::new(r);
+        let settings = RiccatiSettings::default();
+        let sol = solve_care(&a, &b, &q, &r, &settings).unwrap();
+        prop_assert_eq!(sol.status, RiccatiStatus::Converged);
+        prop_assert!(sol.residual < 1e-9, "care residual {}", sol.residual);
+        let poles = ballbot_core::linalg::eigenvalues(&(a - b * sol.gain)).unwrap();
+        prop_assert!(poles.iter().all(|z| z.re < 0.0), "{:?}", poles);
+        let d = zoh(&a, &b, 0.05).unwrap();
+        let sol = solve_dare(&d.a, &d.b, &q, &r, &settings).unwrap();
+        prop_assert_eq!(sol.status, RiccatiStatus::Converged);
+        prop_assert!(sol.residual < 1e-9, "dare residual {}", sol.residual);
+        let z = ballbot_core::linalg::eigenvalues(&(d.a - d.b * sol.gain)).unwrap();
+        prop_assert!(z.iter().all(|z| z.re.hypot(z.im) < 1.0), "{:?}", z);
     }
 }

@@ -278,3 +278,75 @@ pub fn spin_lqr_discrete<T: RealField + Copy>(
     let (A, B) = spin.state_space();
     Lqr::discrete(&A, &B, weights, dt_secs)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{SpinParams, WipParams};
+    use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
+
+    #[test]
+    fn diagonal_weights() {
+        let w = LqrWeights::<f64, 3>::diagonal([1.0, 2.0, 3.0], 0.5);
+        assert_eq!(w.q, Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)));
+        assert_eq!(w.r, 0.5);
+        assert!(w.validate().is_ok());
+        assert_eq!(LqrWeights::new(w.q, w.r), w);
+        assert_eq!(
+            WipLqrWeights::<f64>::model_default(),
+            LqrWeights::diagonal([100.0, 10.0, 1.0], 0.1)
+        );
+    }
+
+    #[test]
+    fn paper_gains_leave_the_ball_angle_out() {
+        let wip = Wip::new(WipParams::<f64>::piptb()).unwrap();
+        let lqr = wip_lqr(&wip, &WipLqrWeights::model_default()).unwrap();
+        let k = lqr.paper_gains();
+        assert_eq!(k[1], 0.0);
+        assert_eq!([k[0], k[2], k[3]], lqr.reduced_gains());
+        // u = k . (s_c - s) on the full state equals the reduced-state control.
+        let s = Vector4::new(0.02, 5.0, -0.1, 3.0);
+        let reduced = Vector3::new(s[0], s[2], s[3]);
+        let full = k.dot(&(-s));
+        assert!((lqr.control(&Vector3::zeros(), &reduced) - full).abs() < 1e-12);
+    }
+
+    #[test]
+    fn discrete_design_records_its_sample_time() {
+        let spin = Spin::new(SpinParams::<f64>::miapure_60kg()).unwrap();
+        let w = SpinLqrWeights::diagonal([100.0, 10.0], 1.0);
+        let d = spin_lqr_discrete(&spin, &w, 0.0025).unwrap();
+        assert_eq!(d.dt_secs, Some(0.0025));
+        assert!(d.iterations > 0 && d.residual < 1e-12);
+        let c = spin_lqr(&spin, &w).unwrap();
+        assert_eq!(c.dt_secs, None);
+        // Closed form of the CARE for I theta_ddot + D theta_dot = u, Q = diag(q1, q2),
+        // R = 1: k1 = sqrt(q1), k2 = -D + sqrt(D^2 + 2 I k1 + q2).
+        let p = spin.params();
+        let (i, d_z) = (p.inertia_kg_m2, p.damping_nm_s_per_rad);
+        let k1 = 10.0;
+        let k2 = -d_z + (d_z * d_z + 2.0 * i * k1 + 10.0).sqrt();
+        assert!((c.gain - Vector2::new(k1, k2)).norm() < 1e-9, "{}", c.gain);
+    }
+
+    #[test]
+    fn unstabilisable_design_is_an_error() {
+        // An unstable mode the input does not reach.
+        let a = Matrix2::new(1.0, 0.0, 0.0, -1.0);
+        let b = Vector2::new(0.0, 1.0);
+        let w = LqrWeights::diagonal([1.0, 1.0], 1.0);
+        assert_eq!(
+            Lqr::continuous(&a, &b, &w),
+            Err(Error::NoStabilizingGain {
+                status: RiccatiStatus::NotStabilizable
+            })
+        );
+        assert_eq!(
+            Lqr::discrete(&a, &b, &w, 0.01),
+            Err(Error::NoStabilizingGain {
+                status: RiccatiStatus::NotStabilizable
+            })
+        );
+    }
+}
