@@ -123,4 +123,14 @@ pub enum LogError {
         #[source]
         source: serde_json::Error,
     },
+    /// A message path names no numeric field of its channel.
+    #[error("no numeric field {field} in topic {topic} of {path}")]
+    NoSuchField {
+        /// The log file.
+        path: PathBuf,
+        /// The topic.
+        topic: String,
+        /// The field path, e.g. `wheels[0].normal_force_n`.
+        field: String,
+    },
 }

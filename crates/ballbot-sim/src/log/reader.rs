@@ -307,6 +307,64 @@ impl McapLog {
     }
 }
 
+impl McapLog {
+    /// One numeric field over time, named by a Foxglove message path
+    /// `/topic.field[index].subfield` (as in Foxglove's plot panel and the column names of
+    /// [`NumericSeries`]): log times (s) and values.
+    ///
+    /// ```
+    /// use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger};
+    ///
+    /// #[derive(serde::Serialize, schemars::JsonSchema)]
+    /// struct Wheels {
+    ///     normal_force_n: [f64; 3],
+    /// }
+    ///
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// let dir = tempfile::tempdir()?;
+    /// let path = dir.path().join("wheels.mcap");
+    /// let mut log = McapLogger::create(&path, LoggerOptions::default())?;
+    /// let wheels = log.channel::<Wheels>("/world/wheels")?;
+    /// log.write(&wheels, 0.0, &Wheels { normal_force_n: [200.0, 210.0, 220.0] })?;
+    /// log.write(&wheels, 0.5, &Wheels { normal_force_n: [190.0, 215.0, 225.0] })?;
+    /// log.finish()?;
+    ///
+    /// let (time_secs, force_n) = McapLog::open(&path)?.field("/world/wheels.normal_force_n[1]")?;
+    /// assert_eq!(time_secs, [0.0, 0.5]);
+    /// assert_eq!(force_n, [210.0, 215.0]);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn field(&self, message_path: &str) -> Result<(Vec<f64>, Vec<f64>), LogError> {
+        // The longest topic that the path starts with, followed by the field path.
+        let channel = self
+            .channels
+            .iter()
+            .filter(|c| {
+                message_path
+                    .strip_prefix(c.topic.as_str())
+                    .is_some_and(|rest| rest.is_empty() || rest.starts_with('.'))
+            })
+            .max_by_key(|c| c.topic.len())
+            .ok_or_else(|| LogError::NoSuchTopic {
+                path: self.path.clone(),
+                topic: message_path.to_owned(),
+            })?;
+        let field = message_path[channel.topic.len()..].trim_start_matches('.');
+        let field = if field.is_empty() { "value" } else { field };
+        let mut series = self.numeric_series(&channel.topic)?;
+        let values = series
+            .columns
+            .remove(field)
+            .ok_or_else(|| LogError::NoSuchField {
+                path: self.path.clone(),
+                topic: channel.topic.clone(),
+                field: field.to_owned(),
+            })?;
+        Ok((series.time_secs, values))
+    }
+}
+
 /// Calls `emit` with each numeric leaf of a JSON value and its Foxglove-style path, built in
 /// `path` (left as it was found).
 fn flatten(value: &Value, path: &mut String, emit: &mut impl FnMut(&str, f64)) {

@@ -189,6 +189,17 @@ fn round_trip_keeps_every_channel_and_message_count() {
     assert_eq!(normal[100], state_at(100).wheels[2].normal_force_n);
     assert_eq!(series.column("wheels[1].slipping").unwrap()[18], 1.0);
     assert_eq!(series.column("step").unwrap()[1199], 1199.0);
+    let (times, normal_again) = log.field("/robot/state.wheels[2].normal_force_n").unwrap();
+    assert_eq!(normal_again, normal);
+    assert_eq!(times, series.time_secs);
+    assert!(matches!(
+        log.field("/robot/state.wheels[3].normal_force_n"),
+        Err(LogError::NoSuchField { .. })
+    ));
+    assert!(matches!(
+        log.field("/robot/stat.tilt_rad"),
+        Err(LogError::NoSuchTopic { .. })
+    ));
     let empty = log.numeric_series("/faults").unwrap();
     assert!(empty.is_empty() && empty.columns.is_empty());
 
