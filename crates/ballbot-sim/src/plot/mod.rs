@@ -19,5 +19,5 @@ mod timeseries;
 
 pub use error::PlotError;
 pub use polar::{PolarFigure, PolarSeries};
-pub use style::{LineStyle, PALETTE, Rgb};
+pub use style::{LegendPosition, LineStyle, PALETTE, Rgb};
 pub use timeseries::{Series, Subplot, TimeInterval, TimeMarker, TimeSeriesFigure};

@@ -7,7 +7,7 @@ use plotters::{
     coord::Shift,
     prelude::{
         ChartBuilder, Circle, DashedLineSeries, DrawingArea, DrawingBackend, IntoFont, LineSeries,
-        SeriesLabelPosition, Text, WHITE,
+        Text, WHITE,
     },
     style::{
         Color, ShapeStyle, TextStyle,
@@ -18,7 +18,7 @@ use plotters::{
 use super::{
     PlotError,
     render::{self, DrawResult, Figure},
-    style::{LineStyle, PALETTE, Rgb},
+    style::{LegendPosition, LineStyle, PALETTE, Rgb},
 };
 
 /// One curve of a [`PolarFigure`]: radius against heading.
@@ -112,6 +112,8 @@ pub struct PolarFigure {
     pub spoke_step_deg: f64,
     /// Width (and height of the polar area) in pixels. Default 760.
     pub size_px: u32,
+    /// Where the legend sits. Default upper right.
+    pub legend: LegendPosition,
 }
 
 impl PolarFigure {
@@ -125,6 +127,7 @@ impl PolarFigure {
             radial_max: None,
             spoke_step_deg: 30.0,
             size_px: 760,
+            legend: LegendPosition::UpperRight,
         }
     }
 
@@ -338,7 +341,7 @@ impl Figure for PolarFigure {
         }
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(self.legend.to_plotters())
             .label_font(("sans-serif", 15))
             .background_style(WHITE.mix(0.9))
             .border_style(Rgb(160, 160, 160).to_plotters())

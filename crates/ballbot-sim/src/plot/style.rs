@@ -45,3 +45,29 @@ pub enum LineStyle {
     /// Markers at the data points, no line.
     Points,
 }
+
+/// Where a legend box sits inside its plotting area.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LegendPosition {
+    /// Top right corner.
+    #[default]
+    UpperRight,
+    /// Top left corner.
+    UpperLeft,
+    /// Bottom right corner.
+    LowerRight,
+    /// Bottom left corner.
+    LowerLeft,
+}
+
+impl LegendPosition {
+    pub(crate) fn to_plotters(self) -> plotters::chart::SeriesLabelPosition {
+        use plotters::chart::SeriesLabelPosition as P;
+        match self {
+            Self::UpperRight => P::UpperRight,
+            Self::UpperLeft => P::UpperLeft,
+            Self::LowerRight => P::LowerRight,
+            Self::LowerLeft => P::LowerLeft,
+        }
+    }
+}

@@ -6,7 +6,7 @@ use plotters::{
     coord::Shift,
     prelude::{
         ChartBuilder, Circle, DashedLineSeries, DrawingArea, DrawingBackend, IntoFont, LineSeries,
-        PathElement, Rectangle, SeriesLabelPosition, WHITE,
+        PathElement, Rectangle, WHITE,
     },
     style::{Color, ShapeStyle, TextStyle},
 };
@@ -14,7 +14,7 @@ use plotters::{
 use super::{
     PlotError,
     render::{self, DrawResult, Figure},
-    style::{LineStyle, PALETTE, Rgb},
+    style::{LegendPosition, LineStyle, PALETTE, Rgb},
 };
 
 /// One line of a subplot: values against time.
@@ -66,6 +66,8 @@ pub struct Subplot {
     pub series: Vec<Series>,
     /// Fixed y range (min, max); `None` fits the data with a 5 % margin.
     pub y_range: Option<(f64, f64)>,
+    /// Where the legend sits. Default upper right.
+    pub legend: LegendPosition,
 }
 
 impl Subplot {
@@ -75,12 +77,19 @@ impl Subplot {
             y_label: y_label.to_owned(),
             series: Vec::new(),
             y_range: None,
+            legend: LegendPosition::UpperRight,
         }
     }
 
     /// Adds a series.
     pub fn with(mut self, series: Series) -> Self {
         self.series.push(series);
+        self
+    }
+
+    /// Moves the legend (e.g. away from the data).
+    pub fn with_legend(mut self, position: LegendPosition) -> Self {
+        self.legend = position;
         self
     }
 
@@ -424,7 +433,7 @@ impl TimeSeriesFigure {
         }
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(subplot.legend.to_plotters())
             .label_font(("sans-serif", 14))
             .background_style(WHITE.mix(0.85))
             .border_style(Rgb(160, 160, 160).to_plotters())

@@ -5,7 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use ballbot_sim::plot::{
-    LineStyle, PlotError, PolarFigure, PolarSeries, Rgb, Series, Subplot, TimeSeriesFigure,
+    LegendPosition, LineStyle, PlotError, PolarFigure, PolarSeries, Rgb, Series, Subplot,
+    TimeSeriesFigure,
 };
 
 /// Where figures go: `BALLBOT_PLOT_DIR` if set (to look at them), else a temporary folder.
@@ -90,7 +91,7 @@ fn piptb_figure() -> TimeSeriesFigure {
         torque = torque.with(Series::new(name, &times, &tau));
     }
     TimeSeriesFigure::new("PIPTB: acceleration, cruise and optimal braking (synthetic data)")
-        .with(tilt)
+        .with(tilt.with_legend(LegendPosition::UpperLeft))
         .with(rate)
         .with(torque)
         .shade(4.0, 5.4, "braking")
