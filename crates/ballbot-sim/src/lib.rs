@@ -4,7 +4,10 @@
 //! rapier3d ballbot world with friction-cone omniwheel contacts, trajectory optimisation with
 //! clarabel, MCAP logging, and the `ballbot` command line.
 
+pub mod cli;
+pub mod experiments;
 pub mod log;
 pub mod planar;
 pub mod plot;
+pub mod scenario;
 pub mod trajopt;

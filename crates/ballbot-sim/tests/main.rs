@@ -3,7 +3,9 @@
 // Tests may unwrap and panic: a failure is a test failure.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod cli;
 mod log;
+mod piptb;
 mod planar_plant;
 mod planar_sim;
 mod plot;

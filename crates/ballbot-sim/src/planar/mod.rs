@@ -10,9 +10,11 @@
 //!   their own rates, with a one-period computation delay, and reports to an [`Observer`].
 
 mod controller;
+mod controllers;
 mod error;
 mod friction;
 mod plant;
+mod record;
 mod sensors;
 mod sim;
 
@@ -20,8 +22,13 @@ pub use controller::{
     CommandProfile, DriveMeasurement, DriveSetpoint, OuterMeasurement, PlanarCommand,
     PlanarController,
 };
+pub use controllers::{ControllerKind, ControllerSettings, LqrPiCascade, LqrTorque, PiPdTorque};
 pub use error::PlanarError;
 pub use friction::{FrictionMode, TransmissionFriction};
 pub use plant::{PlanarPlant, PlantStep};
+pub use record::{
+    FaultMsg, FrictionMsg, McapRecorder, PLANAR_FRICTION, PlanarCommandMsg, PlanarControlMsg,
+    PlanarStateMsg,
+};
 pub use sensors::{ImuSample, SensorParams, Sensors, SpeedEstimator};
 pub use sim::{Fault, FaultKind, Observer, OuterTick, PlanarSim, RunOutcome, SimConfig};

@@ -49,16 +49,21 @@ impl SensorParams {
         }
     }
 
-    /// The PIPTB's sensors (estimates; see `docs/piptb.md`): a MEMS IMU with a fused tilt
-    /// estimate good to 0.05 deg (1 sigma) and 0.2 deg of mounting misalignment; gyro noise
-    /// 0.1 deg/s and bias 0.05 deg/s; a 14-bit (16384 counts) rotor encoder, and a 250 Hz
-    /// low-pass on the differenced encoder speed.
+    /// The PIPTB's sensors (estimates from datasheet-class MEMS parts; see `docs/piptb.md`).
+    ///
+    /// - Tilt: the IMU's fused (gyro plus accelerometer) estimate, white noise 0.01 deg per
+    ///   sample (accelerometer noise of about 175 ug/sqrt(Hz) through a 0.5 Hz complementary
+    ///   crossover) and 0.2 deg of mounting misalignment.
+    /// - Tilt rate: the gyro at its full bandwidth, 0.2 deg/s per sample (a noise density of
+    ///   0.014 deg/s/sqrt(Hz) over 200 Hz) and a 0.05 deg/s residual bias.
+    /// - Motor encoder: 14 bits (16384 counts) per rotor turn behind the 7.5:1 gearbox, speed
+    ///   differenced and low-passed at 250 Hz.
     pub fn piptb() -> Self {
         let deg = std::f64::consts::PI / 180.0;
         Self {
-            tilt_noise_rad: 0.05 * deg,
+            tilt_noise_rad: 0.01 * deg,
             tilt_bias_rad: 0.2 * deg,
-            tilt_rate_noise_rad_per_s: 0.1 * deg,
+            tilt_rate_noise_rad_per_s: 0.2 * deg,
             tilt_rate_bias_rad_per_s: 0.05 * deg,
             encoder_counts_per_rev: 16384,
             speed_filter_cutoff_hz: 250.0,

@@ -161,6 +161,35 @@ pub trait Observer {
 /// The observer that ignores everything.
 impl Observer for () {}
 
+/// Two observers, both told everything (first `.0`, then `.1`).
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    fn plant_step(&mut self, t: f64, dt: f64, s: &WipState<f64>, step: &PlantStep) {
+        self.0.plant_step(t, dt, s, step);
+        self.1.plant_step(t, dt, s, step);
+    }
+    fn outer_tick(&mut self, tick: &OuterTick<'_>) {
+        self.0.outer_tick(tick);
+        self.1.outer_tick(tick);
+    }
+    fn fault(&mut self, fault: &Fault) {
+        self.0.fault(fault);
+        self.1.fault(fault);
+    }
+}
+
+/// An observer behind a mutable reference.
+impl<O: Observer + ?Sized> Observer for &mut O {
+    fn plant_step(&mut self, t: f64, dt: f64, s: &WipState<f64>, step: &PlantStep) {
+        (**self).plant_step(t, dt, s, step);
+    }
+    fn outer_tick(&mut self, tick: &OuterTick<'_>) {
+        (**self).outer_tick(tick);
+    }
+    fn fault(&mut self, fault: &Fault) {
+        (**self).fault(fault);
+    }
+}
+
 /// The multi-rate planar simulator.
 ///
 /// ```

@@ -1,0 +1,38 @@
+//! The `ballbot` command line: one module per subcommand.
+//!
+//! - `ballbot simulate <scenario.toml>`: one planar run described by a scenario file
+//!   ([`crate::scenario`]); writes its MCAP log and a JSON summary.
+//! - `ballbot reproduce --out DIR [--quick]`: every paper experiment that exists so far;
+//!   prints a comparison table and writes plots, MCAP logs and `DIR/summary.json`.
+
+pub mod reproduce;
+pub mod simulate;
+
+use clap::{Parser, Subcommand};
+
+/// Ballbot drivetrain simulation: reproduce the paper's experiments, run scenarios.
+#[derive(Debug, Parser)]
+#[command(name = "ballbot", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run one planar scenario (TOML) and write its MCAP log and summary.
+    Simulate(simulate::SimulateArgs),
+    /// Run the paper's experiments; print the comparison and write plots, logs and
+    /// DIR/summary.json.
+    Reproduce(reproduce::ReproduceArgs),
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Simulate(args) => simulate::run(&args),
+        Command::Reproduce(args) => reproduce::run(&args),
+    }
+}
