@@ -481,6 +481,8 @@ fn misuse_is_reported_with_the_file_name() {
 
 /// Environment variable telling [`killed_writer_child`] where to write.
 const CHILD_PATH_VAR: &str = "BALLBOT_LOGVIZ_KILLED_WRITER_PATH";
+/// Environment variable telling [`killed_writer_child`] to write uncompressed chunks.
+const CHILD_PLAIN_VAR: &str = "BALLBOT_LOGVIZ_KILLED_WRITER_PLAIN";
 /// Messages per simulated second in the child.
 const CHILD_RATE_HZ: u64 = 1000;
 /// The child's flush interval (simulated seconds) and chunk bound.
@@ -499,7 +501,11 @@ fn killed_writer_child() {
         LoggerOptions {
             chunk_size_bytes: 64 * 1024,
             flush_interval_secs: CHILD_FLUSH_SECS,
-            compression: LogCompression::Zstd,
+            compression: if std::env::var_os(CHILD_PLAIN_VAR).is_some() {
+                LogCompression::None
+            } else {
+                LogCompression::Zstd
+            },
         },
     )
     .unwrap();
@@ -526,9 +532,22 @@ fn killed_writer_child() {
 
 #[test]
 fn run_killed_midway_is_still_readable() {
+    killed_midway(LogCompression::Zstd);
+}
+
+#[test]
+fn uncompressed_run_killed_midway_is_still_readable() {
+    killed_midway(LogCompression::None);
+}
+
+fn killed_midway(compression: LogCompression) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("killed.mcap");
-    let mut child = Command::new(std::env::current_exe().unwrap())
+    let mut command = Command::new(std::env::current_exe().unwrap());
+    if compression == LogCompression::None {
+        command.env(CHILD_PLAIN_VAR, "1");
+    }
+    let mut child = command
         .args([
             "--exact",
             "log::killed_writer_child",
@@ -580,7 +599,7 @@ fn run_killed_midway_is_still_readable() {
     let guaranteed = (flushed_secs * CHILD_RATE_HZ as f64) as u64;
     let states = log.decode::<RobotState>("/robot/state").unwrap();
     println!(
-        "killed after {written_before_kill} reported steps; {} recovered ({guaranteed} guaranteed); stop: {:?}",
+        "{compression:?}: killed after {written_before_kill} reported steps; {} recovered ({guaranteed} guaranteed); stop: {:?}",
         states.len(),
         log.stop_reason()
     );
