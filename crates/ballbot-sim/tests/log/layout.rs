@@ -3,7 +3,10 @@
 
 use std::collections::BTreeSet;
 
-use ballbot_sim::log::{foxglove::BallbotScene, topics};
+use ballbot_sim::{
+    log::{foxglove::BallbotScene, schema_for, topics},
+    planar::{PlanarCommandMsg, PlanarControlMsg, PlanarStateMsg},
+};
 use serde_json::Value;
 
 fn layout() -> Value {
@@ -58,6 +61,33 @@ fn is_field_path(fields: &str) -> bool {
     }) && fields.starts_with('.')
 }
 
+/// The message schema logged on a topic, for the topics whose message types exist so far.
+fn logged_schema(topic: &str) -> Option<Value> {
+    match topic {
+        topics::PLANAR_STATE => Some(schema_for::<PlanarStateMsg>()),
+        topics::PLANAR_COMMAND => Some(schema_for::<PlanarCommandMsg>()),
+        topics::PLANAR_CONTROL => Some(schema_for::<PlanarControlMsg>()),
+        _ => None,
+    }
+}
+
+/// Whether a field path `.a[0].b` leads to a number or boolean in a JSON schema.
+fn schema_has_numeric_field(schema: &Value, fields: &str) -> bool {
+    let mut node = schema;
+    for part in fields.split('.').skip(1) {
+        let name = part.split('[').next().unwrap_or("");
+        node = &node["properties"][name];
+        for _ in part.matches('[') {
+            node = &node["items"];
+        }
+    }
+    let numeric = |t: &Value| ["number", "integer", "boolean"].contains(&t.as_str().unwrap_or(""));
+    match &node["type"] {
+        Value::Array(types) => types.iter().any(numeric),
+        other => numeric(other),
+    }
+}
+
 #[test]
 fn foxglove_layout_is_consistent_with_topics_and_frames() {
     let layout = layout();
@@ -77,6 +107,12 @@ fn foxglove_layout_is_consistent_with_topics_and_frames() {
                 let (topic, fields) = split_message_path(value);
                 assert!(known.contains(topic), "{id} plots unknown topic {topic}");
                 assert!(is_field_path(fields), "{id}: bad message path {value}");
+                if let Some(schema) = logged_schema(topic) {
+                    assert!(
+                        schema_has_numeric_field(&schema, fields),
+                        "{id}: {value} is not a numeric field of what is logged on {topic}"
+                    );
+                }
                 // Log time is simulated time: plot against it.
                 assert_eq!(path["timestampMethod"], "receiveTime");
                 plotted += 1;
@@ -107,6 +143,27 @@ fn foxglove_layout_is_consistent_with_topics_and_frames() {
             "{frame}"
         );
     }
+}
+
+#[test]
+fn schema_field_lookup_follows_arrays_and_rejects_missing_fields() {
+    let schema = serde_json::json!({
+        "type": "object",
+        "properties": {
+            "wheels": {"type": "array", "items": {"type": "object", "properties": {
+                "normal_force_n": {"type": "number"}, "name": {"type": "string"}
+            }}},
+            "reference": {"type": ["number", "null"]}
+        }
+    });
+    assert!(schema_has_numeric_field(
+        &schema,
+        ".wheels[1].normal_force_n"
+    ));
+    assert!(schema_has_numeric_field(&schema, ".reference"));
+    assert!(!schema_has_numeric_field(&schema, ".wheels[1].name"));
+    assert!(!schema_has_numeric_field(&schema, ".wheels[1].traction_n"));
+    assert!(!schema_has_numeric_field(&schema, ".tilt_rad"));
 }
 
 #[test]
