@@ -1,10 +1,12 @@
 //! The PIPTB experiment end to end (the CI variant), its determinism, and its MCAP logs.
 
 use ballbot_sim::experiments::piptb::{self, PiptbProfile, PiptbSettings, run_trial};
+use ballbot_sim::experiments::{BrakingSource, BrakingTrajectory};
 use ballbot_sim::log::{McapLog, topics};
 use ballbot_sim::planar::{ControllerKind, ControllerSettings, PLANAR_FRICTION};
 use std::hash::{DefaultHasher, Hasher};
 use std::path::Path;
+use std::sync::OnceLock;
 
 fn file_hash(path: &Path) -> u64 {
     let mut h = DefaultHasher::new();
@@ -16,7 +18,8 @@ fn file_hash(path: &Path) -> u64 {
 fn quick_experiment_runs_end_to_end_and_reports_every_controller() {
     let dir = tempfile::tempdir().unwrap();
     let settings = PiptbSettings::quick();
-    let brake = piptb::braking_reference(&settings).unwrap();
+    let brake = reference();
+    assert_eq!(brake.source(), BrakingSource::NonlinearOptimum);
     let mut done = Vec::new();
     let report = piptb::run(
         &settings,
@@ -71,9 +74,17 @@ fn quick_experiment_runs_end_to_end_and_reports_every_controller() {
     }
 }
 
+/// The quick settings' braking reference, solved once for every test.
+fn reference() -> BrakingTrajectory {
+    static REFERENCE: OnceLock<BrakingTrajectory> = OnceLock::new();
+    REFERENCE
+        .get_or_init(|| piptb::braking_reference(&PiptbSettings::quick()).unwrap())
+        .clone()
+}
+
 fn one_trial(seed: u64, log: &Path) -> piptb::TrialResult {
     let settings = PiptbSettings::quick();
-    let profile = PiptbProfile::new(&settings, piptb::braking_reference(&settings).unwrap());
+    let profile = PiptbProfile::new(&settings, reference());
     let controller = ControllerSettings::new(ControllerKind::LqrPi);
     run_trial(&settings, &profile, &controller, seed, Some(log)).unwrap()
 }

@@ -1,10 +1,9 @@
 //! The braking reference the PIPTB experiment tracks: a state and torque trajectory from
 //! cruise to rest, sampled on a fine uniform grid and interpolated linearly.
 
-use ballbot_core::linalg::zoh;
+use crate::trajopt::{LqBraking, Trajectory};
 use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
 use ballbot_core::{Wip, WipState};
-use nalgebra::{Matrix3, Vector3};
 
 /// Where a braking reference came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -12,8 +11,7 @@ use nalgebra::{Matrix3, Vector3};
 pub enum BrakingSource {
     /// The nonlinear minimum-effort optimum (direct collocation, the trajectory optimiser).
     NonlinearOptimum,
-    /// The minimum-effort optimum of the model linearised about upright (ZOH torque on a fine
-    /// grid, exact discrete minimum-norm solution).
+    /// The minimum-effort optimum of the model linearised about upright (closed form).
     LinearQuadratic,
 }
 
@@ -48,90 +46,44 @@ impl BrakingTrajectory {
             })
     }
 
-    /// The linear-quadratic optimum: braking `wip` from `speed_m_per_s` to rest upright in
-    /// `duration_secs`, minimising `integral tau^2` on the upright linearisation with the torque
-    /// held over `intervals` equal steps. With `x = [theta, theta_dot, phi_dot]`,
-    /// `x[k+1] = Ad x[k] + Bd u[k]`, the end condition `x[N] = 0` reads `G u = -Ad^N x0` with
-    /// columns `g_k = Ad^(N-1-k) Bd`; the minimum-norm `u = -G^T (G G^T)^-1 Ad^N x0`. States
-    /// are the linear model's (small tilts: the PIPTB leans a few degrees).
+    /// The linear-quadratic optimum of the trajectory optimiser
+    /// ([`crate::trajopt::LqBraking`], closed form on the upright linearisation), sampled
+    /// every `dt_secs`; `phi` is integrated by the trapezoidal rule.
     pub fn linear_quadratic(
         wip: &Wip<f64>,
         speed_m_per_s: f64,
         duration_secs: f64,
-        intervals: usize,
+        dt_secs: f64,
     ) -> Option<Self> {
-        if intervals < 2 || !(duration_secs.is_finite() && duration_secs > 0.0) {
+        if !(dt_secs.is_finite() && dt_secs > 0.0) {
             return None;
         }
-        let dt = duration_secs / intervals as f64;
-        #[allow(non_snake_case)]
-        let (A, B) = wip.linearize_upright().reduced();
-        let d = zoh(&A, &B, dt).ok()?;
-        let r = wip.params().ball_radius_m;
-        let x0 = Vector3::new(0.0, 0.0, speed_m_per_s / r);
-        // Columns g_k from the end backwards, and Ad^N x0.
-        let mut g = vec![Vector3::zeros(); intervals];
-        let mut col = d.b;
-        for k in (0..intervals).rev() {
-            g[k] = col;
-            col = d.a * col;
-        }
-        let mut free = x0;
-        for _ in 0..intervals {
-            free = d.a * free;
-        }
-        // Minimum-norm solution of G u = b, b = -Ad^N x0. The unstable mode makes G G^T
-        // numerically singular (entries spread by exp(2 p0 T), 1e13 for the PIPTB), so factor
-        // G = L Q with orthonormal rows Q (modified Gram-Schmidt, twice) and solve
-        // u = Q^T L^-1 b: accurate to about eps cond(G), the square root of cond(G G^T).
-        let mut rows: [Vec<f64>; 3] =
-            std::array::from_fn(|i| g.iter().map(|c| c[i]).collect::<Vec<f64>>());
-        let mut l = Matrix3::<f64>::zeros();
-        for i in 0..3 {
-            for _pass in 0..2 {
-                for j in 0..i {
-                    let proj: f64 = rows[i].iter().zip(&rows[j]).map(|(a, b)| a * b).sum();
-                    l[(i, j)] += proj;
-                    let (head, tail) = rows.split_at_mut(i);
-                    for (a, b) in tail[0].iter_mut().zip(&head[j]) {
-                        *a -= proj * b;
-                    }
-                }
-            }
-            let norm = rows[i].iter().map(|a| a * a).sum::<f64>().sqrt();
-            if !(norm.is_finite() && norm > 0.0) {
-                return None;
-            }
-            l[(i, i)] = norm;
-            rows[i].iter_mut().for_each(|a| *a /= norm);
-        }
-        let b: Vector3<f64> = -free;
-        // Forward substitution L y = b.
-        let mut y = Vector3::zeros();
-        for i in 0..3 {
-            let mut acc = b[i];
-            for j in 0..i {
-                acc -= l[(i, j)] * y[j];
-            }
-            y[i] = acc / l[(i, i)];
-        }
-        let torques: Vec<f64> = (0..intervals)
-            .map(|k| (0..3).map(|i| rows[i][k] * y[i]).sum())
-            .collect();
-        let mut states = Vec::with_capacity(intervals + 1);
-        let mut x = x0;
+        let lq = LqBraking::new(wip, speed_m_per_s, duration_secs)?;
+        let steps = (duration_secs / dt_secs).round().max(1.0) as usize;
+        let dt = duration_secs / steps as f64;
+        let mut states = Vec::with_capacity(steps + 1);
+        let mut torques_nm = Vec::with_capacity(steps + 1);
         let mut phi = 0.0;
-        for &u in &torques {
+        let mut last_rate = None;
+        for k in 0..=steps {
+            let t = k as f64 * dt;
+            let x = lq.reduced_state_at(t);
+            if let Some(prev) = last_rate {
+                phi += 0.5 * (prev + x[2]) * dt;
+            }
+            last_rate = Some(x[2]);
             states.push(WipState::new(x[0], phi, x[1], x[2]));
-            let next = d.a * x + d.b * u;
-            phi += 0.5 * (x[2] + next[2]) * dt;
-            x = next;
+            torques_nm.push(lq.torque_at(t));
         }
-        states.push(WipState::new(x[0], phi, x[1], x[2]));
-        // The torque grid holds one value per interval; repeat the last for the end sample.
-        let mut torques_nm = torques;
-        torques_nm.push(*torques_nm.last()?);
         Self::from_samples(dt, states, torques_nm, BrakingSource::LinearQuadratic)
+    }
+
+    /// The trajectory optimiser's solution, sampled every `dt_secs`.
+    pub fn from_optimum(trajectory: &Trajectory, dt_secs: f64) -> Option<Self> {
+        let samples = trajectory.sample(dt_secs);
+        let dt = samples.get(1).map(|s| s.0 - samples[0].0)?;
+        let (states, torques_nm) = samples.into_iter().map(|(_, s, u)| (s, u)).unzip();
+        Self::from_samples(dt, states, torques_nm, BrakingSource::NonlinearOptimum)
     }
 
     /// How it was computed.
@@ -217,7 +169,7 @@ mod tests {
     #[test]
     fn lq_braking_reaches_rest_and_costs_about_model_md() {
         let wip = Wip::new(WipParams::piptb()).unwrap();
-        let t = BrakingTrajectory::linear_quadratic(&wip, 1.0, 1.4, 1400).unwrap();
+        let t = BrakingTrajectory::linear_quadratic(&wip, 1.0, 1.4, 1e-3).unwrap();
         let rate = 1.0 / wip.params().ball_radius_m;
         assert!(
             boundary_error(&t, rate) < 1e-6,
@@ -230,7 +182,7 @@ mod tests {
         assert!((j - 0.86).abs() < 0.1, "J = {j}");
         assert!(t.peak_tilt_rad() < 0.2);
         // Finer grids converge.
-        let fine = BrakingTrajectory::linear_quadratic(&wip, 1.0, 1.4, 5600).unwrap();
+        let fine = BrakingTrajectory::linear_quadratic(&wip, 1.0, 1.4, 0.25e-3).unwrap();
         assert!((fine.effort_n2m2s() - j).abs() < 1e-3 * j);
     }
 }

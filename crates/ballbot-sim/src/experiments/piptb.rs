@@ -25,6 +25,7 @@ use crate::planar::{
     TransmissionFriction,
 };
 use crate::plot::{PlotError, Series, Subplot, TimeSeriesFigure};
+use crate::trajopt::BrakingProblem;
 use ballbot_core::wip::{BALL_RATE, TILT, TILT_RATE};
 use ballbot_core::{PlanarRobotParams, WipState};
 use std::path::{Path, PathBuf};
@@ -698,16 +699,30 @@ pub fn run(
     })
 }
 
-/// The braking reference for `settings`: the linear-quadratic optimum of the upright
-/// linearisation on a 1 ms grid (see [`BrakingTrajectory::linear_quadratic`]).
+/// The braking reference for `settings`: the nonlinear minimum-effort optimum of the
+/// trajectory optimiser ([`crate::trajopt::BrakingProblem`], Hermite-Simpson, 100 intervals,
+/// free end torques, no path limits: the PIPTB needs under 2 N m of its 43.2), sampled every
+/// millisecond. Should the solve not converge, the linear-quadratic optimum of the upright
+/// linearisation stands in, and the summary's `reference.source` says so.
 pub fn braking_reference(settings: &PiptbSettings) -> Result<BrakingTrajectory, ExperimentError> {
+    let problem = BrakingProblem {
+        plane: settings.robot.plane,
+        initial_speed_m_per_s: settings.cruise_speed_m_per_s,
+        duration_secs: settings.brake_secs,
+        ..BrakingProblem::piptb()
+    };
+    if let Ok(solution) = problem.solve()
+        && solution.is_solved()
+        && let Some(t) = BrakingTrajectory::from_optimum(&solution.trajectory, 1e-3)
+    {
+        return Ok(t);
+    }
     let wip = ballbot_core::Wip::new(settings.robot.plane).map_err(PlanarError::from)?;
-    let intervals = (settings.brake_secs * 1000.0).round().max(2.0) as usize;
     BrakingTrajectory::linear_quadratic(
         &wip,
         settings.cruise_speed_m_per_s,
         settings.brake_secs,
-        intervals,
+        1e-3,
     )
     .ok_or_else(|| ExperimentError::Braking("the linear-quadratic problem is singular".into()))
 }
