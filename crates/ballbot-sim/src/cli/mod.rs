@@ -4,7 +4,9 @@
 //!   ([`crate::scenario`]); writes its MCAP log and a JSON summary.
 //! - `ballbot reproduce --out DIR [--quick]`: every paper experiment that exists so far;
 //!   prints a comparison table and writes plots, MCAP logs and `DIR/summary.json`.
+//! - `ballbot brake [--preset miapure|piptb] [--json]`: a minimum-effort braking trajectory.
 
+pub mod brake;
 pub mod reproduce;
 pub mod simulate;
 
@@ -27,6 +29,8 @@ pub enum Command {
     /// Run the paper's experiments; print the comparison and write plots, logs and
     /// DIR/summary.json.
     Reproduce(reproduce::ReproduceArgs),
+    /// Compute a minimum-effort braking trajectory (direct collocation, SQP with clarabel).
+    Brake(brake::BrakeArgs),
 }
 
 /// Runs a parsed command line.
@@ -34,5 +38,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Simulate(args) => simulate::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
+        Command::Brake(args) => brake::run(&args),
     }
 }

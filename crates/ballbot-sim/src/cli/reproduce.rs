@@ -62,6 +62,12 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
     }
     summary.insert("piptb".to_owned(), report.summary_json());
 
+    // Braking trajectory optimisation (paper Sec. III-D, Fig. "DEC").
+    summary.insert(
+        "brake".to_owned(),
+        super::brake::reproduce(&args.out, args.no_plots, args.quick)?,
+    );
+
     let path = args.out.join("summary.json");
     let text = serde_json::to_string_pretty(&serde_json::Value::Object(summary))?;
     std::fs::write(&path, format!("{text}\n"))
