@@ -259,7 +259,8 @@ impl<T: RealField + Copy> SpeedPi<T> {
         let g = &self.gains;
         let error = command.speed_rad_per_s - measured_speed_rad_per_s;
         let proportional = g.proportional_nm_s_per_rad * error;
-        let requested = command.feedforward_torque_nm + proportional + self.integral_nm;
+        let integral = self.integral_nm;
+        let requested = command.feedforward_torque_nm + proportional + integral;
         // A non-finite speed or reference makes `error` non-finite, a non-finite feedforward
         // (or an overflow) makes `requested` non-finite.
         if !(error.is_finite() && requested.is_finite() && dt_is_valid(dt_secs)) {
@@ -285,7 +286,7 @@ impl<T: RealField + Copy> SpeedPi<T> {
             torque_nm: torque,
             feedforward_nm: command.feedforward_torque_nm,
             proportional_nm: proportional,
-            integral_nm: requested - command.feedforward_torque_nm - proportional,
+            integral_nm: integral,
             saturation_nm: saturation,
             speed_error_rad_per_s: error,
             status,
