@@ -13,6 +13,8 @@ pub enum Kind {
     Shape,
     /// `ballbot.FileError` (an `OSError`).
     File,
+    /// `ballbot.SolverError`: a numerical solve failed (no stabilising gain, solver failure).
+    Solver,
     /// `ballbot.BallbotError`.
     Other,
 }
@@ -23,6 +25,7 @@ impl Kind {
             Kind::Parameter => "ParameterError",
             Kind::Shape => "ShapeError",
             Kind::File => "FileError",
+            Kind::Solver => "SolverError",
             Kind::Other => "BallbotError",
         }
     }
@@ -43,7 +46,12 @@ pub fn error(py: Python<'_>, kind: Kind, message: impl Into<String>) -> PyErr {
     }
 }
 
-/// Maps a core error (invalid parameter) to `ballbot.ParameterError`.
+/// Maps a core error: an invalid parameter to `ballbot.ParameterError`, a failed LQR design
+/// to `ballbot.SolverError`.
 pub fn core_error(py: Python<'_>, e: ballbot_core::Error) -> PyErr {
-    error(py, Kind::Parameter, e.to_string())
+    let kind = match e {
+        ballbot_core::Error::NoStabilizingGain { .. } => Kind::Solver,
+        _ => Kind::Parameter,
+    };
+    error(py, kind, e.to_string())
 }

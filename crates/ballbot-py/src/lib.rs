@@ -7,7 +7,11 @@
 //! long calls release the GIL.
 
 mod arrays;
+mod control;
 mod errors;
+mod kinematics;
+mod log;
+mod lqr;
 mod models;
 mod params;
 
@@ -19,5 +23,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     params::register(m)?;
     models::register(m)?;
+    kinematics::register(m)?;
+    lqr::register(m)?;
+    control::register(m)?;
+    log::register(m)?;
     Ok(())
 }

@@ -1,40 +1,12 @@
 //! The WIP and spin models.
 
-use crate::arrays::{broadcast, rows};
+use crate::arrays::{broadcast, column_out, reserve, rows, rows_out};
 use crate::errors::core_error;
 use crate::params::{PySpinParams, PyWipParams};
 use ballbot_core::{Spin, Wip};
 use nalgebra::{Vector2, Vector4};
-use numpy::{
-    AllowTypeChange, PyArray1, PyArray2, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, ToPyArray,
-};
+use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayDyn, PyArrayLikeDyn, ToPyArray};
 use pyo3::prelude::*;
-
-/// A column of values; a single input row gives a 0-d array.
-fn column_out<'py>(
-    py: Python<'py>,
-    values: Vec<f64>,
-    single: bool,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let array = PyArray1::from_vec(py, values);
-    if single {
-        Ok(array.reshape(Vec::<usize>::new())?.to_dyn().clone())
-    } else {
-        Ok(array.to_dyn().clone())
-    }
-}
-
-fn rows_out<'py, const N: usize>(
-    py: Python<'py>,
-    values: Vec<[f64; N]>,
-    single: bool,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let n = values.len();
-    let flat: Vec<f64> = values.into_iter().flatten().collect();
-    let array = PyArray1::from_vec(py, flat);
-    let shape: Vec<usize> = if single { vec![N] } else { vec![n, N] };
-    Ok(array.reshape(shape)?.to_dyn().clone())
-}
 
 /// A linear model `(A, B)` as numpy arrays.
 type StateSpace<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
@@ -42,7 +14,8 @@ type StateSpace<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
 /// The planar wheeled inverted pendulum (`ballbot_core::Wip`), vectorised over states.
 #[pyclass(name = "Wip", module = "ballbot", frozen)]
 pub struct PyWip {
-    inner: Wip<f64>,
+    /// The core model.
+    pub inner: Wip<f64>,
 }
 
 #[pymethods]
@@ -197,9 +170,9 @@ impl PyWip {
         }
         let wip = self.inner;
         let s0 = Vector4::from(r.rows[0]);
+        let mut out = reserve::<[f64; 4]>(n_steps.saturating_add(1))?;
         let out = py.detach(move || {
             let mut s = s0;
-            let mut out = Vec::with_capacity(n_steps + 1);
             out.push(<[f64; 4]>::from(s));
             for _ in 0..n_steps {
                 s = ballbot_core::rk4_step(|x| wip.derivative(x, torque_nm), &s, dt_secs);
@@ -214,7 +187,8 @@ impl PyWip {
 /// The spin model (`ballbot_core::Spin`).
 #[pyclass(name = "Spin", module = "ballbot", frozen)]
 pub struct PySpin {
-    inner: Spin<f64>,
+    /// The core model.
+    pub inner: Spin<f64>,
 }
 
 #[pymethods]

@@ -1,61 +1,287 @@
 //! Parameter classes: the core's validated parameter structs, with the same field names.
+//!
+//! Every class is frozen and built the same way: keyword arguments overlay a preset (the
+//! default one for the constructor, the instance itself for `replace`), the result is
+//! deserialised into the core struct (unknown names rejected) and validated once. Nested
+//! structs (`BallbotParams.sagittal`, `DrivetrainParams.actuator`) accept either an instance
+//! of their class or a dict of some of its fields; array fields (`wheel_azimuths_rad`) accept
+//! any sequence of the right length. The overlay goes through a TOML value tree, the same
+//! serde representation as `load`/`save`, so the dict, keyword and file forms cannot drift.
 
 use crate::errors::{Kind, core_error, error};
-use ballbot_core::{ActuatorParams, SpinParams, WipParams};
+use ballbot_core::{
+    ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WipParams,
+};
+use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict, PyList};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use toml::{Table, Value};
 
-/// Defines a frozen Python class mirroring a core parameter struct of `f64` fields:
-/// keyword-only construction (defaults from a preset), validation, getters, `replace`,
-/// `to_dict`/`from_dict`, TOML `load`/`save`, and named presets.
+/// A core parameter struct, as the generic helpers below see it.
+pub trait CoreParams: Copy + Serialize + DeserializeOwned {
+    /// The Python class name.
+    const NAME: &'static str;
+    /// The core's validation.
+    fn check(&self) -> Result<(), ballbot_core::Error>;
+}
+
+macro_rules! core_params {
+    ($($core:ident => $name:literal),* $(,)?) => {$(
+        impl CoreParams for $core<f64> {
+            const NAME: &'static str = $name;
+            fn check(&self) -> Result<(), ballbot_core::Error> {
+                self.validate()
+            }
+        }
+    )*};
+}
+
+core_params! {
+    WipParams => "WipParams",
+    SpinParams => "SpinParams",
+    ActuatorParams => "ActuatorParams",
+    DrivetrainParams => "DrivetrainParams",
+    BallbotParams => "BallbotParams",
+    PlanarRobotParams => "PlanarRobotParams",
+}
+
+/// The serde table of `params` (the TOML file's content).
+fn to_table<P: CoreParams>(py: Python<'_>, params: &P) -> PyResult<Table> {
+    Table::try_from(params).map_err(|e| error(py, Kind::Other, format!("{}: {e}", P::NAME)))
+}
+
+/// A TOML value as plain Python objects (floats, lists, dicts).
+fn value_to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match value {
+        Value::Float(x) => x.into_pyobject(py)?.into_any(),
+        Value::Integer(i) => i.into_pyobject(py)?.into_any(),
+        Value::Boolean(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::String(s) => s.into_pyobject(py)?.into_any(),
+        Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any(),
+        Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(value_to_py(py, item)?)?;
+            }
+            list.into_any()
+        }
+        Value::Table(table) => table_to_dict(py, table)?.into_any(),
+    })
+}
+
+fn table_to_dict<'py>(py: Python<'py>, table: &Table) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    for (key, value) in table {
+        dict.set_item(key, value_to_py(py, value)?)?;
+    }
+    Ok(dict)
+}
+
+/// A number that is not a bool.
+fn number(py: Python<'_>, value: &Bound<'_, PyAny>, path: &str) -> PyResult<f64> {
+    if value.is_instance_of::<PyBool>() {
+        return Err(error(
+            py,
+            Kind::Parameter,
+            format!("`{path}` must be a number, got a bool"),
+        ));
+    }
+    value.extract::<f64>().map_err(|_| {
+        error(
+            py,
+            Kind::Parameter,
+            format!(
+                "`{path}` must be a number, got {}",
+                value
+                    .get_type()
+                    .name()
+                    .map(|n| n.to_string())
+                    .unwrap_or_default()
+            ),
+        )
+    })
+}
+
+/// Overlays the Python `fields` (a dict) onto `base`, checking names and kinds against it.
+/// `owner` names the class (or nested field) for the messages.
+fn overlay(
+    py: Python<'_>,
+    base: &mut Table,
+    fields: &Bound<'_, PyDict>,
+    owner: &str,
+    prefix: &str,
+) -> PyResult<()> {
+    for (key, value) in fields.iter() {
+        let key: String = key.extract().map_err(|_| {
+            error(
+                py,
+                Kind::Parameter,
+                format!("{owner}: parameter names must be strings"),
+            )
+        })?;
+        let path = format!("{prefix}{key}");
+        let Some(slot) = base.get_mut(&key) else {
+            let known: Vec<&str> = base.keys().map(String::as_str).collect();
+            return Err(error(
+                py,
+                Kind::Parameter,
+                format!(
+                    "unknown parameter `{path}` for {owner}; known: {}",
+                    known.join(", ")
+                ),
+            ));
+        };
+        match slot {
+            Value::Float(x) => *x = number(py, &value, &path)?,
+            Value::Array(items) => {
+                let n = items.len();
+                let bad = || {
+                    error(
+                        py,
+                        Kind::Parameter,
+                        format!("`{path}` must be a sequence of {n} numbers"),
+                    )
+                };
+                let seq: Vec<Bound<'_, PyAny>> = value
+                    .try_iter()
+                    .map_err(|_| bad())?
+                    .collect::<PyResult<_>>()
+                    .map_err(|_| bad())?;
+                if seq.len() != n {
+                    return Err(bad());
+                }
+                let mut out = Vec::with_capacity(n);
+                for (i, v) in seq.iter().enumerate() {
+                    out.push(Value::Float(number(py, v, &format!("{path}[{i}]"))?));
+                }
+                *items = out;
+            }
+            Value::Table(inner) => {
+                let dict = if let Ok(dict) = value.cast::<PyDict>() {
+                    dict.clone()
+                } else {
+                    // An instance of the nested class: all of its fields, same names.
+                    let dict = value
+                        .call_method0("to_dict")
+                        .ok()
+                        .and_then(|d| d.cast_into::<PyDict>().ok())
+                        .filter(|d| {
+                            d.len() == inner.len()
+                                && d.keys().iter().all(|k| {
+                                    k.extract::<String>()
+                                        .map(|k| inner.contains_key(&k))
+                                        .unwrap_or(false)
+                                })
+                        });
+                    match dict {
+                        Some(dict) => dict,
+                        None => {
+                            return Err(error(
+                                py,
+                                Kind::Parameter,
+                                format!(
+                                    "`{path}` must be a parameter object of the right class or \
+                                     a dict of its fields ({})",
+                                    inner.keys().cloned().collect::<Vec<_>>().join(", ")
+                                ),
+                            ));
+                        }
+                    }
+                };
+                overlay(py, inner, &dict, owner, &format!("{path}."))?;
+            }
+            _ => {
+                return Err(error(
+                    py,
+                    Kind::Other,
+                    format!("{owner}: field `{path}` has an unsupported kind"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `base` with `fields` overlaid, deserialised and validated.
+pub fn with_fields<P: CoreParams>(
+    py: Python<'_>,
+    base: &P,
+    fields: Option<&Bound<'_, PyDict>>,
+) -> PyResult<P> {
+    let Some(fields) = fields else {
+        base.check().map_err(|e| core_error(py, e))?;
+        return Ok(*base);
+    };
+    let mut table = to_table(py, base)?;
+    overlay(py, &mut table, fields, P::NAME, "")?;
+    let params: P = table
+        .try_into()
+        .map_err(|e| error(py, Kind::Parameter, format!("{}: {e}", P::NAME)))?;
+    params.check().map_err(|e| core_error(py, e))?;
+    Ok(params)
+}
+
+/// The fields of `params` as a dict of plain Python values (nested dicts, lists of floats).
+pub fn to_dict<'py, P: CoreParams>(py: Python<'py>, params: &P) -> PyResult<Bound<'py, PyDict>> {
+    table_to_dict(py, &to_table(py, params)?)
+}
+
+/// Writes `params` to a TOML file.
+pub fn save<P: CoreParams>(py: Python<'_>, params: &P, path: &std::path::Path) -> PyResult<()> {
+    let text = toml::to_string(params)
+        .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))?;
+    std::fs::write(path, text)
+        .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))
+}
+
+/// Reads and validates `P` from a TOML file (every field required, unknown keys rejected).
+pub fn load<P: CoreParams>(py: Python<'_>, path: &std::path::Path) -> PyResult<P> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))?;
+    let params: P = toml::from_str(&text)
+        .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))?;
+    params
+        .check()
+        .map_err(|e| error(py, Kind::Parameter, format!("{}: {e}", path.display())))?;
+    Ok(params)
+}
+
+/// Defines a frozen Python class mirroring a core parameter struct: keyword construction
+/// (defaults from a preset), validation, getters, `replace`, `to_dict`/`from_dict`, TOML
+/// `load`/`save`, and named presets. Fields come in three kinds: `floats`, `arrays` (fixed
+/// length, returned as numpy arrays) and `nested` (another parameter class).
 macro_rules! py_params {
     (
         $(#[$meta:meta])*
         $py_ty:ident($core:ident, $name:literal, default = $default:path) {
-            $($field:ident),* $(,)?
+            floats { $($field:ident),* $(,)? }
+            arrays { $($afield:ident),* $(,)? }
+            nested { $($nfield:ident: $nty:ident),* $(,)? }
         }
         presets { $($preset:literal => $ctor:path),* $(,)? }
+        $(methods { $($extra:item)* })?
     ) => {
         $(#[$meta])*
         #[pyclass(name = $name, module = "ballbot", frozen, eq, from_py_object)]
         #[derive(Clone, Debug, PartialEq)]
         pub struct $py_ty {
+            /// The validated core struct.
             pub inner: $core<f64>,
         }
 
         impl $py_ty {
-            const FIELDS: &'static [&'static str] = &[$(stringify!($field)),*];
             const PRESETS: &'static [&'static str] = &[$($preset),*];
 
-            fn from_kwargs(
-                py: Python<'_>,
-                mut inner: $core<f64>,
-                kwargs: Option<&Bound<'_, PyDict>>,
-            ) -> PyResult<Self> {
-                if let Some(kwargs) = kwargs {
-                    for (key, value) in kwargs.iter() {
-                        let key: String = key.extract()?;
-                        let value: f64 = value.extract().map_err(|_| {
-                            error(py, Kind::Parameter, format!("`{key}` must be a number"))
-                        })?;
-                        match key.as_str() {
-                            $(stringify!($field) => inner.$field = value,)*
-                            _ => {
-                                return Err(error(
-                                    py,
-                                    Kind::Parameter,
-                                    format!(
-                                        "unknown parameter `{key}` for {}; known: {}",
-                                        $name,
-                                        Self::FIELDS.join(", ")
-                                    ),
-                                ))
-                            }
-                        }
-                    }
-                }
-                inner.validate().map_err(|e| core_error(py, e))?;
-                Ok(Self { inner })
+            /// The `__repr__` text, also used by classes that nest this one.
+            pub fn repr(&self) -> String {
+                let fields: Vec<String> = vec![
+                    $(format!("{}={:?}", stringify!($field), self.inner.$field),)*
+                    $(format!("{}={:?}", stringify!($afield), self.inner.$afield),)*
+                    $(format!("{}={}", stringify!($nfield), $nty { inner: self.inner.$nfield }.repr()),)*
+                ];
+                format!("{}({})", $name, fields.join(", "))
             }
         }
 
@@ -64,7 +290,7 @@ macro_rules! py_params {
             #[new]
             #[pyo3(signature = (**kwargs))]
             fn py_new(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-                Self::from_kwargs(py, $default(), kwargs)
+                Ok(Self { inner: with_fields(py, &$default(), kwargs)? })
             }
 
             /// A named preset.
@@ -96,47 +322,33 @@ macro_rules! py_params {
             /// A copy with some fields replaced (validated).
             #[pyo3(signature = (**kwargs))]
             fn replace(&self, py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-                Self::from_kwargs(py, self.inner, kwargs)
+                Ok(Self { inner: with_fields(py, &self.inner, kwargs)? })
             }
 
-            /// The fields as a dict.
+            /// The fields as a dict (nested structs as dicts, arrays as lists).
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-                let d = PyDict::new(py);
-                $(d.set_item(stringify!($field), self.inner.$field)?;)*
-                Ok(d)
+                to_dict(py, &self.inner)
             }
 
             /// Builds from a dict of fields (missing fields keep the default preset's values).
             #[staticmethod]
             fn from_dict(py: Python<'_>, fields: &Bound<'_, PyDict>) -> PyResult<Self> {
-                Self::from_kwargs(py, $default(), Some(fields))
+                Ok(Self { inner: with_fields(py, &$default(), Some(fields))? })
             }
 
             /// Writes the fields to a TOML file.
             fn save(&self, py: Python<'_>, path: std::path::PathBuf) -> PyResult<()> {
-                let text = toml::to_string(&self.inner).map_err(|e| {
-                    error(py, Kind::File, format!("{}: {e}", path.display()))
-                })?;
-                std::fs::write(&path, text)
-                    .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))
+                save(py, &self.inner, &path)
             }
 
             /// Reads the fields from a TOML file (every field required; unknown keys rejected).
             #[staticmethod]
             fn load(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
-                let text = std::fs::read_to_string(&path)
-                    .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))?;
-                let inner: $core<f64> = toml::from_str(&text).map_err(|e| {
-                    error(py, Kind::File, format!("{}: {e}", path.display()))
-                })?;
-                inner.validate().map_err(|e| core_error(py, e))?;
-                Ok(Self { inner })
+                Ok(Self { inner: load(py, &path)? })
             }
 
             fn __repr__(&self) -> String {
-                let fields: Vec<String> =
-                    vec![$(format!("{}={:?}", stringify!($field), self.inner.$field)),*];
-                format!("{}({})", $name, fields.join(", "))
+                self.repr()
             }
 
             $(
@@ -145,6 +357,22 @@ macro_rules! py_params {
                     self.inner.$field
                 }
             )*
+
+            $(
+                #[getter]
+                fn $afield<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+                    PyArray1::from_slice(py, &self.inner.$afield)
+                }
+            )*
+
+            $(
+                #[getter]
+                fn $nfield(&self) -> $nty {
+                    $nty { inner: self.inner.$nfield }
+                }
+            )*
+
+            $($($extra)*)?
         }
     };
 }
@@ -152,9 +380,13 @@ macro_rules! py_params {
 py_params! {
     /// One plane of the wheeled inverted pendulum (`ballbot_core::WipParams`).
     PyWipParams(WipParams, "WipParams", default = WipParams::miapure_60kg) {
-        ball_radius_m, ball_mass_kg, ball_inertia_kg_m2, body_mass_kg, com_height_m,
-        body_inertia_kg_m2, wheel_inertia_kg_m2, ball_damping_nm_s_per_rad,
-        drive_damping_nm_s_per_rad, gravity_m_per_s2,
+        floats {
+            ball_radius_m, ball_mass_kg, ball_inertia_kg_m2, body_mass_kg, com_height_m,
+            body_inertia_kg_m2, wheel_inertia_kg_m2, ball_damping_nm_s_per_rad,
+            drive_damping_nm_s_per_rad, gravity_m_per_s2,
+        }
+        arrays {}
+        nested {}
     }
     presets {
         "miapure_60kg" => WipParams::miapure_60kg,
@@ -166,7 +398,9 @@ py_params! {
 py_params! {
     /// The spin model (`ballbot_core::SpinParams`).
     PySpinParams(SpinParams, "SpinParams", default = SpinParams::miapure_60kg) {
-        inertia_kg_m2, damping_nm_s_per_rad,
+        floats { inertia_kg_m2, damping_nm_s_per_rad }
+        arrays {}
+        nested {}
     }
     presets {
         "miapure_60kg" => SpinParams::miapure_60kg,
@@ -177,10 +411,73 @@ py_params! {
 py_params! {
     /// One actuator, limits at the output (`ballbot_core::ActuatorParams`).
     PyActuatorParams(ActuatorParams, "ActuatorParams", default = ActuatorParams::miapure) {
-        gear_ratio, peak_torque_nm, no_load_speed_rad_per_s,
+        floats { gear_ratio, peak_torque_nm, no_load_speed_rad_per_s }
+        arrays {}
+        nested {}
     }
     presets {
         "miapure" => ActuatorParams::miapure,
+    }
+    methods {
+        /// The torque range `(min, max)` (N m) at the output speed `speed_rad_per_s`: motoring
+        /// torque falls linearly to zero at the no-load speed, braking torque keeps the peak.
+        fn torque_bounds_nm(&self, speed_rad_per_s: f64) -> (f64, f64) {
+            self.inner.torque_bounds_nm(speed_rad_per_s)
+        }
+
+        /// `torque_nm` clamped into the range of `torque_bounds_nm` at `speed_rad_per_s`.
+        fn clamp_torque_nm(&self, torque_nm: f64, speed_rad_per_s: f64) -> f64 {
+            self.inner.clamp_torque_nm(torque_nm, speed_rad_per_s)
+        }
+    }
+}
+
+py_params! {
+    /// The omniwheel drivetrain (`ballbot_core::DrivetrainParams`).
+    PyDrivetrainParams(DrivetrainParams, "DrivetrainParams", default = DrivetrainParams::miapure) {
+        floats { contact_angle_rad, wheel_radius_m, wheel_ball_friction, ball_floor_friction }
+        arrays { wheel_azimuths_rad }
+        nested { actuator: PyActuatorParams }
+    }
+    presets {
+        "miapure" => DrivetrainParams::miapure,
+    }
+}
+
+py_params! {
+    /// A complete 3D ballbot (`ballbot_core::BallbotParams`).
+    PyBallbotParams(BallbotParams, "BallbotParams", default = BallbotParams::miapure_60kg) {
+        floats {}
+        arrays {}
+        nested {
+            sagittal: PyWipParams,
+            frontal: PyWipParams,
+            spin: PySpinParams,
+            drivetrain: PyDrivetrainParams,
+        }
+    }
+    presets {
+        "miapure_60kg" => BallbotParams::miapure_60kg,
+        "miapure_unloaded" => BallbotParams::miapure_unloaded,
+    }
+    methods {
+        /// The ball radius shared by both planes (m).
+        #[getter]
+        fn ball_radius_m(&self) -> f64 {
+            self.inner.ball_radius_m()
+        }
+    }
+}
+
+py_params! {
+    /// A planar robot, one WIP plane and its actuator (`ballbot_core::PlanarRobotParams`).
+    PyPlanarRobotParams(PlanarRobotParams, "PlanarRobotParams", default = PlanarRobotParams::piptb) {
+        floats {}
+        arrays {}
+        nested { plane: PyWipParams, actuator: PyActuatorParams }
+    }
+    presets {
+        "piptb" => PlanarRobotParams::piptb,
     }
 }
 
@@ -188,5 +485,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyWipParams>()?;
     m.add_class::<PySpinParams>()?;
     m.add_class::<PyActuatorParams>()?;
+    m.add_class::<PyDrivetrainParams>()?;
+    m.add_class::<PyBallbotParams>()?;
+    m.add_class::<PyPlanarRobotParams>()?;
     Ok(())
 }

@@ -8,11 +8,6 @@ import pytest
 import ballbot
 
 
-@pytest.fixture
-def wip() -> ballbot.Wip:
-    return ballbot.Wip(ballbot.WipParams.preset("miapure_60kg"))
-
-
 def test_open_loop_poles_match_model_md(wip: ballbot.Wip) -> None:
     assert wip.upright_unstable_pole_rad_per_s() == pytest.approx(8.04, abs=5e-3)
     poles = np.sort(wip.open_loop_poles().real)

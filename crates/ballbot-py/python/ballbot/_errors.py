@@ -15,3 +15,7 @@ class ShapeError(BallbotError, ValueError):
 
 class FileError(BallbotError, OSError):
     """A file could not be read, written or parsed; the message names the path."""
+
+
+class SolverError(BallbotError):
+    """A numerical solve failed: no stabilising LQR gain, an optimiser that did not converge."""
