@@ -7,7 +7,8 @@
 //! the well-known schema names, so Foxglove's 3D panel recognises the channels. Log them with
 //! [`McapLogger::channel`](super::McapLogger::channel) like any other message.
 //!
-//! [`BallbotScene`] draws a ballbot (ball, body, omniwheels) from poses:
+//! [`BallbotScene`] draws a ballbot (ball, body, omniwheels) from poses, and the contact forces
+//! of the omniwheels as arrows ([`BallbotScene::contact_forces`]):
 //!
 //! ```
 //! use ballbot_sim::log::foxglove::{BallbotScene, FrameTransforms, SceneUpdate};
@@ -729,6 +730,58 @@ impl BallbotScene {
             entities: vec![ball, body, wheels],
         }
     }
+
+    /// The entity `contact_forces`: at each omniwheel's contact with the ball, an arrow of the
+    /// normal force the wheel presses on the ball (towards the ball centre) and one of its
+    /// traction (along `axle x normal`, the wheel's rolling direction, signed), scaled by
+    /// `metres_per_newton`. Traction arrows are green while the contact sticks and red when
+    /// `slipping`. `contacts` holds one entry per wheel, in the order of `body_from_wheels`.
+    pub fn contact_forces(
+        &self,
+        time_secs: f64,
+        contacts: &[WheelContact],
+        metres_per_newton: f64,
+    ) -> SceneEntity {
+        let mut entity = SceneEntity::new(time_secs, &self.body_frame, "contact_forces");
+        for (body_from_wheel, contact) in self.body_from_wheels.iter().zip(contacts) {
+            let centre = body_from_wheel.translation.vector;
+            let Some(inward) = (-centre).try_normalize(1e-12) else {
+                continue;
+            };
+            let axle = body_from_wheel.rotation * nalgebra::Vector3::z();
+            let rolling = axle.cross(&inward);
+            let point = nalgebra::Point3::from(centre + inward * self.wheel_radius_m);
+            entity.arrows.push(ArrowPrimitive::from_vector(
+                point - inward * (contact.normal_force_n * metres_per_newton),
+                inward * contact.normal_force_n,
+                metres_per_newton,
+                Color::rgba(0.0, 0.3, 0.9, 1.0),
+            ));
+            let traction_color = if contact.slipping {
+                Color::rgba(0.9, 0.1, 0.1, 1.0)
+            } else {
+                Color::rgba(0.1, 0.7, 0.2, 1.0)
+            };
+            entity.arrows.push(ArrowPrimitive::from_vector(
+                point,
+                rolling * contact.traction_n,
+                metres_per_newton,
+                traction_color,
+            ));
+        }
+        entity
+    }
+}
+
+/// The contact state of one omniwheel, for [`BallbotScene::contact_forces`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelContact {
+    /// Normal force the wheel presses on the ball (N), >= 0.
+    pub normal_force_n: f64,
+    /// Traction the wheel applies to the ball along its rolling direction (N).
+    pub traction_n: f64,
+    /// Whether the contact slides (traction at the friction-cone limit).
+    pub slipping: bool,
 }
 
 #[cfg(test)]
@@ -782,6 +835,54 @@ mod tests {
         let tip = rotation * nalgebra::Vector3::x();
         assert!((tip - nalgebra::Vector3::z()).norm() < 1e-12);
         assert!((arrow.shaft_length + arrow.head_length - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn contact_arrows_start_at_the_contacts_and_point_as_the_forces() {
+        let robot = BallbotScene::miapure_like();
+        let contacts = [
+            WheelContact {
+                normal_force_n: 200.0,
+                traction_n: 50.0,
+                slipping: false,
+            },
+            WheelContact {
+                normal_force_n: 100.0,
+                traction_n: -20.0,
+                slipping: true,
+            },
+            WheelContact::default(),
+        ];
+        let entity = robot.contact_forces(1.0, &contacts, 0.001);
+        assert_eq!(entity.frame_id, "body");
+        assert_eq!(entity.arrows.len(), 6);
+        let direction = |arrow: &ArrowPrimitive| {
+            let q = arrow.pose.orientation;
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z))
+                * nalgebra::Vector3::x()
+        };
+        let tip = |arrow: &ArrowPrimitive| {
+            let p = arrow.pose.position;
+            nalgebra::Vector3::new(p.x, p.y, p.z)
+                + direction(arrow) * (arrow.shaft_length + arrow.head_length)
+        };
+        // The normal-force arrow of wheel 0 ends on the ball surface, pointing at the centre.
+        let normal = &entity.arrows[0];
+        assert!((tip(normal).norm() - robot.ball_radius_m).abs() < 1e-12);
+        let inward = -tip(normal).normalize();
+        assert!((direction(normal) - inward).norm() < 1e-12);
+        assert!((normal.shaft_length + normal.head_length - 0.2).abs() < 1e-12);
+        // Traction is tangent to the ball, starts at the contact, and red only when slipping.
+        let traction = &entity.arrows[1];
+        assert!(direction(traction).dot(&inward).abs() < 1e-12);
+        let p = traction.pose.position;
+        assert!((nalgebra::Vector3::new(p.x, p.y, p.z) - tip(normal)).norm() < 1e-12);
+        assert!(traction.color.g > traction.color.r);
+        assert!(entity.arrows[3].color.r > entity.arrows[3].color.g);
+        // A negative traction points the other way.
+        let axle = robot.body_from_wheels[1].rotation * nalgebra::Vector3::z();
+        let inward_1 = -robot.body_from_wheels[1].translation.vector.normalize();
+        assert!((direction(&entity.arrows[3]) + axle.cross(&inward_1)).norm() < 1e-9);
     }
 
     #[test]

@@ -11,7 +11,9 @@ use std::{
 
 use ballbot_sim::log::{
     LogCompression, LogError, LoggerOptions, McapLog, McapLogger, check_message, check_schema,
-    foxglove::{BallbotScene, FrameTransform, FrameTransforms, SceneEntity, SceneUpdate},
+    foxglove::{
+        BallbotScene, FrameTransform, FrameTransforms, SceneEntity, SceneUpdate, WheelContact,
+    },
     ns_to_secs, schema_for, secs_to_ns,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -100,8 +102,20 @@ fn write_run(path: &Path, options: LoggerOptions) -> BTreeMap<String, u64> {
             log.write(&tf, time_secs, &frames).unwrap();
         }
         if step % 40 == 0 {
-            log.write(&scene, time_secs, &robot.scene(time_secs))
-                .unwrap();
+            let mut update = robot.scene(time_secs);
+            let contacts: Vec<WheelContact> = state_at(step)
+                .wheels
+                .iter()
+                .map(|w| WheelContact {
+                    normal_force_n: w.normal_force_n,
+                    traction_n: w.traction_n,
+                    slipping: w.slipping,
+                })
+                .collect();
+            update
+                .entities
+                .push(robot.contact_forces(time_secs, &contacts, 0.002));
+            log.write(&scene, time_secs, &update).unwrap();
         }
     }
     let channels = log.finish().unwrap();
