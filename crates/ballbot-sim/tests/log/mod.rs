@@ -482,6 +482,20 @@ fn misuse_is_reported_with_the_file_name() {
     let missing = read.numeric_series("/nothing").unwrap_err();
     assert!(matches!(missing, LogError::NoSuchTopic { .. }));
 
+    // Dropping a logger without `finish` still completes the file.
+    let dropped = dir.path().join("dropped.mcap");
+    {
+        let mut log = McapLogger::create(&dropped, LoggerOptions::default()).unwrap();
+        let command = log.channel::<SpeedCommand>("/command").unwrap();
+        for i in 0..10 {
+            log.write(&command, f64::from(i), &SpeedCommand { speed_m_per_s: 1.0 })
+                .unwrap();
+        }
+    }
+    let read = McapLog::open(&dropped).unwrap();
+    assert!(read.is_complete());
+    assert_eq!(read.message_count(), 10);
+
     let absent = McapLog::open(dir.path().join("absent.mcap")).unwrap_err();
     assert!(matches!(absent, LogError::Io { .. }));
     assert!(absent.to_string().contains("absent.mcap"));
