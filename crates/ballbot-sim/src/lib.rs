@@ -11,3 +11,4 @@ pub mod planar;
 pub mod plot;
 pub mod scenario;
 pub mod trajopt;
+pub mod world;

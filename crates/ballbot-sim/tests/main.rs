@@ -10,3 +10,4 @@ mod planar_plant;
 mod planar_sim;
 mod plot;
 mod trajopt;
+mod world;

@@ -1,0 +1,235 @@
+//! Parameters of the 3D world that the core's [`BallbotParams`] does not carry: the compliant
+//! omniwheel contact, wheel and rotor inertia, floor friction, sensors, failure limits.
+//!
+//! Every number that is not in the paper is an estimate and says so.
+
+use super::WorldError;
+use ballbot_core::BallbotParams;
+
+/// The compliant omniwheel-ball contact (see [`crate::world::contact`] for the model).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactParams {
+    /// Normal stiffness of one omniwheel contact (N/m). Default 2e6: the static 344 N load
+    /// compresses it by 0.17 mm.
+    pub normal_stiffness_n_per_m: f64,
+    /// Normal damping of one omniwheel contact (N s/m). Default 3.5e3 (damping ratio about
+    /// 0.7 of the ball-against-body mode).
+    pub normal_damping_n_s_per_m: f64,
+    /// Tangential (stick) stiffness along the rolling direction (N/m). Default 5e5: the
+    /// elastic creep of tyre and roller before gross slip.
+    pub traction_stiffness_n_per_m: f64,
+    /// Tangential (stick) damping along the rolling direction (N s/m). Default 1.2e3.
+    pub traction_damping_n_s_per_m: f64,
+    /// Kinetic over static friction coefficient while slipping (dimensionless, in (0, 1]).
+    /// Default 0.85 (estimate; TPU on rubber).
+    pub kinetic_friction_ratio: f64,
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        Self {
+            normal_stiffness_n_per_m: 2.0e6,
+            normal_damping_n_s_per_m: 3.5e3,
+            traction_stiffness_n_per_m: 5.0e5,
+            traction_damping_n_s_per_m: 1.2e3,
+            kinetic_friction_ratio: 0.85,
+        }
+    }
+}
+
+/// Sensor noise and resolution. Noise is Gaussian, drawn from a seeded generator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorParams {
+    /// Seed of the noise generator.
+    pub seed: u64,
+    /// Standard deviation of the IMU tilt (roll, pitch) angles (rad). Default 1e-3.
+    pub tilt_noise_rad: f64,
+    /// Standard deviation of the gyro rates (rad/s). Default 5e-3.
+    pub gyro_noise_rad_per_s: f64,
+    /// Encoder counts per motor-rotor turn. Default 16384 (14 bit); the wheel resolution is
+    /// this times the gear ratio.
+    pub encoder_counts_per_rev: u32,
+}
+
+impl Default for SensorParams {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            tilt_noise_rad: 1.0e-3,
+            gyro_noise_rad_per_s: 5.0e-3,
+            encoder_counts_per_rev: 16_384,
+        }
+    }
+}
+
+/// When a run counts as failed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FailureParams {
+    /// Body tilt (angle between body axis and vertical) beyond which the robot has fallen
+    /// (rad). Default 25 deg.
+    pub max_tilt_rad: f64,
+    /// A wheel slipping faster than this counts as slipping (m/s). Default 0.05.
+    pub slip_speed_threshold_m_per_s: f64,
+    /// Slip of any wheel lasting longer than this is a failure (s). Default 0.1.
+    pub max_slip_duration_s: f64,
+    /// Normal force below which a wheel has lifted off (N). Default 1.
+    pub lift_off_force_n: f64,
+    /// Lift-off lasting longer than this is a failure (s). Default 0.02.
+    pub max_lift_off_duration_s: f64,
+}
+
+impl Default for FailureParams {
+    fn default() -> Self {
+        Self {
+            max_tilt_rad: 25.0_f64.to_radians(),
+            slip_speed_threshold_m_per_s: 0.05,
+            max_slip_duration_s: 0.1,
+            lift_off_force_n: 1.0,
+            max_lift_off_duration_s: 0.02,
+        }
+    }
+}
+
+/// Everything the world needs: the core's robot parameters plus the world's own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldParams {
+    /// The robot (masses, inertias, COM height, drivetrain, friction coefficients).
+    ///
+    /// The body uses `sagittal.body_mass_kg`, `sagittal.com_height_m`, the principal
+    /// inertias `frontal.body_inertia_kg_m2` (about x), `sagittal.body_inertia_kg_m2` (about
+    /// y) and `spin.inertia_kg_m2` (about z).
+    pub robot: BallbotParams<f64>,
+    /// Omniwheel contact model.
+    pub contact: ContactParams,
+    /// Inertia of one omniwheel about its axle (kg m^2). Default 1.2e-3 (estimate: 0.6 kg,
+    /// 62.5 mm radius disc).
+    pub wheel_inertia_kg_m2: f64,
+    /// Motor rotor inertia (kg m^2), reflected through the gear ratio squared onto the wheel.
+    /// Default 1.5e-4 (estimate for a QDD pancake motor).
+    pub rotor_inertia_kg_m2: f64,
+    /// Viscous friction of each wheel's drivetrain on the wheel speed (N m s/rad). Default 0.02.
+    pub wheel_damping_nm_s_per_rad: f64,
+    /// Rolling resistance coefficient of the rubber ball on the floor (dimensionless, force
+    /// over load). Default 0.015 (estimate).
+    pub rolling_resistance: f64,
+    /// Torsional friction at the ball-floor contact: the largest spin torque is this times
+    /// the floor load (N m per N, i.e. an effective patch radius, m). Default 0.01.
+    pub spin_friction_m: f64,
+    /// Chassis half-width (m): the body touches the floor when a corner of its square
+    /// footprint, at the ball centre's height in the body frame, reaches the floor.
+    /// Default 0.18 (0.36 m footprint).
+    pub chassis_half_width_m: f64,
+    /// Chassis height above the ball centre (m). Default 0.45.
+    pub chassis_height_m: f64,
+    /// Physics step (s). Default 1/8000: the motor loop rate.
+    pub dt_secs: f64,
+    /// Sensors.
+    pub sensors: SensorParams,
+    /// Failure limits.
+    pub failure: FailureParams,
+}
+
+impl WorldParams {
+    /// MiaPURE with a 60 kg payload and the defaults above.
+    pub fn miapure_60kg() -> Self {
+        Self::with_robot(BallbotParams::miapure_60kg())
+    }
+
+    /// The given robot with the default world parameters.
+    pub fn with_robot(robot: BallbotParams<f64>) -> Self {
+        Self {
+            robot,
+            contact: ContactParams::default(),
+            wheel_inertia_kg_m2: 1.2e-3,
+            rotor_inertia_kg_m2: 1.5e-4,
+            wheel_damping_nm_s_per_rad: 0.02,
+            rolling_resistance: 0.015,
+            spin_friction_m: 0.01,
+            chassis_half_width_m: 0.18,
+            chassis_height_m: 0.45,
+            dt_secs: 1.0 / 8000.0,
+            sensors: SensorParams::default(),
+            failure: FailureParams::default(),
+        }
+    }
+
+    /// Reflected inertia of one wheel: wheel plus rotor times gear ratio squared (kg m^2).
+    pub fn reflected_wheel_inertia_kg_m2(&self) -> f64 {
+        let n = self.robot.drivetrain.actuator.gear_ratio;
+        self.wheel_inertia_kg_m2 + self.rotor_inertia_kg_m2 * n * n
+    }
+
+    /// Checks every field; the error names the first one out of range.
+    pub fn validate(&self) -> Result<(), WorldError> {
+        self.robot.validate()?;
+        let c = &self.contact;
+        positive(
+            c.normal_stiffness_n_per_m,
+            "contact.normal_stiffness_n_per_m",
+        )?;
+        non_negative(
+            c.normal_damping_n_s_per_m,
+            "contact.normal_damping_n_s_per_m",
+        )?;
+        positive(
+            c.traction_stiffness_n_per_m,
+            "contact.traction_stiffness_n_per_m",
+        )?;
+        non_negative(
+            c.traction_damping_n_s_per_m,
+            "contact.traction_damping_n_s_per_m",
+        )?;
+        if !(c.kinetic_friction_ratio > 0.0 && c.kinetic_friction_ratio <= 1.0) {
+            return Err(WorldError::InvalidParameter {
+                field: "contact.kinetic_friction_ratio",
+                requirement: "must be in (0, 1]",
+            });
+        }
+        positive(self.wheel_inertia_kg_m2, "wheel_inertia_kg_m2")?;
+        non_negative(self.rotor_inertia_kg_m2, "rotor_inertia_kg_m2")?;
+        non_negative(
+            self.wheel_damping_nm_s_per_rad,
+            "wheel_damping_nm_s_per_rad",
+        )?;
+        non_negative(self.rolling_resistance, "rolling_resistance")?;
+        non_negative(self.spin_friction_m, "spin_friction_m")?;
+        positive(self.chassis_half_width_m, "chassis_half_width_m")?;
+        positive(self.chassis_height_m, "chassis_height_m")?;
+        positive(self.dt_secs, "dt_secs")?;
+        positive(self.failure.max_tilt_rad, "failure.max_tilt_rad")?;
+        non_negative(self.sensors.tilt_noise_rad, "sensors.tilt_noise_rad")?;
+        non_negative(
+            self.sensors.gyro_noise_rad_per_s,
+            "sensors.gyro_noise_rad_per_s",
+        )?;
+        if self.sensors.encoder_counts_per_rev == 0 {
+            return Err(WorldError::InvalidParameter {
+                field: "sensors.encoder_counts_per_rev",
+                requirement: "must be > 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+fn positive(value: f64, field: &'static str) -> Result<(), WorldError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(WorldError::InvalidParameter {
+            field,
+            requirement: "must be finite and > 0",
+        })
+    }
+}
+
+fn non_negative(value: f64, field: &'static str) -> Result<(), WorldError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(WorldError::InvalidParameter {
+            field,
+            requirement: "must be finite and >= 0",
+        })
+    }
+}

@@ -1,0 +1,552 @@
+//! The rapier3d world: floor, ball, body, three omniwheels with their own spin states.
+
+use super::WorldError;
+use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
+use super::failure::{Failure, FailureMonitor};
+use super::params::WorldParams;
+use super::sensors::{Measurement, Sensors};
+use super::telemetry::{StepTelemetry, WheelTelemetry};
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use rapier3d_f64::glamx::{DQuat, DVec3};
+use rapier3d_f64::prelude::{
+    ColliderBuilder, ColliderHandle, MassProperties, PhysicsWorld, RigidBodyBuilder,
+    RigidBodyHandle, RigidBodyType,
+};
+
+/// Body-fixed geometry of one omniwheel.
+#[derive(Clone, Copy, Debug)]
+struct WheelGeometry {
+    /// Wheel centre in the body frame, `(r + r_W) n_i` (m).
+    centre_local: DVec3,
+    /// Axle direction in the body frame, `a_i = d_i x n_i`.
+    axle_local: DVec3,
+}
+
+/// Spin state of one omniwheel (wheel plus reflected rotor), relative to the body.
+#[derive(Clone, Copy, Debug, Default)]
+struct WheelState {
+    angle_rad: f64,
+    speed_rad_per_s: f64,
+    bristle_m: f64,
+}
+
+/// The simulated ballbot: rapier3d integrates ball and body; the omniwheel contacts, the
+/// wheel spin states and the ball's rolling and spin friction on the floor are computed here
+/// (see [`crate::world::contact`]).
+///
+/// Frames: world z up, floor at z = 0. The body frame's origin is the nominal ball centre
+/// (where the ball centre sits when all three contacts touch with zero penetration), x towards
+/// OW1; the body's centre of mass is at `(0, 0, l)` in it.
+///
+/// ```
+/// use ballbot_sim::world::{BallbotWorld, WorldParams};
+/// let mut world = BallbotWorld::new(WorldParams::miapure_60kg())?;
+/// // Motors off for 0.2 s: the perfectly upright body has not started to fall yet, and each
+/// // omniwheel carries m_U g / (3 cos alpha) = 343.6 N.
+/// for _ in 0..1600 {
+///     world.step([0.0; 3]);
+/// }
+/// let n = world.telemetry().wheels[0].normal_force_n;
+/// assert!((n - 343.6).abs() < 1.0, "{n}");
+/// # Ok::<(), ballbot_sim::world::WorldError>(())
+/// ```
+pub struct BallbotWorld {
+    params: WorldParams,
+    physics: PhysicsWorld,
+    ball: RigidBodyHandle,
+    body: RigidBodyHandle,
+    ball_collider: ColliderHandle,
+    floor_collider: ColliderHandle,
+    law: ContactLaw,
+    geometry: [WheelGeometry; 3],
+    wheels: [WheelState; 3],
+    motor_cmd_nm: [f64; 3],
+    telemetry: StepTelemetry,
+    monitor: FailureMonitor,
+    sensors: Sensors,
+    spin_friction_gain_nm_s: f64,
+}
+
+fn to_glam(v: Vector3<f64>) -> DVec3 {
+    DVec3::new(v.x, v.y, v.z)
+}
+
+fn to_na(v: DVec3) -> Vector3<f64> {
+    Vector3::new(v.x, v.y, v.z)
+}
+
+fn quat_to_na(q: DQuat) -> UnitQuaternion<f64> {
+    UnitQuaternion::new_unchecked(Quaternion::new(q.w, q.x, q.y, q.z))
+}
+
+impl BallbotWorld {
+    /// Builds the world with the robot at rest, upright, ball on the floor at the origin and
+    /// the contacts pre-loaded to their static normal forces.
+    pub fn new(params: WorldParams) -> Result<Self, WorldError> {
+        params.validate()?;
+        let robot = &params.robot;
+        let r = robot.ball_radius_m();
+        let dt = &robot.drivetrain;
+        let g = robot.sagittal.gravity_m_per_s2;
+        let mut physics = PhysicsWorld::new();
+        physics.gravity = DVec3::new(0.0, 0.0, -g);
+        physics.integration_parameters.dt = params.dt_secs;
+
+        let floor = physics.insert_body(RigidBodyBuilder::fixed());
+        let floor_collider = physics.colliders.insert_with_parent(
+            ColliderBuilder::cuboid(1.0e3, 1.0e3, 0.5)
+                .translation(DVec3::new(0.0, 0.0, -0.5))
+                .friction(dt.ball_floor_friction)
+                .restitution(0.0),
+            floor,
+            &mut physics.bodies,
+        );
+
+        let ball_props = MassProperties::new(
+            DVec3::ZERO,
+            robot.sagittal.ball_mass_kg,
+            DVec3::splat(robot.sagittal.ball_inertia_kg_m2),
+        );
+        let (ball, ball_collider) = physics.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(DVec3::new(0.0, 0.0, r))
+                .can_sleep(false),
+            ColliderBuilder::ball(r)
+                .mass_properties(ball_props)
+                .friction(dt.ball_floor_friction)
+                .restitution(0.0),
+        );
+
+        let m_u = robot.sagittal.body_mass_kg;
+        let body_props = MassProperties::new(
+            DVec3::new(0.0, 0.0, robot.sagittal.com_height_m),
+            m_u,
+            DVec3::new(
+                robot.frontal.body_inertia_kg_m2,
+                robot.sagittal.body_inertia_kg_m2,
+                robot.spin.inertia_kg_m2,
+            ),
+        );
+        // Start with the static penetration so the contacts carry m_U g / (3 cos a) each.
+        let a = dt.contact_angle_rad;
+        let static_n = m_u * g / (3.0 * a.cos());
+        let sink_m = static_n / params.contact.normal_stiffness_n_per_m / a.cos();
+        let body = physics.insert_body(
+            RigidBodyBuilder::dynamic()
+                .translation(DVec3::new(0.0, 0.0, r - sink_m))
+                .additional_mass_properties(body_props)
+                .can_sleep(false),
+        );
+
+        let r_w = dt.wheel_radius_m;
+        let geometry = dt.wheel_azimuths_rad.map(|b| {
+            let n = DVec3::new(a.sin() * b.cos(), a.sin() * b.sin(), a.cos());
+            let d = DVec3::new(-b.sin(), b.cos(), 0.0);
+            WheelGeometry {
+                centre_local: n * (r + r_w),
+                axle_local: d.cross(n),
+            }
+        });
+        let c = &params.contact;
+        let law = ContactLaw {
+            normal_stiffness_n_per_m: c.normal_stiffness_n_per_m,
+            normal_damping_n_s_per_m: c.normal_damping_n_s_per_m,
+            traction_stiffness_n_per_m: c.traction_stiffness_n_per_m,
+            traction_damping_n_s_per_m: c.traction_damping_n_s_per_m,
+            static_friction: dt.wheel_ball_friction,
+            kinetic_friction: dt.wheel_ball_friction * c.kinetic_friction_ratio,
+        };
+        let mut world = Self {
+            physics,
+            ball,
+            body,
+            ball_collider,
+            floor_collider,
+            law,
+            geometry,
+            wheels: [WheelState::default(); 3],
+            motor_cmd_nm: [0.0; 3],
+            telemetry: StepTelemetry {
+                time_s: 0.0,
+                wheels: [WheelTelemetry::default(); 3],
+                ball_position_m: Vector3::zeros(),
+                ball_orientation: UnitQuaternion::identity(),
+                ball_velocity_m_per_s: Vector3::zeros(),
+                ball_angular_velocity_rad_per_s: Vector3::zeros(),
+                body_position_m: Vector3::zeros(),
+                body_orientation: UnitQuaternion::identity(),
+                body_rate_rad_per_s: Vector3::zeros(),
+                tilt_rad: [0.0; 2],
+                floor_force_n: 0.0,
+            },
+            monitor: FailureMonitor::new(params.failure),
+            sensors: Sensors::new(params.sensors, dt.actuator.gear_ratio),
+            // Half the gain that would stop the ball's spin in one step: a stiff, stable
+            // regularisation of the Coulomb spin friction.
+            spin_friction_gain_nm_s: 0.5 * robot.sagittal.ball_inertia_kg_m2 / params.dt_secs,
+            params,
+        };
+        for h in [world.ball, world.body] {
+            let colliders = &world.physics.colliders;
+            world.physics.bodies[h].recompute_mass_properties_from_colliders(colliders);
+        }
+        world.refresh_poses();
+        Ok(world)
+    }
+
+    /// The parameters the world was built with.
+    pub fn params(&self) -> &WorldParams {
+        &self.params
+    }
+
+    /// Simulated time (s).
+    pub fn time_s(&self) -> f64 {
+        self.telemetry.time_s
+    }
+
+    /// The telemetry of the last step (at construction: the initial poses).
+    pub fn telemetry(&self) -> &StepTelemetry {
+        &self.telemetry
+    }
+
+    /// The first failure detected, if any (the simulation keeps running after it).
+    pub fn failure(&self) -> Option<Failure> {
+        self.monitor.failure()
+    }
+
+    /// Samples the sensors (IMU, encoders) at the current state.
+    pub fn measure(&mut self) -> Measurement {
+        self.sensors.sample(&self.telemetry)
+    }
+
+    /// Applies a horizontal (or any) impulse (N s) at the body's centre of mass, e.g. a push.
+    pub fn push_body(&mut self, impulse_ns: Vector3<f64>) {
+        let body = &mut self.physics.bodies[self.body];
+        body.apply_impulse(to_glam(impulse_ns), true);
+    }
+
+    /// Sets the body's linear velocity of its centre of mass (m/s) and angular velocity
+    /// (rad/s, world frame), e.g. to start a test from a moving state.
+    pub fn set_body_velocity(
+        &mut self,
+        linear_m_per_s: Vector3<f64>,
+        angular_rad_per_s: Vector3<f64>,
+    ) {
+        let body = &mut self.physics.bodies[self.body];
+        body.set_linvel(to_glam(linear_m_per_s), true);
+        body.set_angvel(to_glam(angular_rad_per_s), true);
+    }
+
+    /// Sets the ball's linear (m/s) and angular (rad/s) velocity.
+    pub fn set_ball_velocity(
+        &mut self,
+        linear_m_per_s: Vector3<f64>,
+        angular_rad_per_s: Vector3<f64>,
+    ) {
+        let ball = &mut self.physics.bodies[self.ball];
+        ball.set_linvel(to_glam(linear_m_per_s), true);
+        ball.set_angvel(to_glam(angular_rad_per_s), true);
+    }
+
+    /// Rotates the body about the ball centre by `tilt_rad = [theta_x, theta_y]` (rotation
+    /// about world x, then y), keeping the contacts' penetration.
+    pub fn tilt_body(&mut self, tilt_rad: [f64; 2]) {
+        let c = self.physics.bodies[self.ball].translation();
+        let body = &mut self.physics.bodies[self.body];
+        let rot = DQuat::from_rotation_y(tilt_rad[1]) * DQuat::from_rotation_x(tilt_rad[0]);
+        let pose = *body.position();
+        let offset = pose.translation - c;
+        body.set_translation(c + rot * offset, true);
+        body.set_rotation(rot * pose.rotation, true);
+        self.refresh_poses();
+    }
+
+    /// Moves the whole robot (ball and body) by `offset_m`, e.g. into the air.
+    pub fn translate_robot(&mut self, offset_m: Vector3<f64>) {
+        let off = to_glam(offset_m);
+        for h in [self.ball, self.body] {
+            let rb = &mut self.physics.bodies[h];
+            let t = rb.translation();
+            rb.set_translation(t + off, true);
+        }
+        self.refresh_poses();
+    }
+
+    /// Sets gravity along -z (m/s^2); 0 gives free flight.
+    pub fn set_gravity_m_per_s2(&mut self, gravity_m_per_s2: f64) {
+        self.physics.gravity = DVec3::new(0.0, 0.0, -gravity_m_per_s2);
+    }
+
+    /// Sets the ball-floor friction coefficient (0: a frictionless floor).
+    pub fn set_floor_friction(&mut self, friction: f64) {
+        for h in [self.ball_collider, self.floor_collider] {
+            if let Some(c) = self.physics.colliders.get_mut(h) {
+                c.set_friction(friction);
+            }
+        }
+    }
+
+    /// Sets the omniwheel-ball static friction coefficient `mu` (0: frictionless wheels);
+    /// the kinetic one follows with the configured ratio.
+    pub fn set_wheel_friction(&mut self, friction: f64) {
+        self.law.static_friction = friction;
+        self.law.kinetic_friction = friction * self.params.contact.kinetic_friction_ratio;
+    }
+
+    /// Test rig: clamps the ball (`true`) in place, or releases it.
+    pub fn set_ball_fixed(&mut self, fixed: bool) {
+        let kind = if fixed {
+            RigidBodyType::Fixed
+        } else {
+            RigidBodyType::Dynamic
+        };
+        self.physics.bodies[self.ball].set_body_type(kind, true);
+    }
+
+    /// Test rig: clamps the body (`true`) in place, or releases it.
+    pub fn set_body_fixed(&mut self, fixed: bool) {
+        let kind = if fixed {
+            RigidBodyType::Fixed
+        } else {
+            RigidBodyType::Dynamic
+        };
+        self.physics.bodies[self.body].set_body_type(kind, true);
+    }
+
+    /// Total kinetic energy of ball, body and wheels (J).
+    pub fn kinetic_energy_j(&self) -> f64 {
+        let i_w = self.params.reflected_wheel_inertia_kg_m2();
+        let wheels: f64 = self
+            .wheels
+            .iter()
+            .map(|w| 0.5 * i_w * w.speed_rad_per_s * w.speed_rad_per_s)
+            .sum();
+        self.physics.bodies[self.ball].kinetic_energy()
+            + self.physics.bodies[self.body].kinetic_energy()
+            + wheels
+    }
+
+    /// Gravitational potential energy of ball and body above the floor (J).
+    pub fn potential_energy_j(&self) -> f64 {
+        let g = -self.physics.gravity.z;
+        let ball = &self.physics.bodies[self.ball];
+        let body = &self.physics.bodies[self.body];
+        g * (ball.mass() * ball.center_of_mass().z + body.mass() * body.center_of_mass().z)
+    }
+
+    /// Elastic energy stored in the three omniwheel contacts' normal springs (J).
+    pub fn contact_energy_j(&self) -> f64 {
+        let k = self.law.normal_stiffness_n_per_m;
+        self.contact_geometry()
+            .iter()
+            .map(|g| 0.5 * k * g.penetration_m.max(0.0).powi(2))
+            .sum()
+    }
+
+    /// Total linear momentum of ball and body (N s).
+    pub fn linear_momentum_ns(&self) -> Vector3<f64> {
+        let ball = &self.physics.bodies[self.ball];
+        let body = &self.physics.bodies[self.body];
+        to_na(ball.linvel() * ball.mass() + body.linvel() * body.mass())
+    }
+
+    /// Total angular momentum of ball, body and wheel spins about the world origin (N m s).
+    pub fn angular_momentum_nms(&self) -> Vector3<f64> {
+        let mut total = DVec3::ZERO;
+        for h in [self.ball, self.body] {
+            let rb = &self.physics.bodies[h];
+            let com = rb.center_of_mass();
+            let rot = rb.position().rotation;
+            let inertia = rb.mass_properties().local_mprops.principal_inertia();
+            let frame = rot
+                * rb.mass_properties()
+                    .local_mprops
+                    .principal_inertia_local_frame;
+            let w_local = frame.inverse() * rb.angvel();
+            total += frame * (inertia * w_local) + com.cross(rb.linvel() * rb.mass());
+        }
+        let i_w = self.params.reflected_wheel_inertia_kg_m2();
+        let rot = self.physics.bodies[self.body].position().rotation;
+        for (g, w) in self.geometry.iter().zip(&self.wheels) {
+            total += rot * g.axle_local * (i_w * w.speed_rad_per_s);
+        }
+        to_na(total)
+    }
+
+    /// Height of the chassis' lowest corner above the floor (m).
+    pub fn chassis_clearance_m(&self) -> f64 {
+        let pose = self.physics.bodies[self.body].position();
+        let h = self.params.chassis_half_width_m;
+        [(h, h), (h, -h), (-h, h), (-h, -h)]
+            .iter()
+            .map(|&(x, y)| pose.transform_point(DVec3::new(x, y, 0.0)).z)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn contact_geometry(&self) -> [ContactKinematics; 3] {
+        self.contacts().map(|(k, _)| k)
+    }
+
+    /// Contact kinematics per wheel and the contact point (world).
+    fn contacts(&self) -> [(ContactKinematics, DVec3); 3] {
+        let ball = &self.physics.bodies[self.ball];
+        let body = &self.physics.bodies[self.body];
+        let c = ball.translation();
+        let v_c = ball.linvel();
+        let w_ball = ball.angvel();
+        let pose = body.position();
+        let com = body.center_of_mass();
+        let v_com = body.linvel();
+        let w_body = body.angvel();
+        let r = self.params.robot.ball_radius_m();
+        let r_w = self.params.robot.drivetrain.wheel_radius_m;
+        let mut out = [(
+            ContactKinematics {
+                normal: DVec3::Z,
+                rolling_dir: DVec3::X,
+                penetration_m: 0.0,
+                penetration_rate_m_per_s: 0.0,
+                slip_speed_m_per_s: 0.0,
+            },
+            DVec3::ZERO,
+        ); 3];
+        for (i, (g, w)) in self.geometry.iter().zip(&self.wheels).enumerate() {
+            let centre = pose.transform_point(g.centre_local);
+            let axle = pose.rotation * g.axle_local;
+            let diff = centre - c;
+            let dist = diff.length();
+            let n = diff / dist;
+            let p = c + n * r;
+            let d = n.cross(axle).normalize();
+            let v_centre = v_com + w_body.cross(centre - com);
+            let v_body_p = v_com + w_body.cross(p - com);
+            let v_ball_p = v_c + w_ball.cross(p - c);
+            let v_rim = v_body_p + d * (r_w * w.speed_rad_per_s);
+            out[i] = (
+                ContactKinematics {
+                    normal: n,
+                    rolling_dir: d,
+                    penetration_m: r + r_w - dist,
+                    penetration_rate_m_per_s: -n.dot(v_centre - v_c),
+                    slip_speed_m_per_s: d.dot(v_ball_p - v_rim),
+                },
+                p,
+            );
+        }
+        out
+    }
+
+    /// Advances the world by one step of `params.dt_secs` with the motor torque commands
+    /// `motor_torque_nm` (N m at the wheel; each is clamped to the actuator's torque-speed
+    /// limit at the wheel's current speed). Returns the step's telemetry.
+    pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
+        self.motor_cmd_nm = motor_torque_nm;
+        let dt = self.params.dt_secs;
+        let r_w = self.params.robot.drivetrain.wheel_radius_m;
+        let actuator = self.params.robot.drivetrain.actuator;
+        let i_w = self.params.reflected_wheel_inertia_kg_m2();
+        let b_w = self.params.wheel_damping_nm_s_per_rad;
+        let contacts = self.contacts();
+        let mut ball_force = DVec3::ZERO;
+        let mut ball_torque = DVec3::ZERO;
+        let mut body_force = DVec3::ZERO;
+        let mut body_torque = DVec3::ZERO;
+        let c = self.physics.bodies[self.ball].translation();
+        let body_com = self.physics.bodies[self.body].center_of_mass();
+        let body_rot = self.physics.bodies[self.body].position().rotation;
+        let mut wheel_tel = [WheelTelemetry::default(); 3];
+        for i in 0..3 {
+            let (kin, p) = contacts[i];
+            let wheel = &mut self.wheels[i];
+            let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
+            let tau = actuator.clamp_torque_nm(motor_torque_nm[i], wheel.speed_rad_per_s);
+            let spin_torque = tau - r_w * out.traction_n - b_w * wheel.speed_rad_per_s;
+            wheel.speed_rad_per_s += dt * spin_torque / i_w;
+            wheel.angle_rad += dt * wheel.speed_rad_per_s;
+            // The wheel presses the ball away from itself (-n) and drives it along d.
+            let f = kin.rolling_dir * out.traction_n - kin.normal * out.normal_force_n;
+            ball_force += f;
+            ball_torque += (p - c).cross(f);
+            body_force -= f;
+            body_torque -= (p - body_com).cross(f);
+            body_torque -= body_rot * self.geometry[i].axle_local * spin_torque;
+            wheel_tel[i] = WheelTelemetry {
+                normal_force_n: out.normal_force_n,
+                traction_n: out.traction_n,
+                traction_demand_n: out.traction_demand_n,
+                cone_utilisation: out.cone_utilisation,
+                slip_speed_m_per_s: kin.slip_speed_m_per_s,
+                slipping: out.slipping,
+                motor_torque_nm: tau,
+                speed_rad_per_s: wheel.speed_rad_per_s,
+                angle_rad: wheel.angle_rad,
+            };
+        }
+        // Rolling resistance and spin (torsional) friction of the ball on the floor, both
+        // bounded by the floor load of the previous step.
+        let floor_n = self.telemetry.floor_force_n;
+        let w_ball = self.physics.bodies[self.ball].angvel();
+        let w_h = DVec3::new(w_ball.x, w_ball.y, 0.0);
+        let r = self.params.robot.ball_radius_m();
+        let roll_max = self.params.rolling_resistance * floor_n * r;
+        let w_h_len = w_h.length();
+        const ROLL_EPS_RAD_PER_S: f64 = 0.05;
+        if w_h_len > 0.0 {
+            ball_torque -= w_h * (roll_max / w_h_len.max(ROLL_EPS_RAD_PER_S));
+        }
+        let spin_max = self.params.spin_friction_m * floor_n;
+        let spin = (self.spin_friction_gain_nm_s * w_ball.z).clamp(-spin_max, spin_max);
+        ball_torque.z -= spin;
+
+        {
+            let ball = &mut self.physics.bodies[self.ball];
+            ball.reset_forces(false);
+            ball.reset_torques(false);
+            ball.add_force(ball_force, false);
+            ball.add_torque(ball_torque, false);
+        }
+        {
+            let body = &mut self.physics.bodies[self.body];
+            body.reset_forces(false);
+            body.reset_torques(false);
+            body.add_force(body_force, false);
+            body.add_torque(body_torque, false);
+        }
+        self.physics.step();
+        let floor_impulse = self
+            .physics
+            .narrow_phase
+            .contact_pair(self.floor_collider, self.ball_collider)
+            .map_or(0.0, |pair| pair.total_impulse().z.abs());
+        self.telemetry.time_s += dt;
+        self.telemetry.wheels = wheel_tel;
+        self.telemetry.floor_force_n = floor_impulse / dt;
+        self.refresh_poses();
+        let clearance = self.chassis_clearance_m();
+        self.monitor.update(&self.telemetry, clearance, dt);
+        &self.telemetry
+    }
+
+    fn refresh_poses(&mut self) {
+        let ball = &self.physics.bodies[self.ball];
+        let body = &self.physics.bodies[self.body];
+        let t = &mut self.telemetry;
+        t.ball_position_m = to_na(ball.translation());
+        t.ball_orientation = quat_to_na(ball.position().rotation);
+        t.ball_velocity_m_per_s = to_na(ball.linvel());
+        t.ball_angular_velocity_rad_per_s = to_na(ball.angvel());
+        let rot = body.position().rotation;
+        t.body_position_m = to_na(body.translation());
+        t.body_orientation = quat_to_na(rot);
+        t.body_rate_rad_per_s = to_na(rot.inverse() * body.angvel());
+        // Tilt about the body-aligned horizontal axes: the body's z axis seen in the
+        // yaw-only frame.
+        let z = rot * DVec3::Z;
+        let x = rot * DVec3::X;
+        let yaw = x.y.atan2(x.x);
+        let (s, c) = yaw.sin_cos();
+        let zx = c * z.x + s * z.y;
+        let zy = -s * z.x + c * z.y;
+        t.tilt_rad = [(-zy).atan2(z.z), zx.atan2(z.z)];
+    }
+}

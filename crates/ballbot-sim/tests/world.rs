@@ -1,0 +1,318 @@
+//! The rapier3d ballbot world: contact forces, conservation, kinematics, slip, determinism,
+//! direction dependence.
+
+use approx::assert_relative_eq;
+use ballbot_sim::world::telemetry::FNV_OFFSET_BASIS;
+use ballbot_sim::world::{BallbotWorld, PlanarBalancer, PlanarBalancerParams, WorldParams};
+use nalgebra::Vector3;
+
+fn miapure() -> WorldParams {
+    WorldParams::miapure_60kg()
+}
+
+/// Runs the world under the planar balancer for `duration_s` with a body-frame velocity
+/// command; calls `each` after every step. Returns false if a failure was detected.
+fn run_balanced(
+    world: &mut BallbotWorld,
+    duration_s: f64,
+    mut command: impl FnMut(f64) -> [f64; 2],
+    mut each: impl FnMut(&BallbotWorld),
+) -> bool {
+    let mut ctrl =
+        PlanarBalancer::new(&world.params().robot, PlanarBalancerParams::default()).unwrap();
+    let dt = world.params().dt_secs;
+    let every = (ctrl.period_secs() / dt).round() as usize;
+    let steps = (duration_s / dt).round() as usize;
+    let mut torque = [0.0; 3];
+    for k in 0..steps {
+        if k.is_multiple_of(every) {
+            let m = world.measure();
+            torque = ctrl.update(&m, command(world.time_s()));
+        }
+        world.step(torque);
+        each(world);
+        if world.failure().is_some() {
+            return false;
+        }
+    }
+    true
+}
+
+#[test]
+fn resting_normal_forces_match_static_load() {
+    let p = miapure();
+    let m_u = p.robot.sagittal.body_mass_kg;
+    let g = p.robot.sagittal.gravity_m_per_s2;
+    let expected = m_u * g / (3.0 * p.robot.drivetrain.contact_angle_rad.cos());
+    assert_relative_eq!(expected, 343.6, epsilon = 0.1);
+    let mut world = BallbotWorld::new(p).unwrap();
+    for _ in 0..1600 {
+        world.step([0.0; 3]);
+    }
+    for w in &world.telemetry().wheels {
+        assert_relative_eq!(w.normal_force_n, expected, max_relative = 2e-3);
+        assert!(
+            w.traction_n.abs() < 1.0,
+            "no traction at rest: {}",
+            w.traction_n
+        );
+    }
+    // The floor carries ball and body.
+    let total = (p.robot.sagittal.ball_mass_kg + m_u) * g;
+    assert_relative_eq!(world.telemetry().floor_force_n, total, max_relative = 1e-2);
+}
+
+#[test]
+fn balanced_robot_keeps_static_load_and_lean_shifts_it() {
+    // Balanced and at rest: the static load. Then a held lean towards OW1 (+x) must unload
+    // OW2 and OW3 relative to OW1 (the paper's explanation of the direction dependence).
+    let mut world = BallbotWorld::new(miapure()).unwrap();
+    let mut sum = [0.0; 3];
+    let mut count = 0.0;
+    assert!(run_balanced(
+        &mut world,
+        2.0,
+        |_| [0.0, 0.0],
+        |w| {
+            if w.time_s() > 1.0 {
+                for (s, wheel) in sum.iter_mut().zip(&w.telemetry().wheels) {
+                    *s += wheel.normal_force_n;
+                }
+                count += 1.0;
+            }
+        }
+    ));
+    for s in sum {
+        assert_relative_eq!(s / count, 343.6, max_relative = 0.03);
+    }
+    let mut accel = BallbotWorld::new(miapure()).unwrap();
+    let mut leaning = [0.0; 3];
+    let mut count = 0.0;
+    assert!(run_balanced(
+        &mut accel,
+        1.5,
+        |t| [(0.6 * t).min(0.6), 0.0],
+        |w| {
+            let t = w.telemetry();
+            if t.tilt_rad[1] > 0.01 {
+                for (s, wheel) in leaning.iter_mut().zip(&t.wheels) {
+                    *s += wheel.normal_force_n;
+                }
+                count += 1.0;
+            }
+        }
+    ));
+    assert!(
+        count > 100.0,
+        "the body must lean forward while accelerating"
+    );
+    let mean = leaning.map(|s| s / count);
+    assert!(
+        mean[1] < mean[0] - 20.0 && mean[2] < mean[0] - 20.0,
+        "{mean:?}"
+    );
+}
+
+/// Free flight (no gravity, robot 1 m up), motors off, frictionless wheels, no contact
+/// damping: ball and body interact only through the three normal springs. Returns the changes
+/// of linear momentum, angular momentum (relative) and energy (relative) after 1 s.
+fn free_flight(dt_divisor: f64) -> (f64, f64, f64) {
+    let mut p = miapure();
+    p.contact.normal_damping_n_s_per_m = 0.0;
+    p.wheel_damping_nm_s_per_rad = 0.0;
+    p.rolling_resistance = 0.0;
+    p.spin_friction_m = 0.0;
+    p.dt_secs /= dt_divisor;
+    let mut world = BallbotWorld::new(p).unwrap();
+    world.set_gravity_m_per_s2(0.0);
+    world.set_wheel_friction(0.0);
+    world.translate_robot(Vector3::new(0.0, 0.0, 1.0));
+    world.set_body_velocity(Vector3::new(0.3, -0.2, -0.05), Vector3::new(0.4, -0.3, 1.5));
+    world.set_ball_velocity(Vector3::new(-0.2, 0.1, 0.4), Vector3::new(2.0, 1.0, -3.0));
+    let p0 = world.linear_momentum_ns();
+    let l0 = world.angular_momentum_nms();
+    let e0 = world.kinetic_energy_j() + world.contact_energy_j();
+    let mut touched = 0;
+    for _ in 0..(8000.0 * dt_divisor) as usize {
+        let t = world.step([0.0; 3]);
+        touched += usize::from(t.wheels.iter().any(|w| w.normal_force_n > 0.0));
+    }
+    assert!(
+        touched > 10,
+        "the bodies must collide for the test to mean anything"
+    );
+    let p1 = world.linear_momentum_ns();
+    let l1 = world.angular_momentum_nms();
+    let e1 = world.kinetic_energy_j() + world.contact_energy_j();
+    (
+        (p1 - p0).norm(),
+        (l1 - l0).norm() / l0.norm(),
+        (e1 - e0).abs() / e0,
+    )
+}
+
+#[test]
+fn free_flight_conserves_momentum_and_energy() {
+    // Linear and angular momentum: conserved to round-off and to the integrator's rotation
+    // error, since every contact force acts equal and opposite at the same point. Energy:
+    // the collision (springs engaging and releasing inside a step) costs an O(dt) error, so it
+    // must be small at 8 kHz and halve with the step.
+    let (dp, dl, de) = free_flight(1.0);
+    assert!(dp < 1e-9, "linear momentum changed by {dp}");
+    assert!(dl < 1e-3, "angular momentum changed by {dl}");
+    assert!(de < 0.015, "energy changed by {de}");
+    let (_, _, de_half) = free_flight(2.0);
+    assert!(
+        de_half < 0.6 * de && de_half > 0.4 * de,
+        "first order: {de} -> {de_half}"
+    );
+}
+
+#[test]
+fn frictionless_floor_conserves_horizontal_momentum_and_energy_falls() {
+    // Gravity on, frictionless floor and wheels, motors off: the body falls over. The floor
+    // pushes only vertically, so the horizontal momentum stays zero; with contact damping the
+    // total energy can only fall.
+    let mut p = miapure();
+    p.rolling_resistance = 0.0;
+    p.spin_friction_m = 0.0;
+    let mut world = BallbotWorld::new(p).unwrap();
+    world.set_floor_friction(0.0);
+    world.set_wheel_friction(0.0);
+    world.tilt_body([0.02, 0.05]);
+    let energy =
+        |w: &BallbotWorld| w.kinetic_energy_j() + w.potential_energy_j() + w.contact_energy_j();
+    let e0 = energy(&world);
+    let mut e_prev = e0;
+    for k in 0..4000 {
+        world.step([0.0; 3]);
+        let e = energy(&world);
+        if k % 40 == 0 {
+            assert!(
+                e <= e_prev + 1e-3 * e0.abs().max(1.0),
+                "energy rose at step {k}: {e_prev} -> {e}"
+            );
+            e_prev = e;
+        }
+    }
+    let p = world.linear_momentum_ns();
+    assert!(p.x.abs() < 1e-6 && p.y.abs() < 1e-6, "{p}");
+    assert!(world.telemetry().tilt_rad[1] > 0.2, "it did fall");
+}
+
+#[test]
+fn wheel_speeds_match_kinematics_at_low_speed() {
+    // High friction, slow diagonal drive. The kinematics psi_dot_i = (r / r_W) u_i . omega_rel
+    // integrated over 1.5 s must give each wheel's turned angle: the compliant contact may
+    // only store a bounded creep (the bristle), never accumulate slip.
+    let mut p = miapure();
+    p.robot.drivetrain.wheel_ball_friction = 2.0;
+    let mut world = BallbotWorld::new(p).unwrap();
+    let (r, r_w) = (p.robot.ball_radius_m(), p.robot.drivetrain.wheel_radius_m);
+    let a = p.robot.drivetrain.contact_angle_rad;
+    let dt = p.dt_secs;
+    let mut predicted = [0.0; 3];
+    let mut start = None;
+    assert!(run_balanced(
+        &mut world,
+        3.0,
+        |t| [0.2 * t.min(1.0), 0.1 * t.min(1.0)],
+        |w| {
+            let t = w.telemetry();
+            if w.time_s() > 1.5 {
+                let start = *start.get_or_insert(t.wheels.map(|w| w.angle_rad));
+                let w_rel = t.body_orientation.inverse() * t.ball_angular_velocity_rad_per_s
+                    - t.body_rate_rad_per_s;
+                for (i, b) in p.robot.drivetrain.wheel_azimuths_rad.iter().enumerate() {
+                    let u = Vector3::new(-a.cos() * b.cos(), -a.cos() * b.sin(), a.sin());
+                    predicted[i] += dt * r / r_w * u.dot(&w_rel);
+                    let _ = start;
+                }
+            }
+        }
+    ));
+    let start = start.unwrap();
+    for i in 0..3 {
+        let turned = world.telemetry().wheels[i].angle_rad - start[i];
+        assert!(
+            predicted[i].abs() > 1.0,
+            "wheel {i} must turn: {}",
+            predicted[i]
+        );
+        assert_relative_eq!(turned, predicted[i], max_relative = 5e-3);
+    }
+}
+
+#[test]
+fn slip_starts_exactly_at_mu_times_normal_force() {
+    // Rig: let the body settle on the ball, then clamp both. Ramp OW1's torque: the wheel
+    // holds while tau / r_W < mu N and spins up from the step the demand crosses mu N.
+    let p = miapure();
+    let mu = p.robot.drivetrain.wheel_ball_friction;
+    let r_w = p.robot.drivetrain.wheel_radius_m;
+    let mut world = BallbotWorld::new(p).unwrap();
+    for _ in 0..1600 {
+        world.step([0.0; 3]);
+    }
+    world.set_ball_fixed(true);
+    world.set_body_fixed(true);
+    let n = world.step([0.0; 3]).wheels[0].normal_force_n;
+    assert_relative_eq!(n, 343.6, max_relative = 0.03);
+    let threshold_nm = mu * n * r_w;
+    let ramp_nm_per_step = 0.001;
+    let mut onset = None;
+    for k in 0..30_000 {
+        let tau = ramp_nm_per_step * k as f64;
+        let t = world.step([tau, 0.0, 0.0]);
+        let w = t.wheels[0];
+        if w.slipping {
+            onset = Some((tau, w));
+            break;
+        }
+        assert!(
+            w.speed_rad_per_s.abs() < 1e-2,
+            "wheel turns while sticking at {tau} N m"
+        );
+    }
+    let (tau, w) = onset.expect("must slip");
+    // The wheel's inertia lags the ramp by a few steps: allow a few ramp increments.
+    assert!(
+        (tau - threshold_nm).abs() < 10.0 * ramp_nm_per_step + 1e-3 * threshold_nm,
+        "slip at {tau} N m, mu N r_W = {threshold_nm}"
+    );
+    assert!(w.traction_demand_n.abs() > mu * w.normal_force_n);
+    // Beyond the edge the wheel spins up and the traction is kinetic.
+    for _ in 0..400 {
+        world.step([threshold_nm * 1.2, 0.0, 0.0]);
+    }
+    let w = world.telemetry().wheels[0];
+    assert!(w.slipping && w.speed_rad_per_s > 1.0, "{w:?}");
+    let mu_k = mu * p.contact.kinetic_friction_ratio;
+    assert_relative_eq!(
+        w.traction_n.abs(),
+        mu_k * w.normal_force_n,
+        max_relative = 1e-9
+    );
+}
+
+fn telemetry_hash(seed: u64) -> u64 {
+    let mut p = miapure();
+    p.sensors.seed = seed;
+    let mut world = BallbotWorld::new(p).unwrap();
+    let mut hash = FNV_OFFSET_BASIS;
+    run_balanced(
+        &mut world,
+        0.5,
+        |t| [0.5 * t, 0.0],
+        |w| {
+            w.telemetry().hash_into(&mut hash);
+        },
+    );
+    hash
+}
+
+#[test]
+fn same_seed_gives_identical_telemetry() {
+    assert_eq!(telemetry_hash(7), telemetry_hash(7));
+    assert_ne!(telemetry_hash(7), telemetry_hash(8), "the seed must matter");
+}
