@@ -11,6 +11,8 @@ use plotters::{
     style::{Color, ShapeStyle, TextStyle},
 };
 
+use crate::log::McapLog;
+
 use super::{
     PlotError,
     render::{self, DrawResult, Figure},
@@ -42,6 +44,53 @@ impl Series {
             style: LineStyle::Solid,
             color: None,
         }
+    }
+
+    /// A solid line of one numeric field of an MCAP log, named by its Foxglove message path
+    /// (see [`McapLog::field`](crate::log::McapLog::field)), against log time.
+    ///
+    /// ```
+    /// use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger};
+    /// use ballbot_sim::plot::{Series, Subplot, TimeSeriesFigure};
+    ///
+    /// #[derive(serde::Serialize, schemars::JsonSchema)]
+    /// struct State {
+    ///     tilt_rad: f64,
+    /// }
+    ///
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// let dir = tempfile::tempdir()?;
+    /// let path = dir.path().join("run.mcap");
+    /// let mut log = McapLogger::create(&path, LoggerOptions::default())?;
+    /// let state = log.channel::<State>("/planar/state")?;
+    /// for i in 0..400 {
+    ///     let time_secs = f64::from(i) / 400.0;
+    ///     log.write(&state, time_secs, &State { tilt_rad: 0.01 * time_secs.sin() })?;
+    /// }
+    /// log.finish()?;
+    ///
+    /// let log = McapLog::open(&path)?;
+    /// let tilt = Series::from_log(&log, "tilt", "/planar/state.tilt_rad")?;
+    /// assert_eq!(tilt.values.len(), 400);
+    /// TimeSeriesFigure::new("tilt")
+    ///     .with(Subplot::new("tilt θ (rad)").with(tilt))
+    ///     .save(&dir.path().join("tilt.svg"))?;
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn from_log(
+        log: &McapLog,
+        label: &str,
+        message_path: &str,
+    ) -> Result<Self, crate::log::LogError> {
+        let (time_secs, values) = log.field(message_path)?;
+        Ok(Self {
+            label: label.to_owned(),
+            time_secs,
+            values,
+            style: LineStyle::Solid,
+            color: None,
+        })
     }
 
     /// The same series with another line style.
