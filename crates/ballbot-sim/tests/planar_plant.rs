@@ -25,7 +25,39 @@ fn frictionless_plant_is_the_core_model_integrated_directly() {
         plant.step(tau);
         s = rk4_step(|x| wip.derivative(x, tau), &s, dt);
     }
-    assert_eq!(*plant.state(), s, "same model, same integrator, same bits");
+    // Same model and integrator; the plant's one-sin_cos-per-step trigonometry differs from
+    // the core's per-stage sin_cos by rounding only.
+    let err = (plant.state() - s).amax();
+    assert!(err < 1e-12, "plant and core differ by {err}");
+}
+
+#[test]
+fn fast_step_matches_rk4_over_the_reference_derivative_with_friction() {
+    // The plant's step (one sin_cos, Taylor stage offsets) against the core's RK4 over
+    // `PlanarPlant::derivative` (the core's WIP plus friction), through stick, slip and a
+    // fast tumble that exercises the sin_cos fallback.
+    let robot = PlanarRobotParams::piptb();
+    let mut plant = PlanarPlant::new(robot, TransmissionFriction::piptb(), RATE_HZ).unwrap();
+    let reference = plant.clone();
+    let dt = 1.0 / RATE_HZ;
+    for s0 in [
+        Vector4::new(0.01, 0.0, 0.0, 0.0),
+        Vector4::new(-0.05, 1.0, 0.3, 12.0),
+        Vector4::new(0.3, 0.0, 150.0, -40.0),
+    ] {
+        plant.set_state(s0);
+        let mut s = s0;
+        for k in 0..800 {
+            let tau = 0.4 * (30.0 * k as f64 * dt).sin();
+            plant.step(tau);
+            let applied = robot
+                .actuator
+                .clamp_torque_nm(tau, s[BALL_RATE] - s[TILT_RATE]);
+            s = rk4_step(|x| reference.derivative(x, applied).0, &s, dt);
+        }
+        let err = (plant.state() - s).amax() / s.amax().max(1.0);
+        assert!(err < 1e-10, "from {s0:?}: relative difference {err}");
+    }
 }
 
 #[test]
