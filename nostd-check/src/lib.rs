@@ -68,3 +68,74 @@ pub extern "C" fn ballbot_nostd_lqr_pi_step_f32(tilt_rad: f32, ball_rate_rad_per
     pi.step(ball_rate_rad_per_s, &command, 1.0 / 8000.0)
         .torque_nm
 }
+
+/// The robot loop of `ballbot-examples` (the code a firmware calls from its 400 Hz and 8 kHz
+/// interrupts) on stand-in devices, in f32: the embedding example itself links without std or
+/// an allocator. Returns the first omniwheel torque after one outer and one inner step.
+#[unsafe(no_mangle)]
+pub extern "C" fn ballbot_nostd_robot_loop_f32(pitch_rad: f32, now_us: u64) -> f32 {
+    use ballbot_core::BallbotParams;
+    use ballbot_core::ballbot::BallbotControllerConfig;
+    use ballbot_core::command::Command;
+    use ballbot_core::estimation::{EncoderSample, ImuSample};
+    use ballbot_core::hal::{DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders};
+    use ballbot_core::safety::ModeRequest;
+    use ballbot_examples::robot_loop::{LoopConfig, OperatorInput, RobotLoop};
+    use nalgebra::Vector3;
+
+    struct Board {
+        pitch_rad: f32,
+        now_us: u64,
+    }
+    struct Motors(f32);
+    impl Imu<f32> for Board {
+        type Error = DeviceErrorKind;
+        fn read(&mut self) -> Result<ImuSample<f32>, DeviceErrorKind> {
+            let mut s = ImuSample::upright(self.now_us);
+            s.pitch_rad = self.pitch_rad;
+            Ok(s)
+        }
+    }
+    impl WheelEncoders<f32> for Board {
+        type Error = DeviceErrorKind;
+        fn read(&mut self) -> Result<EncoderSample<f32>, DeviceErrorKind> {
+            Ok(EncoderSample::still(self.now_us))
+        }
+    }
+    impl MotorTorques<f32> for Motors {
+        type Error = DeviceErrorKind;
+        fn apply(&mut self, torque_nm: &Vector3<f32>) -> Result<(), DeviceErrorKind> {
+            self.0 = torque_nm[0];
+            Ok(())
+        }
+        fn disable(&mut self) -> Result<(), DeviceErrorKind> {
+            self.0 = 0.0;
+            Ok(())
+        }
+    }
+    impl MonotonicClock for Board {
+        fn now_us(&mut self) -> u64 {
+            self.now_us
+        }
+    }
+    let Ok(config) = BallbotControllerConfig::design(&BallbotParams::<f32>::miapure_60kg()) else {
+        return f32::NAN;
+    };
+    let board = |now_us| Board { pitch_rad, now_us };
+    let Ok(mut robot) = RobotLoop::new(
+        config,
+        LoopConfig::miapure(),
+        board(now_us),
+        board(now_us),
+        Motors(0.0),
+        board(now_us),
+    ) else {
+        return f32::NAN;
+    };
+    robot.outer_task(&OperatorInput {
+        command: Command::Stop,
+        command_timestamp_us: Some(now_us),
+        request: ModeRequest::None,
+    });
+    robot.inner_task().output.torque_nm[0]
+}

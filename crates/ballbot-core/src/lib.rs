@@ -25,6 +25,7 @@ pub mod command;
 pub mod control;
 mod error;
 pub mod estimation;
+pub mod hal;
 pub mod integrate;
 pub mod kinematics;
 pub mod linalg;
