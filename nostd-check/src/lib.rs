@@ -139,3 +139,47 @@ pub extern "C" fn ballbot_nostd_robot_loop_f32(pitch_rad: f32, now_us: u64) -> f
     });
     robot.inner_task().output.torque_nm[0]
 }
+
+/// One step of the 3D ballbot controller in f32 (supervisor, estimation, shaping, three
+/// planes, kinematics: the 400 Hz outer step) and one 8 kHz inner step of its three motor
+/// PIs: the whole 3D controller links without std or an allocator. Returns omniwheel 1's
+/// torque.
+#[unsafe(no_mangle)]
+pub extern "C" fn ballbot_nostd_ballbot_3d_step_f32(
+    now_us: u64,
+    roll_rad: f32,
+    pitch_rad: f32,
+    wheel_speed_rad_per_s: f32,
+) -> f32 {
+    use ballbot_core::BallbotParams;
+    use ballbot_core::ballbot::{
+        BallbotController, BallbotControllerConfig, MotorSpeedLoop, OuterInput,
+    };
+    use ballbot_core::command::{Command, VelocityCommand};
+    use ballbot_core::estimation::{EncoderSample, ImuSample};
+    use ballbot_core::safety::ModeRequest;
+    use nalgebra::Vector3;
+    let Ok(config) = BallbotControllerConfig::design(&BallbotParams::<f32>::miapure_60kg()) else {
+        return f32::NAN;
+    };
+    let (Ok(mut outer), Ok(mut inner)) =
+        (BallbotController::new(config), MotorSpeedLoop::new(&config))
+    else {
+        return f32::NAN;
+    };
+    let mut imu = ImuSample::upright(now_us);
+    imu.roll_rad = roll_rad;
+    imu.pitch_rad = pitch_rad;
+    let mut encoders = EncoderSample::still(now_us);
+    encoders.wheel_speeds_rad_per_s = Vector3::new(wheel_speed_rad_per_s, 0.0, 0.0);
+    let out = outer.step(&OuterInput {
+        now_us,
+        imu,
+        encoders,
+        command: Command::Velocity(VelocityCommand::zero()),
+        command_timestamp_us: Some(now_us),
+        request: ModeRequest::Arm,
+    });
+    inner.set_references(&out.motors);
+    inner.step(&encoders.wheel_speeds_rad_per_s, 1.0 / 8000.0).torque_nm[0]
+}

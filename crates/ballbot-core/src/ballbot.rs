@@ -64,7 +64,7 @@
 //! ```
 
 use crate::check::{lit, positive};
-use crate::command::{Command, CommandShaper, CommandShaperParams, PlanarCommands};
+use crate::command::{Command, CommandShaper, CommandShaperParams, PlanarCommands, clamp_sym};
 use crate::control::{
     LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi, SpeedPiGains, StepStatus,
 };
@@ -569,10 +569,10 @@ impl<T: RealField + Copy> BallbotController<T> {
             .no_load_speed_rad_per_s;
         let half_dt = dt * lit(0.5);
         let speed = (self.kinematics.wheel_speeds_rad_per_s(&relative) - accel * half_dt)
-            .map(|w| w.max(-limit).min(limit));
+            .map(|w| clamp_sym(w, limit));
         // A ramp may not leave the speed range within the period either.
         let accel_limit = limit / dt;
-        let accel = accel.map(|a| a.max(-accel_limit).min(accel_limit));
+        let accel = accel.map(|a| clamp_sym(a, accel_limit));
         let rejected = |s: StepStatus| s == StepStatus::InvalidInput;
         let all_finite = speed.iter().all(|x| x.is_finite())
             && accel.iter().all(|x| x.is_finite())
@@ -652,8 +652,7 @@ pub struct InnerOutput<T: nalgebra::Scalar> {
 /// controller is gone; nothing can balance without it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MotorSpeedLoop<T: RealField + Copy> {
-    pis: [SpeedPi<T>; 3],
-    actuator: ActuatorParams<T>,
+    motors: [MotorSpeedPi<T>; 3],
     references: MotorReferences<T>,
     outer_dt_secs: T,
     /// Time since the references were set (s), capped just beyond the timeout.
@@ -667,12 +666,10 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
     /// Three PIs with `config.motor` gains and the robot's actuator limits; motors disabled
     /// until the first references.
     pub fn new(config: &BallbotControllerConfig<T>) -> Result<Self, Error> {
-        let pi = SpeedPi::new(config.motor)?;
-        config.robot.drivetrain.actuator.validate()?;
+        let motor = MotorSpeedPi::new(config.motor, &config.robot.drivetrain.actuator)?;
         positive(config.outer_dt_secs, "outer_dt_secs")?;
         Ok(Self {
-            pis: [pi; 3],
-            actuator: config.robot.drivetrain.actuator,
+            motors: [motor; 3],
             references: MotorReferences::disabled(),
             outer_dt_secs: config.outer_dt_secs,
             elapsed_secs: T::zero(),
@@ -681,8 +678,8 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
 
     /// Clears the integrators.
     pub fn reset(&mut self) {
-        for pi in &mut self.pis {
-            pi.reset();
+        for motor in &mut self.motors {
+            motor.reset();
         }
     }
 
@@ -724,11 +721,9 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             self.elapsed_secs.min(self.outer_dt_secs)
         };
         let r = &self.references;
-        for (i, pi) in self.pis.iter_mut().enumerate() {
+        for (i, motor) in self.motors.iter_mut().enumerate() {
             let reference = r.speed_rad_per_s[i] + r.accel_rad_per_s2[i] * t;
-            let (torque, saturation) = motor_pi_step(
-                pi,
-                &self.actuator,
+            let (torque, saturation) = motor.step(
                 reference,
                 r.feedforward_torque_nm[i],
                 wheel_speeds_rad_per_s[i],
@@ -745,29 +740,203 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
     }
 }
 
-/// One motor driver's step: the speed PI within the actuator's torque-speed limits at the
-/// measured speed, with a final clamp (a non-finite result gives 0). Returns
-/// `(torque_nm, saturation_nm)`.
-#[inline]
-pub fn motor_pi_step<T: RealField + Copy>(
-    pi: &mut SpeedPi<T>,
-    actuator: &ActuatorParams<T>,
-    reference_speed_rad_per_s: T,
-    feedforward_torque_nm: T,
-    measured_speed_rad_per_s: T,
-    dt_secs: T,
-) -> (T, T) {
-    let (lower, upper) = actuator.torque_bounds_nm(measured_speed_rad_per_s);
-    let out = pi.step_within(
-        measured_speed_rad_per_s,
-        &SpeedCommand {
-            speed_rad_per_s: reference_speed_rad_per_s,
-            feedforward_torque_nm,
-        },
-        dt_secs,
-        lower,
-        upper,
-    );
-    let torque = actuator.clamp_torque_nm(out.torque_nm, measured_speed_rad_per_s);
-    (torque, out.saturation_nm)
+/// One motor driver's speed PI: a [`SpeedPi`] within the actuator's torque-speed limits at the
+/// measured speed (the same limits as [`ActuatorParams::torque_bounds_nm`], with the slope
+/// `peak / no_load_speed` precomputed: this runs at 8 kHz).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotorSpeedPi<T: RealField + Copy> {
+    pi: SpeedPi<T>,
+    peak_torque_nm: T,
+    /// `peak / no_load_speed` (N m s/rad).
+    torque_drop_nm_s_per_rad: T,
+}
+
+impl<T: RealField + Copy> MotorSpeedPi<T> {
+    /// Validates the gains and the actuator.
+    pub fn new(gains: SpeedPiGains<T>, actuator: &ActuatorParams<T>) -> Result<Self, Error> {
+        actuator.validate()?;
+        Ok(Self {
+            pi: SpeedPi::new(gains)?,
+            peak_torque_nm: actuator.peak_torque_nm,
+            torque_drop_nm_s_per_rad: actuator.peak_torque_nm / actuator.no_load_speed_rad_per_s,
+        })
+    }
+
+    /// Clears the integrator.
+    pub fn reset(&mut self) {
+        self.pi.reset();
+    }
+
+    /// The torque range `(min, max)` (N m) at `speed_rad_per_s`: the peak against the motion,
+    /// the torque-speed line along it. A non-finite speed gives `(0, 0)`.
+    #[inline]
+    pub fn torque_bounds_nm(&self, speed_rad_per_s: T) -> (T, T) {
+        // Plain comparisons instead of `max`/`min` (NaN-aware, several instructions each):
+        // a NaN speed fails both sign tests below.
+        let peak = self.peak_torque_nm;
+        let line = peak - self.torque_drop_nm_s_per_rad * speed_rad_per_s.abs();
+        let motoring = if line > T::zero() { line } else { T::zero() };
+        if speed_rad_per_s >= T::zero() {
+            (-peak, motoring)
+        } else if speed_rad_per_s < T::zero() {
+            (-motoring, peak)
+        } else {
+            (T::zero(), T::zero())
+        }
+    }
+
+    /// One step: returns `(torque_nm, saturation_nm)`, the torque finite and within
+    /// [`Self::torque_bounds_nm`] at the measured speed (0 for any non-finite input).
+    #[inline]
+    pub fn step(
+        &mut self,
+        reference_speed_rad_per_s: T,
+        feedforward_torque_nm: T,
+        measured_speed_rad_per_s: T,
+        dt_secs: T,
+    ) -> (T, T) {
+        let (lower, upper) = self.torque_bounds_nm(measured_speed_rad_per_s);
+        let out = self.pi.step_within(
+            measured_speed_rad_per_s,
+            &SpeedCommand {
+                speed_rad_per_s: reference_speed_rad_per_s,
+                feedforward_torque_nm,
+            },
+            dt_secs,
+            lower,
+            upper,
+        );
+        // SpeedPi returns a finite torque within [lower, upper]; keep the guarantee local (a
+        // NaN fails both comparisons).
+        let torque = out.torque_nm;
+        if torque >= lower && torque <= upper {
+            (torque, out.saturation_nm)
+        } else {
+            (T::zero(), T::zero())
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use proptest::prelude::*;
+
+    fn config() -> BallbotControllerConfig<f64> {
+        BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap()
+    }
+
+    proptest! {
+        #[test]
+        fn motor_bounds_match_the_actuator_model(speed in -200.0f64..200.0) {
+            let c = config();
+            let actuator = c.robot.drivetrain.actuator;
+            let motor = MotorSpeedPi::new(c.motor, &actuator).unwrap();
+            let (lo, hi) = motor.torque_bounds_nm(speed);
+            let (lo_ref, hi_ref) = actuator.torque_bounds_nm(speed);
+            prop_assert!((lo - lo_ref).abs() < 1e-12 && (hi - hi_ref).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn motor_bounds_of_a_nan_speed_allow_nothing() {
+        let c = config();
+        let mut motor = MotorSpeedPi::new(c.motor, &c.robot.drivetrain.actuator).unwrap();
+        assert_eq!(motor.torque_bounds_nm(f64::NAN), (0.0, 0.0));
+        assert_eq!(motor.step(1.0, 5.0, f64::NAN, 1.25e-4), (0.0, 0.0));
+    }
+
+    #[test]
+    fn motor_pi_equals_the_planar_pi_in_translation() {
+        // The wheel PI acts on the ball-rate error like the planar PI designed on B4.
+        let c = config();
+        let robot = c.robot;
+        let kin = OmniKinematics::from_ballbot(&robot).unwrap();
+        let wip = Wip::new(robot.sagittal).unwrap();
+        let planar = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, 96.9).unwrap();
+        // A unit sagittal ball-rate error -> wheel errors -> wheel P torques -> planar torque.
+        let wheel_error = kin.wheel_speeds_rad_per_s(&Vector3::new(0.0, 1.0, 0.0));
+        let wheel_torque = wheel_error * c.motor.proportional_nm_s_per_rad;
+        let planar_torque = kin.planar_torque_nm(&wheel_torque);
+        assert_relative_eq!(
+            planar_torque[1],
+            planar.proportional_nm_s_per_rad,
+            max_relative = 1e-9
+        );
+        assert!(planar_torque[0].abs() < 1e-9 && planar_torque[2].abs() < 1e-9);
+    }
+
+    #[test]
+    fn spin_outer_turns_towards_the_heading_command_and_anchors() {
+        let c = config();
+        let mut spin = SpinOuter::new(Spin::new(c.robot.spin).unwrap(), c.spin).unwrap();
+        let measured = SpinState::new(0.0, 0.3);
+        let out = spin.step(&measured, &SpinState::new(0.5, 0.3), 0.0025);
+        assert!(out.reference_torque_nm > 0.0);
+        assert_eq!(out.status, StepStatus::Nominal);
+        // Anchored at the measured rate, advanced by half a period of the model's acceleration.
+        let accel = (out.reference_torque_nm - 1.0 * 0.3) / 1.8;
+        assert_relative_eq!(out.reference_accel_rad_per_s2, accel, epsilon = 1e-12);
+        assert_relative_eq!(
+            out.reference_rate_rad_per_s,
+            0.3 + accel * 0.00125,
+            epsilon = 1e-12
+        );
+        // Saturation and rejection.
+        let out = spin.step(&measured, &SpinState::new(1e6, 0.0), 0.0025);
+        assert_eq!(out.status, StepStatus::Saturated);
+        assert_eq!(out.reference_torque_nm, c.spin.gains.max_torque_nm);
+        let out = spin.step(&SpinState::new(f64::NAN, 0.0), &measured, 0.0025);
+        assert_eq!(out.status, StepStatus::InvalidInput);
+        assert_eq!(out.reference_torque_nm, 0.0);
+    }
+
+    #[test]
+    fn inner_loop_times_out_without_fresh_references() {
+        let c = config();
+        let mut inner = MotorSpeedLoop::new(&c).unwrap();
+        let refs = MotorReferences {
+            enabled: true,
+            speed_rad_per_s: Vector3::new(1.0, 1.0, 1.0),
+            accel_rad_per_s2: Vector3::new(100.0, 0.0, 0.0),
+            feedforward_torque_nm: Vector3::new(2.0, 2.0, 2.0),
+        };
+        inner.set_references(&refs);
+        let first = inner.step(&Vector3::zeros(), 1.25e-4);
+        assert!(first.torque_nm.iter().all(|t| *t > 2.0));
+        // The ramp runs for one outer period, then holds.
+        assert_relative_eq!(first.reference_speed_rad_per_s[0], 1.0 + 100.0 * 0.625e-4);
+        let mut last = first;
+        for _ in 0..200 {
+            last = inner.step(&Vector3::zeros(), 1.25e-4);
+            if last.timed_out {
+                break;
+            }
+            assert!(last.reference_speed_rad_per_s[0] <= 1.0 + 100.0 * 0.0025 + 1e-12);
+        }
+        assert!(last.timed_out);
+        assert_eq!(last.torque_nm, Vector3::zeros());
+        // Non-finite references disable.
+        let mut bad = refs;
+        bad.accel_rad_per_s2[2] = f64::NAN;
+        inner.set_references(&bad);
+        assert_eq!(
+            inner.step(&Vector3::zeros(), 1.25e-4).torque_nm,
+            Vector3::zeros()
+        );
+    }
+
+    #[test]
+    fn config_validation_reaches_every_piece() {
+        let mut c = config();
+        c.outer_dt_secs = 0.0;
+        assert!(BallbotController::new(c).is_err());
+        let mut c = config();
+        c.spin.max_rate_error_rad_per_s = -1.0;
+        assert!(BallbotController::new(c).is_err());
+        let mut c = config();
+        c.safety.imu_timeout_us = 0;
+        assert!(BallbotController::new(c).is_err());
+    }
 }

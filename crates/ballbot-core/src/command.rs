@@ -165,6 +165,25 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         if !(dt_secs.is_finite() && dt_secs > T::zero()) {
             return self.value;
         }
+        self.advance(target, target_rate_per_s, limits, dt_secs)
+    }
+
+    /// [`Self::step_tracking`] for a `dt_secs` known to be finite and positive.
+    #[inline]
+    fn advance(
+        &mut self,
+        target: T,
+        target_rate_per_s: T,
+        limits: &AxisLimits<T>,
+        dt_secs: T,
+    ) -> T {
+        // Settled on a still target (the usual case): nothing to do. The value is always
+        // within its bounds, so the target is too.
+        let zero = T::zero();
+        if target == self.value && self.rate_per_s == zero && target_rate_per_s == zero {
+            self.jerk_per_s2 = zero;
+            return self.value;
+        }
         if !(self.value.is_finite() && self.rate_per_s.is_finite()) {
             *self = Self::at(T::zero());
         }
@@ -175,9 +194,9 @@ impl<T: RealField + Copy> JerkLimiter<T> {
             (self.value, T::zero())
         } else if target.abs() > max_value {
             // Clamped: the clamped target does not move.
-            (target.max(-max_value).min(max_value), T::zero())
+            (clamp_sym(target, max_value), T::zero())
         } else if target_rate_per_s.is_finite() {
-            (target, target_rate_per_s.max(-max_rate).min(max_rate))
+            (target, clamp_sym(target_rate_per_s, max_rate))
         } else {
             (target, T::zero())
         };
@@ -185,17 +204,18 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         let jerk_step = jerk * dt_secs;
         let half = jerk_step * lit(0.5);
         let braking = (half * half + lit::<T>(2.0) * jerk * error.abs()).sqrt() - half;
-        let correction_mag = braking
-            .min(lit::<T>(2.0) * max_rate)
-            .min(error.abs() / dt_secs);
+        let correction_mag = min(
+            min(braking, lit::<T>(2.0) * max_rate),
+            error.abs() / dt_secs,
+        );
         let correction = if error > T::zero() {
             correction_mag
         } else {
             -correction_mag
         };
-        let wanted = (feed + correction).max(-max_rate).min(max_rate);
-        let change = (wanted - self.rate_per_s).max(-jerk_step).min(jerk_step);
-        let mut rate = (self.rate_per_s + change).max(-max_rate).min(max_rate);
+        let wanted = clamp_sym(feed + correction, max_rate);
+        let change = clamp_sym(wanted - self.rate_per_s, jerk_step);
+        let mut rate = clamp_sym(self.rate_per_s + change, max_rate);
         let mut value = self.value + rate * dt_secs;
         // Arrived (or stepped across the target with a rate the jerk limit can match to the
         // target's in one step): settle exactly on it.
@@ -205,7 +225,7 @@ impl<T: RealField + Copy> JerkLimiter<T> {
             value = moved_target;
             rate = feed;
         }
-        let value = value.max(-max_value).min(max_value);
+        let value = clamp_sym(value, max_value);
         if value.is_finite() && rate.is_finite() {
             self.jerk_per_s2 = (rate - self.rate_per_s) / dt_secs;
             self.value = value;
@@ -740,14 +760,18 @@ impl<T: RealField + Copy> CommandShaper<T> {
                 (vx, vy, trajectory.yaw_rate_rad_per_s())
             }
         };
-        let vx = self
-            .vx
-            .step_tracking(target_x, feed.0, &translation, dt_secs);
-        let vy = self
-            .vy
-            .step_tracking(target_y, feed.1, &translation, dt_secs);
-        let wz = self.yaw_rate.step(target_yaw, &self.params.yaw, dt_secs);
-        if dt_secs.is_finite() && dt_secs > zero {
+        let dt_ok = dt_secs.is_finite() && dt_secs > zero;
+        let (vx, vy, wz) = if dt_ok {
+            (
+                self.vx.advance(target_x, feed.0, &translation, dt_secs),
+                self.vy.advance(target_y, feed.1, &translation, dt_secs),
+                self.yaw_rate
+                    .advance(target_yaw, zero, &self.params.yaw, dt_secs),
+            )
+        } else {
+            (self.vx.value(), self.vy.value(), self.yaw_rate.value())
+        };
+        if dt_ok {
             self.heading_rad += wz * dt_secs;
             self.phi_y_rad += vx * self.sagittal.inv_radius_per_m * dt_secs;
             self.phi_x_rad -= vy * self.frontal.inv_radius_per_m * dt_secs;
@@ -772,7 +796,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
         };
         let max_tilt = self.params.max_tilt_command_rad;
         let max_rate = self.params.max_tilt_rate_command_rad_per_s;
-        let clamp = |x: T, m: T| x.max(-m).min(m);
+        let clamp = clamp_sym::<T>;
         let planar = PlanarCommands {
             sagittal: WipState::new(
                 clamp(tilt_y, max_tilt),
@@ -805,11 +829,31 @@ impl<T: RealField + Copy> CommandShaper<T> {
     }
 }
 
+/// `x` limited to `[-limit, limit]` (`limit >= 0`) with plain comparisons: a NaN passes
+/// through (callers check finiteness where it matters). `max`/`min` of `RealField` are
+/// NaN-aware and cost several instructions each; these run every outer step.
+#[inline]
+pub(crate) fn clamp_sym<T: RealField + Copy>(x: T, limit: T) -> T {
+    if x > limit {
+        limit
+    } else if x < -limit {
+        -limit
+    } else {
+        x
+    }
+}
+
+/// The smaller of `a` and `b` (plain comparison; `b` if either is NaN).
+#[inline]
+fn min<T: RealField + Copy>(a: T, b: T) -> T {
+    if a < b { a } else { b }
+}
+
 /// Scales `(x, y)` down to length `max` if longer.
 fn clamp_norm<T: RealField + Copy>(x: T, y: T, max: T) -> (T, T) {
-    let norm = (x * x + y * y).sqrt();
-    if norm > max && norm.is_finite() {
-        let scale = max / norm;
+    let norm2 = x * x + y * y;
+    if norm2 > max * max && norm2.is_finite() {
+        let scale = max / norm2.sqrt();
         (x * scale, y * scale)
     } else {
         (x, y)

@@ -274,8 +274,32 @@ impl FaultSet {
     }
 
     /// Whether any fault of `severity` is in the set.
-    pub fn any(self, severity: Severity) -> bool {
-        self.iter().any(|f| f.severity() == severity)
+    pub const fn any(self, severity: Severity) -> bool {
+        let mask = match severity {
+            Severity::Unrecoverable => Self::UNRECOVERABLE,
+            Severity::Recoverable => Self::RECOVERABLE,
+        };
+        self.0 & mask != 0
+    }
+
+    const UNRECOVERABLE: u16 = Self::mask_of(Severity::Unrecoverable);
+    const RECOVERABLE: u16 = Self::mask_of(Severity::Recoverable);
+
+    const fn mask_of(severity: Severity) -> u16 {
+        let mut mask = 0;
+        let mut i = 0;
+        while i < Fault::ALL.len() {
+            let f = Fault::ALL[i];
+            if matches!(
+                (f.severity(), severity),
+                (Severity::Unrecoverable, Severity::Unrecoverable)
+                    | (Severity::Recoverable, Severity::Recoverable)
+            ) {
+                mask |= 1 << f.code();
+            }
+            i += 1;
+        }
+        mask
     }
 
     /// The faults in the set, in code order.
@@ -496,7 +520,7 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
 
     /// Checks the samples and timing of one step and applies the operator's request.
     pub fn step(&mut self, input: &SafetyInput<T>) -> SafetyStatus {
-        let p = self.params;
+        let p = &self.params;
         let now = input.now_us;
         let mut faults = core::mem::take(&mut self.reported);
 
