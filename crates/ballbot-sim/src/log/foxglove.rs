@@ -39,6 +39,7 @@
 
 use std::borrow::Cow;
 
+use ballbot_core::BallbotParams;
 use nalgebra::{Isometry3, UnitQuaternion};
 use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -626,15 +627,25 @@ pub struct BallbotScene {
 }
 
 impl BallbotScene {
-    /// Proportions of a MiaPURE-like robot (ball radius 0.12 m, body 0.25 m radius and 0.9 m
-    /// tall, three omniwheels at 45 deg zenith, 120 deg apart): for looking at, not for physics.
+    /// The MiaPURE with a 60 kg payload, from [`BallbotParams::miapure_60kg`].
     pub fn miapure_like() -> Self {
-        let ball_radius_m = 0.12;
-        let zenith_rad = 45_f64.to_radians();
-        let wheel_radius_m = 0.05;
-        let body_from_wheels = (0..3)
-            .map(|i| {
-                let azimuth_rad = f64::from(i) * 120_f64.to_radians();
+        Self::from_params(&BallbotParams::miapure_60kg())
+    }
+
+    /// The robot described by a parameter set: the ball radius of the sagittal plane, the
+    /// omniwheels at their azimuths and contact angle with their radius (each wheel's centre on
+    /// the line from the ball centre through its contact, axle horizontal and tangent to the
+    /// ball), and a body cylinder of 0.25 m radius from just above the wheels, centred on the
+    /// COM height (at least 0.2 m tall). Change the public fields for another look.
+    pub fn from_params(robot: &BallbotParams<f64>) -> Self {
+        let ball_radius_m = robot.sagittal.ball_radius_m;
+        let drivetrain = &robot.drivetrain;
+        let wheel_radius_m = drivetrain.wheel_radius_m;
+        let zenith_rad = drivetrain.contact_angle_rad;
+        let body_from_wheels = drivetrain
+            .wheel_azimuths_rad
+            .iter()
+            .map(|&azimuth_rad| {
                 // Contact direction from the ball centre, then the wheel centre just outside it.
                 let direction = nalgebra::Vector3::new(
                     zenith_rad.sin() * azimuth_rad.cos(),
@@ -649,11 +660,13 @@ impl BallbotScene {
                 Isometry3::from_parts(centre.into(), rotation)
             })
             .collect();
+        let body_bottom_m = (ball_radius_m + 2.0 * wheel_radius_m) * zenith_rad.cos() + 0.02;
+        let body_height_m = (2.0 * (robot.sagittal.com_height_m - body_bottom_m)).max(0.2);
         Self {
             ball_radius_m,
             body_radius_m: 0.25,
-            body_bottom_m: 0.2,
-            body_height_m: 0.9,
+            body_bottom_m,
+            body_height_m,
             wheel_radius_m,
             wheel_width_m: 0.04,
             body_from_wheels,
@@ -888,6 +901,14 @@ mod tests {
     #[test]
     fn miapure_wheels_touch_the_ball_with_horizontal_axles() {
         let robot = BallbotScene::miapure_like();
+        let params = BallbotParams::<f64>::miapure_60kg();
+        assert_eq!(robot.ball_radius_m, params.sagittal.ball_radius_m);
+        assert_eq!(robot.body_from_wheels.len(), 3);
+        // The first wheel sits at azimuth 0: in the x-z plane, on the +x side, 45 deg up.
+        let first = robot.body_from_wheels[0].translation.vector;
+        assert!(first.y.abs() < 1e-12 && first.x > 0.0);
+        assert!((first.z.atan2(first.x) - (90_f64 - 45.0).to_radians()).abs() < 1e-12);
+        assert!(robot.body_bottom_m > first.z + robot.wheel_radius_m);
         for wheel in &robot.body_from_wheels {
             let centre_distance_m = wheel.translation.vector.norm();
             assert!((centre_distance_m - robot.ball_radius_m - robot.wheel_radius_m).abs() < 1e-12);
