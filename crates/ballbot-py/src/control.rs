@@ -971,7 +971,27 @@ fn closed_loop_rollout<'py>(
     Ok(d)
 }
 
+/// The steady command that accelerates the ball at `ball_accel_rad_per_s2` while rolling at
+/// `ball_rate_rad_per_s` on `wip`'s nonlinear model (`theta_dot = 0`, constant `phi_ddot`):
+/// `(command_state (4,), torque_nm)`, the lean and torque that hold that acceleration; `None`
+/// when no lean can hold it (or for non-finite input).
+#[pyfunction(name = "accelerating_command")]
+fn py_accelerating_command<'py>(
+    py: Python<'py>,
+    wip: PyRef<'py, PyWip>,
+    ball_rate_rad_per_s: f64,
+    ball_accel_rad_per_s2: f64,
+) -> Option<(Bound<'py, PyArray1<f64>>, f64)> {
+    ballbot_core::control::accelerating_command(
+        &wip.inner,
+        ball_rate_rad_per_s,
+        ball_accel_rad_per_s2,
+    )
+    .map(|(s, tau)| (PyArray1::from_slice(py, s.as_slice()), tau))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(py_accelerating_command, m)?)?;
     m.add_class::<PyLqrGains>()?;
     m.add_class::<PyPiPdGains>()?;
     m.add_class::<PySpeedPiGains>()?;

@@ -14,6 +14,8 @@ mod log;
 mod lqr;
 mod models;
 mod params;
+mod sim;
+mod trajopt;
 
 use pyo3::prelude::*;
 
@@ -27,5 +29,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     lqr::register(m)?;
     control::register(m)?;
     log::register(m)?;
+    trajopt::register(m)?;
+    sim::register(m)?;
     Ok(())
 }

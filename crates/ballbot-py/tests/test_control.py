@@ -144,3 +144,14 @@ def test_bad_controller_input(lqr: ballbot.LqrController, wip: ballbot.Wip) -> N
         ballbot.closed_loop_rollout(wip, outer, np.zeros(4), n_steps=10)
     with pytest.raises(MemoryError):
         ballbot.closed_loop_rollout(wip, lqr, np.zeros((1 << 20, 4)), n_steps=1 << 40)
+
+
+def test_accelerating_command_holds_the_acceleration(wip: ballbot.Wip) -> None:
+    r = wip.params.ball_radius_m
+    found = ballbot.accelerating_command(wip, 0.5 / r, 0.5 / r)
+    assert found is not None
+    state, torque_nm = found
+    assert state[0] > 0.0
+    assert wip.accelerations(state, torque_nm) == pytest.approx([0.0, 0.5 / r], abs=1e-9)
+    assert ballbot.accelerating_command(wip, 0.0, 1e6) is None
+    assert ballbot.accelerating_command(wip, float("nan"), 0.0) is None

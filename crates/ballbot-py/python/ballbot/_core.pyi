@@ -8,9 +8,11 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
-    "__version__",
     "ActuatorParams",
     "BallbotParams",
+    "BrakingLimits",
+    "BrakingProblem",
+    "BrakingSolution",
     "ContactForces",
     "DrivetrainParams",
     "Lqr",
@@ -27,6 +29,7 @@ __all__ = [
     "PiPdOutput",
     "PlanarRobotParams",
     "RiccatiSolution",
+    "Scenario",
     "SpeedPi",
     "SpeedPiGains",
     "SpeedPiOutput",
@@ -36,6 +39,8 @@ __all__ = [
     "WipParams",
     "closed_loop_rollout",
     "expm",
+    "min_braking_time",
+    "piptb_experiment",
     "planar_torque_at_heading",
     "relative_rate_at_heading",
     "relative_rate_from_planar",
@@ -46,6 +51,8 @@ __all__ = [
     "wip_lqr",
     "wip_lqr_discrete",
     "zoh",
+    "__version__",
+    "accelerating_command",
 ]
 
 __version__: str
@@ -748,6 +755,10 @@ class SpeedPi:
         upper_nm: Optional[float] = None,
     ) -> SpeedPiOutput: ...
 
+def accelerating_command(
+    wip: Wip, ball_rate_rad_per_s: float, ball_accel_rad_per_s2: float
+) -> Optional[tuple[_F64, float]]: ...
+
 class _Rollout(TypedDict):
     time_secs: _F64
     state: _F64
@@ -786,3 +797,165 @@ class McapLog:
     def channels(self) -> list[dict[str, Any]]: ...
     def numeric_series(self, topic: str) -> dict[str, _F64]: ...
     def messages(self, topic: str) -> tuple[_F64, list[Any]]: ...
+
+# ---- trajectory optimisation --------------------------------------------------------------
+
+_Method = Literal["hermite_simpson", "trapezoidal"]
+_SolveStatus = Literal[
+    "solved", "max_iterations", "infeasible", "line_search_failed", "numerical_error"
+]
+
+@final
+class BrakingLimits:
+    """Path limits of a braking problem; None leaves a quantity free."""
+
+    def __new__(
+        cls,
+        *,
+        tilt_rad: Optional[float] = None,
+        tilt_rate_rad_per_s: Optional[float] = None,
+        ball_speed_m_per_s: Optional[float] = None,
+        torque_nm: Optional[float] = None,
+        actuator: Optional[ActuatorParams] = None,
+        drivetrain: Optional[DrivetrainParams] = None,
+        heading_rad: float = 0.0,
+        traction: bool = False,
+    ) -> BrakingLimits: ...
+    @staticmethod
+    def miapure_actuators(heading_rad: float) -> BrakingLimits: ...
+    @staticmethod
+    def piptb_actuator() -> BrakingLimits: ...
+    @property
+    def tilt_rad(self) -> Optional[float]: ...
+    @property
+    def tilt_rate_rad_per_s(self) -> Optional[float]: ...
+    @property
+    def ball_speed_m_per_s(self) -> Optional[float]: ...
+    @property
+    def torque_nm(self) -> Optional[float]: ...
+    @property
+    def traction(self) -> bool: ...
+
+@final
+class BrakingProblem:
+    """Minimum-effort braking of one WIP plane by direct collocation."""
+
+    def __new__(
+        cls,
+        *,
+        plane: Optional[WipParams] = None,
+        initial_speed_m_per_s: float = 1.4,
+        duration_secs: float = 2.0,
+        intervals: int = 100,
+        method: _Method = "hermite_simpson",
+        zero_end_torques: bool = False,
+        limits: Optional[BrakingLimits] = None,
+    ) -> BrakingProblem: ...
+    @staticmethod
+    def miapure() -> BrakingProblem: ...
+    @staticmethod
+    def piptb() -> BrakingProblem: ...
+    def with_duration(self, duration_secs: float) -> BrakingProblem: ...
+    @property
+    def plane(self) -> WipParams: ...
+    @property
+    def initial_speed_m_per_s(self) -> float: ...
+    @property
+    def duration_secs(self) -> float: ...
+    @property
+    def intervals(self) -> int: ...
+    @property
+    def method(self) -> _Method: ...
+    @property
+    def zero_end_torques(self) -> bool: ...
+    @property
+    def limits(self) -> BrakingLimits: ...
+    def solve(
+        self,
+        *,
+        max_iterations: int = 50,
+        primal_tolerance: float = 1e-8,
+        dual_tolerance: float = 1e-6,
+        initial_guess: Optional[BrakingSolution] = None,
+    ) -> BrakingSolution: ...
+
+@final
+class BrakingSolution:
+    """The result of a braking solve; only status "solved" certifies the trajectory."""
+
+    @property
+    def status(self) -> _SolveStatus: ...
+    def is_solved(self) -> bool: ...
+    @property
+    def problem(self) -> BrakingProblem: ...
+    @property
+    def cost_n2m2s(self) -> float: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def primal_residual(self) -> float: ...
+    @property
+    def dual_residual(self) -> float: ...
+    @property
+    def solve_time_secs(self) -> float: ...
+    @property
+    def peak_tilt_rad(self) -> float: ...
+    @property
+    def knot_times_secs(self) -> _F64: ...
+    @property
+    def knot_states(self) -> _F64: ...
+    @property
+    def knot_torques_nm(self) -> _F64: ...
+    @property
+    def mid_torques_nm(self) -> _F64: ...
+    @property
+    def normal_force_n(self) -> _F64: ...
+    @property
+    def traction_n(self) -> _F64: ...
+    def state_at(self, t_secs: _Floats) -> _F64: ...
+    def torque_at(self, t_secs: _Floats) -> _F64: ...
+    def sample(self, dt_secs: float) -> dict[str, _F64]: ...
+
+class _MinTime(TypedDict):
+    min_duration_secs: Optional[float]
+    infeasible_below_secs: Optional[float]
+    solution: BrakingSolution
+    solves: int
+
+def min_braking_time(
+    problem: BrakingProblem,
+    *,
+    lower_secs: float = 0.1,
+    upper_secs: float = 10.0,
+    resolution_secs: float = 0.01,
+    max_iterations: int = 50,
+    primal_tolerance: float = 1e-8,
+    dual_tolerance: float = 1e-6,
+) -> _MinTime: ...
+
+# ---- planar simulator ---------------------------------------------------------------------
+
+@final
+class Scenario:
+    """A planar simulation scenario (robot, friction, sensors, rates, controller, command)."""
+
+    @staticmethod
+    def from_toml(text: str) -> Scenario: ...
+    @staticmethod
+    def load(path: _Path) -> Scenario: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def duration_secs(self) -> float: ...
+    @property
+    def controller(self) -> Literal["lqr", "pi_pd", "lqr_pi"]: ...
+    def run(self, log_path: Optional[_Path] = None) -> dict[str, Any]: ...
+
+def piptb_experiment(
+    *,
+    quick: bool = False,
+    trials: Optional[int] = None,
+    base_seed: Optional[int] = None,
+    controllers: Optional[list[str]] = None,
+    log_dir: Optional[_Path] = None,
+) -> dict[str, Any]: ...

@@ -1,0 +1,84 @@
+"""The planar simulator and the PIPTB experiment from Python, and reading their MCAP logs
+back into numpy arrays."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ballbot
+
+SCENARIO = """
+seed = 7
+duration_secs = 2.0
+[friction]
+stiction_torque_nm = 0.5
+coulomb_torque_nm = 0.35
+[controller]
+kind = "lqr_pi"
+[command]
+kind = "piptb"
+"""
+
+
+def test_scenario_runs_and_its_log_reads_back(tmp_path: Path) -> None:
+    scenario = ballbot.Scenario.from_toml(SCENARIO)
+    assert scenario.seed == 7 and scenario.controller == "lqr_pi"
+    log = tmp_path / "run.mcap"
+    run = scenario.run(log_path=log)
+    n = run["time_secs"].size
+    assert n == pytest.approx(2.0 * 400, abs=2)
+    assert run["state"].shape == (n, 4) and run["command"].shape == (n, 3)
+    assert run["fault"] is None and run["end_time_secs"] == pytest.approx(2.0)
+    assert Path(run["log_path"]) == log
+    # Deterministic: the same seed gives the same trajectory.
+    assert np.array_equal(scenario.run()["state"], run["state"])
+    read = ballbot.McapLog(log)
+    assert read.is_complete and read.message_count > 0
+    topics = read.topics()
+    assert topics and all(isinstance(t, str) for t in topics)
+    counts = {c["topic"]: c["message_count"] for c in read.channels()}
+    busiest = max(counts, key=lambda t: counts[t])
+    series = read.numeric_series(busiest)
+    assert series["time_secs"].shape == (counts[busiest],)
+    assert all(v.shape == series["time_secs"].shape for v in series.values())
+    times, messages = read.messages(busiest)
+    assert len(messages) == times.size == counts[busiest]
+
+
+def test_piptb_experiment_reproduces_the_ranking(tmp_path: Path) -> None:
+    result = ballbot.piptb_experiment(quick=True, log_dir=tmp_path)
+    c = result["controllers"]
+    assert set(c) == {"lqr", "pi_pd", "lqr_pi"}
+    # The paper: LQR-PI brakes in time with the least effort of the stopping controllers.
+    assert c["lqr_pi"]["stopped_all"]
+    assert c["lqr_pi"]["paper_j_p_n2mm2s"] == pytest.approx([8.2e5, 0.2e5])
+    trial = c["lqr_pi"]["trials"][0]
+    assert trial["series"]["time_secs"].shape == trial["series"]["torque_nm"].shape
+    assert Path(trial["log_path"]).exists()
+    assert result["brake_end_secs"] - result["brake_start_secs"] == pytest.approx(1.4)
+
+
+def test_bad_scenarios_and_logs_raise_documented_errors(tmp_path: Path) -> None:
+    with pytest.raises(ballbot.ParameterError, match="stiction_nm"):
+        ballbot.Scenario.from_toml('[controller]\nkind = "lqr"\n[friction]\nstiction_nm = 1.0')
+    with pytest.raises(ballbot.FileError, match="missing.toml"):
+        ballbot.Scenario.load(tmp_path / "missing.toml")
+    with pytest.raises(ballbot.ParameterError, match="unknown controller `mpc`"):
+        ballbot.piptb_experiment(quick=True, controllers=["mpc"])
+    with pytest.raises(ballbot.FileError, match="missing.mcap"):
+        ballbot.McapLog(tmp_path / "missing.mcap")
+    garbage = tmp_path / "garbage.mcap"
+    garbage.write_bytes(b"not an mcap file at all")
+    with pytest.raises(ballbot.FileError, match="garbage.mcap"):
+        ballbot.McapLog(garbage)
+    log = tmp_path / "ok.mcap"
+    ballbot.Scenario.from_toml(SCENARIO.replace("2.0", "0.1")).run(log_path=log)
+    with pytest.raises(ballbot.ParameterError, match="no channel with topic /nope"):
+        ballbot.McapLog(log).numeric_series("/nope")
+    # A truncated log (a killed writer) is recovered, not an error.
+    data = log.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) // 2])
+    partial = ballbot.McapLog(cut)
+    assert not partial.is_complete and partial.stop_reason
