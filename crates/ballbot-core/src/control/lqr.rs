@@ -203,6 +203,18 @@ impl<T: RealField + Copy> LqrController<T> {
     /// `tau = k (s_c - s)`, saturated. `measured` and `command` are full WIP states
     /// `[theta, phi, theta_dot, phi_dot]`; `phi` is ignored in both. `_dt_secs` is not used (the
     /// law is static).
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrController, LqrGains};
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let mut lqr = LqrController::new(LqrGains::for_wip(&wip, 83.9)?)?;
+    /// // Leaning forward 0.1 rad at rest: the ball is driven forward, under the body (tau > 0).
+    /// let out = lqr.step(&Vector4::new(0.1, 0.0, 0.0, 0.0), &Vector4::zeros(), 0.0025);
+    /// approx::assert_relative_eq!(out.torque_nm, 23.48, epsilon = 0.01);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(
         &mut self,
         measured: &WipState<T>,

@@ -205,6 +205,18 @@ impl<T: RealField + Copy> SpeedPi<T> {
     /// speed and feedforward torque, `dt_secs` the time since the previous step (s). A
     /// non-finite input, or `dt_secs <= 0`, gives zero torque with
     /// [`StepStatus::InvalidInput`] and leaves the integral unchanged.
+    ///
+    /// ```
+    /// use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains};
+    /// let gains = SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?;
+    /// let mut pi = SpeedPi::new(gains)?;
+    /// let command = SpeedCommand { speed_rad_per_s: 2.0, feedforward_torque_nm: 5.0 };
+    /// // 0.1 rad/s too slow: feedforward plus kp * 0.1, the integral starts to build.
+    /// let out = pi.step(1.9, &command, 1.0 / 8000.0);
+    /// approx::assert_relative_eq!(out.proportional_nm, gains.proportional_nm_s_per_rad * 0.1, epsilon = 1e-12);
+    /// assert!(out.torque_nm > 5.0 && pi.integral_nm() > 0.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(
         &mut self,
         measured_speed_rad_per_s: T,

@@ -158,6 +158,14 @@ pub struct OmniKinematics<T> {
 /// This is the small-tilt form of MODEL.md section 4 (the ball is assumed not to spin about
 /// the vertical); a 3D simulator should pass its exact `omega_ball - omega_body` in body
 /// coordinates to [`OmniKinematics::wheel_speeds_rad_per_s`] instead.
+///
+/// ```
+/// use ballbot_core::kinematics::relative_rate_from_planar;
+/// // Ball rolling at 2 rad/s in the sagittal plane under a body leaning forward at 0.5 rad/s,
+/// // turning at 0.1 rad/s.
+/// let w = relative_rate_from_planar([0.0, 2.0], [0.0, 0.5], 0.1);
+/// assert_eq!([w[0], w[1], w[2]], [0.0, 1.5, -0.1]);
+/// ```
 pub fn relative_rate_from_planar<T: RealField + Copy>(
     ball_rate_rad_per_s: [T; 2],
     tilt_rate_rad_per_s: [T; 2],
@@ -353,6 +361,20 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// Omniwheel torques (N m, at the omniwheel) producing the planar torque
     /// `planar_torque_nm = [tau_x, tau_y, tau_z]`: `tau_wheel = J^-T S tau`, so that the power
     /// balance holds exactly.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let tau = Vector3::new(10.0, -20.0, 5.0);
+    /// let wheels = kin.wheel_torques_nm(&tau);
+    /// // Round trip, and the power balance sum_i tau_i psi_dot_i = tau . S omega_rel.
+    /// approx::assert_relative_eq!(kin.planar_torque_nm(&wheels), tau, epsilon = 1e-12);
+    /// let omega_rel = Vector3::new(0.3, -1.0, 0.2);
+    /// let wheel_power = wheels.dot(&kin.wheel_speeds_rad_per_s(&omega_rel));
+    /// approx::assert_relative_eq!(wheel_power, 10.0 * 0.3 + 20.0 - 5.0 * 0.2, epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn wheel_torques_nm(&self, planar_torque_nm: &Vector3<T>) -> Vector3<T> {
         self.wheel_torque_from_planar * planar_torque_nm
     }
@@ -417,6 +439,18 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// Scales `planar_torque_nm` uniformly (keeping its direction) so that no omniwheel torque
     /// exceeds the actuator's `peak_torque_nm` in magnitude. A feasible request passes
     /// unchanged (`scale = 1`); a non-finite one gives zero torque (`scale = 0`).
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// // Twice the sagittal capacity (96.9 N m) is halved, direction kept.
+    /// let s = kin.saturate_planar_torque(&Vector3::new(0.0, 193.8, 0.0));
+    /// assert!(s.is_saturated());
+    /// approx::assert_relative_eq!(s.planar_torque_nm[1], 96.9, epsilon = 0.1);
+    /// assert!(s.wheel_torques_nm.amax() <= 43.2 + 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn saturate_planar_torque(&self, planar_torque_nm: &Vector3<T>) -> TorqueSaturation<T> {
         let peak = self.drivetrain.actuator.peak_torque_nm;
         self.saturate_with(planar_torque_nm, |_| (-peak, peak))
