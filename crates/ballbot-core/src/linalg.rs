@@ -47,6 +47,12 @@ const MAX_SQUARINGS: u32 = 128;
 const PHI1_TERMS: u32 = 16;
 
 /// The 1-norm (largest absolute column sum) of a matrix.
+///
+/// ```
+/// use ballbot_core::linalg::norm1;
+/// use nalgebra::Matrix2;
+/// assert_eq!(norm1(&Matrix2::new(1.0, -4.0, -2.0, 3.0)), 7.0);
+/// ```
 pub fn norm1<T: RealField + Copy, const R: usize, const C: usize>(m: &SMatrix<T, R, C>) -> T {
     let mut best = T::zero();
     for j in 0..C {
@@ -309,6 +315,16 @@ fn exp_phi1<T: RealField + Copy, const N: usize>(
 }
 
 /// A discrete-time linear system `x[k+1] = a x[k] + b u[k]`.
+///
+/// ```
+/// use ballbot_core::linalg::zoh;
+/// use nalgebra::{Matrix1, Vector1};
+/// // x_dot = -x + u held for 0.1 s: a = exp(-0.1), b = 1 - exp(-0.1).
+/// let d = zoh(&Matrix1::new(-1.0), &Vector1::new(1.0), 0.1)?;
+/// approx::assert_relative_eq!(d.a[0], (-0.1f64).exp(), epsilon = 1e-14);
+/// approx::assert_relative_eq!(d.b[0], 1.0 - (-0.1f64).exp(), epsilon = 1e-14);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DiscreteLti<T: RealField + Copy, const N: usize, const M: usize> {
     /// State transition `Ad = exp(A dt)`.

@@ -103,6 +103,16 @@ impl<T: RealField + Copy, const N: usize> Lqr<T, N> {
     /// Errors: invalid weights (naming `q` or `r`), a non-finite plant (`a`, `b`), or
     /// [`Error::NoStabilizingGain`] when the Riccati solve does not converge to a stabilising
     /// solution.
+    ///
+    /// ```
+    /// use ballbot_core::lqr::{Lqr, LqrWeights};
+    /// use nalgebra::{Matrix1, Vector1};
+    /// // x_dot = x + u, Q = R = 1: the CARE gives k = 1 + sqrt(2), closed loop -sqrt(2).
+    /// let lqr = Lqr::continuous(&Matrix1::new(1.0), &Vector1::new(1.0), &LqrWeights::diagonal([1.0], 1.0))?;
+    /// approx::assert_relative_eq!(lqr.gain[0], 1.0 + 2f64.sqrt(), epsilon = 1e-9);
+    /// approx::assert_relative_eq!(lqr.closed_loop[(0, 0)], -2f64.sqrt(), epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     #[allow(non_snake_case)]
     pub fn continuous(
         A: &SMatrix<T, N, N>,
