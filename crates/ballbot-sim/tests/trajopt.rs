@@ -580,3 +580,28 @@ fn reproduce_brake_record_has_the_summary_keys() {
     assert!(dir.path().join("brake_miapure.svg").exists());
     assert!(dir.path().join("brake_miapure.png").exists());
 }
+
+#[test]
+fn traction_limit_on_a_long_horizon_solves() {
+    // Regression: with the traction limit as clarabel second-order cones, this QP stalled
+    // (InsufficientProgress) and the SQP ended in a failed line search.
+    let sol = BrakingProblem {
+        duration_secs: 10.0,
+        limits: Limits {
+            traction: true,
+            ..Limits::miapure_actuators(PI)
+        },
+        ..BrakingProblem::miapure()
+    }
+    .solve()
+    .unwrap();
+    assert_eq!(sol.status, SolveStatus::Solved);
+    // Inactive limits: the cost is the unconstrained optimum's.
+    let free = BrakingProblem {
+        duration_secs: 10.0,
+        ..BrakingProblem::miapure()
+    }
+    .solve()
+    .unwrap();
+    approx::assert_relative_eq!(sol.cost_n2m2s, free.cost_n2m2s, max_relative = 1e-6);
+}

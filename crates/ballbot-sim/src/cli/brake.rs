@@ -86,7 +86,7 @@ pub struct BrakeArgs {
     #[arg(long, default_value_t = 180.0)]
     pub heading_deg: f64,
     /// Also find the minimum braking time under the limits, by bisection to this resolution
-    /// (s) between 0.1 s and 10 s.
+    /// (s) between 0.1 s and 5 s.
     #[arg(long)]
     pub min_time: Option<f64>,
     /// Print the result as JSON (cost, status, iterations, solve_ms, ...).

@@ -21,11 +21,11 @@ pub struct MinTimeOptions {
 }
 
 impl Default for MinTimeOptions {
-    /// 0.1 s to 10 s, to 0.01 s.
+    /// 0.1 s to 5 s (where the paper's hardware protocol starts), to 0.01 s.
     fn default() -> Self {
         Self {
             lower_secs: 0.1,
-            upper_secs: 10.0,
+            upper_secs: 5.0,
             resolution_secs: 0.01,
         }
     }

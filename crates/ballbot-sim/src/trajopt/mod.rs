@@ -7,7 +7,7 @@
 //!      s(0) = [0, 0, 0, v0 / r],  theta(T) = theta_dot(T) = phi_dot(T) = 0,  phi(T) free
 //!      optional tau(0) = tau(T) = 0, tilt / tilt-rate / ball-speed / torque bounds,
 //!      motor-side limits (peak torque, torque-speed line, no-load speed per actuator),
-//!      traction |F_i| <= mu N_i at every omniwheel (second-order cones)
+//!      traction |F_i| <= mu N_i at every omniwheel (linearised per iteration)
 //! ```
 //!
 //! Hermite-Simpson (default) or trapezoidal collocation on `N` intervals; SQP with exact

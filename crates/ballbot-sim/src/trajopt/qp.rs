@@ -147,10 +147,9 @@ impl Qp {
         let q = vec![0.0; n];
         let c = t.cones;
         let mut cones = vec![SupportedConeT::ZeroConeT(c.zero)];
-        if c.nonnegative > 0 {
-            cones.push(SupportedConeT::NonnegativeConeT(c.nonnegative));
+        if c.nonnegative + c.traction > 0 {
+            cones.push(SupportedConeT::NonnegativeConeT(c.nonnegative + c.traction));
         }
-        cones.extend((0..c.soc2).map(|_| SupportedConeT::SecondOrderConeT(2)));
         let solver = DefaultSolver::new(&p, &q, &a, &rhs, &cones, settings()?)
             .map_err(|e| TrajoptError::QpSetup(e.to_string()))?;
         Ok(Self {
@@ -209,8 +208,13 @@ impl Qp {
     /// Solves; the new point and the multipliers are in [`Self::primal`], [`Self::dual`].
     pub fn solve(&mut self) -> QpOutcome {
         self.solver.solve();
+        let finite = || self.solver.solution.x.iter().all(|v| v.is_finite());
         match self.solver.solution.status {
             SolverStatus::Solved | SolverStatus::AlmostSolved => QpOutcome::Solved,
+            // clarabel can stall near a solution (seen with second-order cones on long horizons);
+            // its last iterate is still a usable step: the SQP's merit line search and its
+            // explicit KKT test (not the QP's own) decide what it is worth.
+            SolverStatus::InsufficientProgress if finite() => QpOutcome::Solved,
             SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
                 QpOutcome::Infeasible
             }

@@ -18,7 +18,7 @@
 //! (defects, traction) are linearised at the current point `z`:
 //! `J_c(z) x = J_c(z) z - c(z)`.
 
-use super::drive::{DriveMap, KnotGradient};
+use super::drive::DriveMap;
 use super::problem::{BrakingProblem, Method};
 use ballbot_core::{Wip, WipState};
 use nalgebra::{Matrix4, Vector4};
@@ -28,10 +28,10 @@ use nalgebra::{Matrix4, Vector4};
 pub(crate) struct ConeSizes {
     /// Equality rows.
     pub zero: usize,
-    /// Inequality rows `a^T x <= b`.
+    /// Inequality rows `a^T x <= b` (path and motor limits).
     pub nonnegative: usize,
-    /// Second-order cones of dimension 2 (`|F| <= mu N`), one per wheel and knot.
-    pub soc2: usize,
+    /// Traction rows `mu N_i -+ F_i >= 0` (nonnegative too), two per wheel and knot.
+    pub traction: usize,
 }
 
 /// Receives the constraint matrix and right-hand side in a fixed order.
@@ -93,7 +93,7 @@ impl Transcription {
             cones: ConeSizes {
                 zero: 0,
                 nonnegative: 0,
-                soc2: 0,
+                traction: 0,
             },
         };
         let mut w = vec![0.0; t.variable_count()];
@@ -223,12 +223,12 @@ impl Transcription {
         ConeSizes {
             zero,
             nonnegative: per_knot * (n + 1) + per_mid * n,
-            soc2: self.traction_wheels() * (n + 1),
+            traction: 2 * self.traction_wheels() * (n + 1),
         }
     }
 
     pub fn row_count(&self) -> usize {
-        self.cones.zero + self.cones.nonnegative + 2 * self.cones.soc2
+        self.cones.zero + self.cones.nonnegative + self.cones.traction
     }
 
     /// Evaluates every point of the grid: knots first, then (Hermite-Simpson) midpoints.
@@ -437,37 +437,35 @@ impl Transcription {
             }
         }
         debug_assert_eq!(row, self.cones.zero + self.cones.nonnegative);
-        // Traction cones: (mu N_i, F_i) in SOC(2), both linearised at z:
-        // s = b - A x, s_0 = mu (N(z) + grad N (x - z)), s_1 = F(z) + grad F (x - z).
+        // Traction: |F_i| <= mu N_i as the two half-spaces mu N_i -+ F_i >= 0, N_i and F_i
+        // linearised at z: s = b - A x = g(z) + grad g (x - z) >= 0 (exact values at z).
+        // (clarabel's second-order cone of dimension 2 expresses the same set, but stalled
+        // on long horizons and was 2-3x slower; the rollers carry no axle force, so there is
+        // no third dimension that would make a true cone natural.)
         if self.traction_wheels() > 0
             && let Some((d, c)) = self
                 .drive
                 .as_ref()
                 .and_then(|d| d.contacts.as_ref().map(|c| (d, c)))
         {
-            {
-                let mu = c.friction;
-                for k in 0..=n {
-                    let sk = self.knot_state(z, k);
-                    let tau = z[self.torque(k)];
-                    let f = c.forces(&self.wip, &sk, tau);
-                    let cols = self.knot_columns(k);
-                    for i in 0..d.motors().len() {
-                        // Row pair (mu N_i, F_i), each linearised at z (exact values at z).
-                        for (value, grad, scale) in [
-                            (f.normal_n[i], &f.normal_grad[i], mu),
-                            (f.traction_n[i], &f.traction_grad[i], 1.0),
-                        ] {
-                            let g: &KnotGradient = grad;
-                            let mut lin = value;
-                            for (col, gk) in cols.iter().zip(g) {
-                                let gk = if jacobians { *gk } else { 0.0 };
-                                sink.entry(row, *col, -scale * gk);
-                                lin -= gk * z[*col];
-                            }
-                            sink.rhs(row, scale * lin);
-                            row += 1;
+            let mu = c.friction;
+            for k in 0..=n {
+                let f = c.forces(&self.wip, &self.knot_state(z, k), z[self.torque(k)]);
+                let cols = self.knot_columns(k);
+                for i in 0..d.motors().len() {
+                    for sign in [-1.0, 1.0] {
+                        let mut lin = mu * f.normal_n[i] + sign * f.traction_n[i];
+                        for (j, col) in cols.iter().enumerate() {
+                            let g = if jacobians {
+                                mu * f.normal_grad[i][j] + sign * f.traction_grad[i][j]
+                            } else {
+                                0.0
+                            };
+                            sink.entry(row, *col, -g);
+                            lin -= g * z[*col];
                         }
+                        sink.rhs(row, lin);
+                        row += 1;
                     }
                 }
             }
@@ -524,13 +522,11 @@ impl Transcription {
         };
         self.assemble(z, false, &mut s);
         let c = self.cones;
-        let (eq, rest) = s.slack.split_at(c.zero);
-        let (ineq, soc) = rest.split_at(c.nonnegative);
+        let (eq, ineq) = s.slack.split_at(c.zero);
         let parts = eq
             .iter()
             .map(|v| v.abs())
-            .chain(ineq.iter().map(|v| (-v).max(0.0)))
-            .chain(soc.chunks_exact(2).map(|p| (p[1].abs() - p[0]).max(0.0)));
+            .chain(ineq.iter().map(|v| (-v).max(0.0)));
         parts.fold((0.0, 0.0), |(sum, max), v| (sum + v, f64::max(max, v)))
     }
 }
