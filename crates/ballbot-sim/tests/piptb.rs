@@ -151,3 +151,39 @@ fn mcap_log_reads_back_with_every_channel_and_count() {
         assert!(first["terms"][term].is_number(), "{term} missing: {first}");
     }
 }
+
+/// The two effects the docs explain, on a shortened protocol: transmission friction lowers the
+/// braking effort (it brakes the wheel for free), sensor noise raises the torque jitter of the
+/// LQR-based controllers.
+#[test]
+fn ablation_separates_friction_and_noise() {
+    let settings = PiptbSettings {
+        accel_secs: 1.0,
+        hold_secs: 0.5,
+        settle_secs: 0.0,
+        ..PiptbSettings::quick()
+    };
+    let variants = piptb::ablation(&settings, &reference()).unwrap();
+    let names: Vec<_> = variants.iter().map(|v| v.name).collect();
+    assert_eq!(
+        names,
+        ["ideal", "noise_only", "friction_only", "friction_and_noise"]
+    );
+    let get = |name: &str, kind: ControllerKind| {
+        let v = variants.iter().find(|v| v.name == name).unwrap();
+        v.report
+            .controllers
+            .iter()
+            .find(|c| c.kind == kind)
+            .unwrap()
+            .clone()
+    };
+    for kind in [ControllerKind::Lqr, ControllerKind::LqrPi] {
+        let ideal = get("ideal", kind);
+        assert!(get("friction_only", kind).j_p < 0.8 * ideal.j_p, "{kind:?}");
+        assert!(get("noise_only", kind).torque_jitter_nm > 3.0 * ideal.torque_jitter_nm);
+    }
+    let json = piptb::ablation_json(&variants);
+    assert!(json["friction_only"]["lqr_pi"]["j_p"].is_number());
+    assert!(piptb::ablation_table(&variants).contains("friction_and_noise"));
+}

@@ -2,7 +2,9 @@
 //!
 //! Writes `DIR/summary.json` (a stable interface: one key per experiment, e.g. `piptb`),
 //! figures (`DIR/*.svg`, `DIR/*.png`) and MCAP logs (`DIR/logs/*.mcap`), prints a comparison
-//! table per experiment, and shows a progress bar on a terminal.
+//! table per experiment, and shows a progress bar on a terminal. The full run (not `--quick`)
+//! also writes `piptb_ablation`: the PIPTB experiment without friction and noise, with each
+//! alone, and with both, to show what each does to the comparison.
 
 use crate::experiments::piptb::{self, PiptbSettings};
 use crate::planar::ControllerKind;
@@ -49,6 +51,11 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
         PiptbSettings::paper()
     };
     let brake = piptb::braking_reference(&settings)?;
+    let ablation = if args.quick {
+        None
+    } else {
+        Some(piptb::ablation(&settings, &brake)?)
+    };
     let kinds = ControllerKind::ALL;
     let bar = progress_bar((kinds.len() * settings.trials) as u64, "piptb");
     let report = piptb::run(&settings, brake, &kinds, Some(&logs), &mut |kind, trial| {
@@ -61,6 +68,10 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
         report.plot(&args.out)?;
     }
     summary.insert("piptb".to_owned(), report.summary_json());
+    if let Some(variants) = &ablation {
+        println!("{}", piptb::ablation_table(variants));
+        summary.insert("piptb_ablation".to_owned(), piptb::ablation_json(variants));
+    }
 
     // Braking trajectory optimisation (paper Sec. III-D, Fig. "DEC").
     summary.insert(

@@ -726,3 +726,94 @@ pub fn braking_reference(settings: &PiptbSettings) -> Result<BrakingTrajectory, 
     )
     .ok_or_else(|| ExperimentError::Braking("the linear-quadratic problem is singular".into()))
 }
+
+/// One variant of the ablation: the paper's settings with some imperfections switched off.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AblationVariant {
+    /// Short name: `ideal`, `noise_only`, `friction_only`, `friction_and_noise`.
+    pub name: &'static str,
+    /// The result.
+    pub report: PiptbReport,
+}
+
+/// Runs the experiment (no logs) four times, to separate the effects of transmission friction
+/// and sensor noise: ideal sensors without friction, noise only, friction only, and both
+/// (`settings` as given). Same seeds and reference throughout.
+pub fn ablation(
+    settings: &PiptbSettings,
+    brake: &BrakingTrajectory,
+) -> Result<Vec<AblationVariant>, ExperimentError> {
+    let ideal = SensorParams::ideal();
+    let none = TransmissionFriction::none();
+    let variants = [
+        ("ideal", none, ideal),
+        ("noise_only", none, settings.sensors),
+        ("friction_only", settings.friction, ideal),
+        ("friction_and_noise", settings.friction, settings.sensors),
+    ];
+    variants
+        .into_iter()
+        .map(|(name, friction, sensors)| {
+            let s = PiptbSettings {
+                friction,
+                sensors,
+                ..settings.clone()
+            };
+            let report = run(
+                &s,
+                brake.clone(),
+                &ControllerKind::ALL,
+                None,
+                &mut |_, _| {},
+            )?;
+            Ok(AblationVariant { name, report })
+        })
+        .collect()
+}
+
+/// The ablation as the summary's `piptb_ablation` value: per variant, per controller, the mean
+/// `j_p`, the number of trials that stopped, and the mean torque jitter.
+pub fn ablation_json(variants: &[AblationVariant]) -> serde_json::Value {
+    let mut map = serde_json::Map::new();
+    for v in variants {
+        let mut per = serde_json::Map::new();
+        for c in &v.report.controllers {
+            per.insert(
+                c.kind.key().to_owned(),
+                serde_json::json!({
+                    "j_p": c.j_p,
+                    "stopped": c.trials.iter().filter(|t| t.stopped).count(),
+                    "trials": c.trials.len(),
+                    "torque_jitter_nm": c.torque_jitter_nm,
+                    "speed_rmse": c.speed_rmse,
+                }),
+            );
+        }
+        map.insert(v.name.to_owned(), serde_json::Value::Object(per));
+    }
+    serde_json::Value::Object(map)
+}
+
+/// The ablation as a plain-text table: mean `J_P` (N^2 m^2 s) / stopped / jitter (N m).
+pub fn ablation_table(variants: &[AblationVariant]) -> String {
+    let mut out = String::from(
+        "PIPTB ablation: mean J_P (N^2 m^2 s), trials stopped, torque jitter (N m)\n\
+         variant            | LQR                   | PI-PD                 | LQR-PI\n\
+         -------------------|-----------------------|-----------------------|----------------------\n",
+    );
+    for v in variants {
+        out.push_str(&format!("{:<18}", v.name));
+        for c in &v.report.controllers {
+            let cell = format!(
+                "{:.3} {}/{} {:.3}",
+                c.j_p,
+                c.trials.iter().filter(|t| t.stopped).count(),
+                c.trials.len(),
+                c.torque_jitter_nm
+            );
+            out.push_str(&format!(" | {cell:<21}"));
+        }
+        out.push('\n');
+    }
+    out
+}
