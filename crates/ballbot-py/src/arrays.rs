@@ -33,6 +33,21 @@ pub fn rows<const N: usize>(
             single: true,
         }),
         [_, n] if *n == N => {
+            // C-contiguous input (the usual case) is read as one slice; strided views row by row.
+            if let Ok(flat) = array.as_slice() {
+                let rows = flat
+                    .chunks_exact(N)
+                    .map(|c| {
+                        let mut row = [0.0; N];
+                        row.copy_from_slice(c);
+                        row
+                    })
+                    .collect();
+                return Ok(Rows {
+                    rows,
+                    single: false,
+                });
+            }
             let rows = view.outer_iter().map(copy_row).collect();
             Ok(Rows {
                 rows,

@@ -332,7 +332,9 @@ macro_rules! py_output {
         $py_ty:ident($core:ty, $name:literal) { $($field:ident),* $(,)? }
     ) => {
         $(#[$meta])*
-        #[pyclass(name = $name, module = "ballbot", frozen)]
+        // A free list: `step` creates one output per call, so reusing the allocations
+        // shortens the call from Python.
+        #[pyclass(name = $name, module = "ballbot", frozen, freelist = 32)]
         pub struct $py_ty {
             inner: $core,
         }
