@@ -316,3 +316,35 @@ fn same_seed_gives_identical_telemetry() {
     assert_eq!(telemetry_hash(7), telemetry_hash(7));
     assert_ne!(telemetry_hash(7), telemetry_hash(8), "the seed must matter");
 }
+
+#[test]
+fn core_controller_ramp_unloads_driving_wheels_more_towards_ow1() {
+    // The core's cascaded LQR-PI in the loop, a 1 m/s^2 ramp to 1 m/s at 0 and 180 deg. The
+    // paper's mechanism: towards OW1 (0 deg) the lean unloads the driving wheels OW2 and OW3,
+    // away from it (180 deg) it loads them. So the smallest normal force during the run is
+    // lower at 0 deg.
+    use ballbot_sim::world::experiments::{RampParams, max_speed_ramp};
+    let ramp = RampParams {
+        accel_m_per_s2: 1.0,
+        max_command_m_per_s: 1.0,
+        settle_s: 0.2,
+        sample_every_s: 0.0025,
+    };
+    let run = |h| max_speed_ramp(miapure(), h, &ramp).unwrap();
+    let (fwd, back) = (run(0.0), run(180.0));
+    assert!(fwd.failure.is_none() && back.failure.is_none());
+    assert!(fwd.max_speed_m_per_s > 0.9 && back.max_speed_m_per_s > 0.9);
+    // The driving wheels OW2 and OW3 (OW1 idles along the sagittal plane).
+    let min_n = |r: &ballbot_sim::world::experiments::RampResult| {
+        r.samples
+            .iter()
+            .map(|s| s.normal_force_n[1].min(s.normal_force_n[2]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    assert!(
+        min_n(&fwd) < min_n(&back) - 5.0,
+        "{} vs {}",
+        min_n(&fwd),
+        min_n(&back)
+    );
+}

@@ -7,6 +7,8 @@
 //! * [`contact`]: the omniwheel contact law and its step-size needs.
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
+//! * [`closed_loop`]: the core's 3D cascaded LQR-PI controller in the loop ([`CoreLoop`]),
+//!   outer loop at 400 Hz, motor speed PIs at 8 kHz.
 //! * [`balance`]: a minimal balancing loop from the core's planar model (for tests/benches).
 //!
 //! Why `rapier3d-f64`: the contact deflections are a fraction of a millimetre (0.17 mm under the
@@ -15,7 +17,9 @@
 //! forces would become noisy. The core runs in `f64` too, so no conversions are needed.
 
 pub mod balance;
+pub mod closed_loop;
 pub mod contact;
+pub mod experiments;
 pub mod failure;
 pub mod params;
 pub mod sensors;
@@ -23,6 +27,7 @@ pub mod sim;
 pub mod telemetry;
 
 pub use balance::{PlanarBalancer, PlanarBalancerParams};
+pub use closed_loop::CoreLoop;
 pub use failure::{Failure, FailureKind};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
 pub use sensors::Measurement;

@@ -13,16 +13,24 @@ use rand_distr::{Distribution, StandardNormal};
 pub struct Measurement {
     /// Time of the sample (s).
     pub time_s: f64,
-    /// IMU tilt `[theta_x, theta_y]` (rad): rotation of the body about its own horizontal
-    /// axes, right-handed (theta_y > 0 leans towards +x, OW1).
+    /// IMU tilt `[roll, pitch]` (rad), ZYX Euler angles of the body (as the core's
+    /// `ImuSample`): rotation about the body x and y axes, right-handed (pitch > 0 leans
+    /// towards +x, OW1).
     pub tilt_rad: [f64; 2],
-    /// IMU yaw `theta_z` (rad).
+    /// IMU yaw (rad), ZYX Euler.
     pub yaw_rad: f64,
     /// Gyro: body angular velocity in the body frame (rad/s).
     pub body_rate_rad_per_s: [f64; 3],
     /// Encoder angles of the three wheels relative to the body, quantised (rad).
     pub wheel_angle_rad: [f64; 3],
+    /// Wheel speeds (rad/s) as a motor driver measures them: the quantised angle's change
+    /// over the last [`SPEED_WINDOW_STEPS`] physics steps.
+    pub wheel_speed_rad_per_s: [f64; 3],
 }
+
+/// Length of the encoder speed window, in physics steps (20 at 8 kHz: 2.5 ms, a resolution
+/// of about 0.02 rad/s at the wheel with the default encoder).
+pub const SPEED_WINDOW_STEPS: usize = 20;
 
 /// The sensor suite with its own seeded noise generator.
 #[derive(Clone, Debug)]
@@ -30,18 +38,57 @@ pub struct Sensors {
     params: SensorParams,
     wheel_rad_per_count: f64,
     rng: ChaCha8Rng,
+    /// Quantised wheel angles of the last steps (ring buffer) and the write index.
+    history: [[f64; 3]; SPEED_WINDOW_STEPS],
+    next: usize,
+    filled: usize,
+    dt_secs: f64,
 }
 
 impl Sensors {
     /// Sensors whose encoders count `params.encoder_counts_per_rev` per rotor turn behind a
     /// gear ratio `gear_ratio`.
-    pub fn new(params: SensorParams, gear_ratio: f64) -> Self {
+    /// `dt_secs` is the physics step at which [`Self::record_encoders`] is called.
+    pub fn new(params: SensorParams, gear_ratio: f64, dt_secs: f64) -> Self {
         let counts_per_wheel_rev = f64::from(params.encoder_counts_per_rev) * gear_ratio;
         Self {
             params,
             wheel_rad_per_count: core::f64::consts::TAU / counts_per_wheel_rev,
             rng: ChaCha8Rng::seed_from_u64(params.seed),
+            history: [[0.0; 3]; SPEED_WINDOW_STEPS],
+            next: 0,
+            filled: 0,
+            dt_secs,
         }
+    }
+
+    fn quantise(&self, angle_rad: f64) -> f64 {
+        let q = self.wheel_rad_per_count;
+        (angle_rad / q).floor() * q
+    }
+
+    /// Records the true wheel angles of one physics step (the encoders count every step).
+    pub fn record_encoders(&mut self, wheel_angle_rad: [f64; 3]) {
+        self.history[self.next] = wheel_angle_rad.map(|a| self.quantise(a));
+        self.next = (self.next + 1) % SPEED_WINDOW_STEPS;
+        self.filled = (self.filled + 1).min(SPEED_WINDOW_STEPS);
+    }
+
+    /// The encoder speed estimate of the three wheels (rad/s): see
+    /// [`Measurement::wheel_speed_rad_per_s`].
+    pub fn wheel_speeds(&self) -> [f64; 3] {
+        if self.filled < 2 {
+            return [0.0; 3];
+        }
+        let newest = self.history[(self.next + SPEED_WINDOW_STEPS - 1) % SPEED_WINDOW_STEPS];
+        let oldest_index = if self.filled < SPEED_WINDOW_STEPS {
+            0
+        } else {
+            self.next
+        };
+        let oldest = self.history[oldest_index];
+        let span_secs = (self.filled - 1) as f64 * self.dt_secs;
+        [0, 1, 2].map(|i| (newest[i] - oldest[i]) / span_secs)
     }
 
     /// Encoder resolution at the wheel (rad per count).
@@ -58,22 +105,19 @@ impl Sensors {
     pub fn sample(&mut self, truth: &StepTelemetry) -> Measurement {
         let tilt = self.params.tilt_noise_rad;
         let gyro = self.params.gyro_noise_rad_per_s;
-        let (_, _, yaw) = truth.body_orientation.euler_angles();
+        let (roll, pitch, yaw) = truth.body_orientation.euler_angles();
         let rate = truth.body_rate_rad_per_s;
-        let q = self.wheel_rad_per_count;
         Measurement {
             time_s: truth.time_s,
-            tilt_rad: [
-                truth.tilt_rad[0] + self.noise(tilt),
-                truth.tilt_rad[1] + self.noise(tilt),
-            ],
+            tilt_rad: [roll + self.noise(tilt), pitch + self.noise(tilt)],
             yaw_rad: yaw + self.noise(tilt),
             body_rate_rad_per_s: [
                 rate.x + self.noise(gyro),
                 rate.y + self.noise(gyro),
                 rate.z + self.noise(gyro),
             ],
-            wheel_angle_rad: truth.wheels.map(|w| (w.angle_rad / q).floor() * q),
+            wheel_angle_rad: truth.wheels.map(|w| self.quantise(w.angle_rad)),
+            wheel_speed_rad_per_s: self.wheel_speeds(),
         }
     }
 }

@@ -180,7 +180,7 @@ impl BallbotWorld {
                 floor_force_n: 0.0,
             },
             monitor: FailureMonitor::new(params.failure),
-            sensors: Sensors::new(params.sensors, dt.actuator.gear_ratio),
+            sensors: Sensors::new(params.sensors, dt.actuator.gear_ratio, params.dt_secs),
             // Half the gain that would stop the ball's spin in one step: a stiff, stable
             // regularisation of the Coulomb spin friction.
             spin_friction_gain_nm_s: 0.5 * robot.sagittal.ball_inertia_kg_m2 / params.dt_secs,
@@ -217,6 +217,11 @@ impl BallbotWorld {
     /// Samples the sensors (IMU, encoders) at the current state.
     pub fn measure(&mut self) -> Measurement {
         self.sensors.sample(&self.telemetry)
+    }
+
+    /// The encoders' wheel speed estimate (rad/s), as the motor drivers read it every step.
+    pub fn encoder_speeds_rad_per_s(&self) -> [f64; 3] {
+        self.sensors.wheel_speeds()
     }
 
     /// Applies a horizontal (or any) impulse (N s) at the body's centre of mass, e.g. a push.
@@ -521,6 +526,7 @@ impl BallbotWorld {
         self.telemetry.time_s += dt;
         self.telemetry.wheels = wheel_tel;
         self.telemetry.floor_force_n = floor_impulse / dt;
+        self.sensors.record_encoders(wheel_tel.map(|w| w.angle_rad));
         self.refresh_poses();
         let clearance = self.chassis_clearance_m();
         self.monitor.update(&self.telemetry, clearance, dt);

@@ -1,0 +1,127 @@
+//! The MiaPURE benchmarks of the paper's Sec. V in the 3D world, with the core's controller:
+//! maximum speed per heading (slow velocity ramp until failure) and push recovery.
+
+use super::WorldError;
+use super::closed_loop::CoreLoop;
+use super::failure::{Failure, tilt_from_vertical_rad};
+use super::params::WorldParams;
+use ballbot_core::command::{Command, VelocityCommand};
+use nalgebra::Vector3;
+
+/// One sample of a ramp run, decimated for plots.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RampSample {
+    /// Time (s).
+    pub time_s: f64,
+    /// Commanded speed along the heading (m/s).
+    pub command_m_per_s: f64,
+    /// Ball speed along the heading (m/s).
+    pub speed_m_per_s: f64,
+    /// Body tilt from the vertical (rad).
+    pub tilt_rad: f64,
+    /// Normal force of each omniwheel (N).
+    pub normal_force_n: [f64; 3],
+    /// Largest friction-cone utilisation of the three wheels.
+    pub max_cone_utilisation: f64,
+}
+
+/// A velocity ramp at a fixed heading until failure (or the end of the ramp).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RampResult {
+    /// Heading of travel in the body frame (deg; 0 is towards OW1).
+    pub heading_deg: f64,
+    /// Highest ball speed along the heading before failure (m/s).
+    pub max_speed_m_per_s: f64,
+    /// The failure that ended the run; `None` if the ramp ended first.
+    pub failure: Option<Failure>,
+    /// Samples every `sample_every_s`.
+    pub samples: Vec<RampSample>,
+}
+
+/// Parameters of the maximum-speed ramp.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RampParams {
+    /// Ramp acceleration (m/s^2). Default 0.25 ("a slowly ramping velocity").
+    pub accel_m_per_s2: f64,
+    /// The ramp stops rising at this speed (m/s). Default 3.5.
+    pub max_command_m_per_s: f64,
+    /// Hold time before the ramp starts (s). Default 0.5.
+    pub settle_s: f64,
+    /// Sample period of the returned series (s). Default 0.01.
+    pub sample_every_s: f64,
+}
+
+impl Default for RampParams {
+    fn default() -> Self {
+        Self {
+            accel_m_per_s2: 0.25,
+            max_command_m_per_s: 3.5,
+            settle_s: 0.5,
+            sample_every_s: 0.01,
+        }
+    }
+}
+
+/// Drives the robot with a velocity ramp towards `heading_deg` (body frame) under the core's
+/// controller until the world detects a failure or the ramp has held its top speed for 1 s.
+pub fn max_speed_ramp(
+    params: WorldParams,
+    heading_deg: f64,
+    ramp: &RampParams,
+) -> Result<RampResult, WorldError> {
+    if !(ramp.accel_m_per_s2 > 0.0 && ramp.max_command_m_per_s > 0.0 && ramp.sample_every_s > 0.0) {
+        return Err(WorldError::InvalidParameter {
+            field: "ramp",
+            requirement: "accel, top speed and sample period must be > 0",
+        });
+    }
+    let mut sim = CoreLoop::new(params)?;
+    let (s, c) = heading_deg.to_radians().sin_cos();
+    let dir = Vector3::new(c, s, 0.0);
+    let dt = params.dt_secs;
+    let ramp_s = ramp.max_command_m_per_s / ramp.accel_m_per_s2;
+    let end_s = ramp.settle_s + ramp_s + 1.0;
+    let steps = (end_s / dt).ceil() as u64;
+    let every = (ramp.sample_every_s / dt).round().max(1.0) as u64;
+    let mut samples = Vec::with_capacity((steps / every + 1) as usize);
+    let mut max_speed: f64 = 0.0;
+    for k in 0..steps {
+        let t = k as f64 * dt;
+        let v = ((t - ramp.settle_s).max(0.0) * ramp.accel_m_per_s2).min(ramp.max_command_m_per_s);
+        let cmd = VelocityCommand {
+            vx_m_per_s: v * c,
+            vy_m_per_s: v * s,
+            yaw_rate_rad_per_s: 0.0,
+        };
+        let tel = *sim.step(Command::Velocity(cmd));
+        // Ball velocity expressed in the body's yaw frame, along the heading.
+        let (_, _, yaw) = tel.body_orientation.euler_angles();
+        let v_body = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw)
+            * tel.ball_velocity_m_per_s;
+        let speed = v_body.dot(&dir);
+        if sim.world().failure().is_some() {
+            break;
+        }
+        max_speed = max_speed.max(speed);
+        if k.is_multiple_of(every) {
+            samples.push(RampSample {
+                time_s: tel.time_s,
+                command_m_per_s: v,
+                speed_m_per_s: speed,
+                tilt_rad: tilt_from_vertical_rad(&tel),
+                normal_force_n: tel.wheels.map(|w| w.normal_force_n),
+                max_cone_utilisation: tel
+                    .wheels
+                    .iter()
+                    .map(|w| w.cone_utilisation)
+                    .fold(0.0, f64::max),
+            });
+        }
+    }
+    Ok(RampResult {
+        heading_deg,
+        max_speed_m_per_s: max_speed,
+        failure: sim.world().failure(),
+        samples,
+    })
+}
