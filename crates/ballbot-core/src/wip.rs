@@ -131,8 +131,13 @@ impl<T: RealField + Copy> Wip<T> {
     /// `M(theta) q_ddot = [g1, g2]`.
     #[inline]
     fn forces(&self, s: &WipState<T>, torque_nm: T) -> (T, T) {
+        self.forces_with_sin(s, s[TILT].sin(), torque_nm)
+    }
+
+    /// [`Self::forces`] with `sin(theta)` already computed.
+    #[inline]
+    fn forces_with_sin(&self, s: &WipState<T>, sin: T, torque_nm: T) -> (T, T) {
         let p = &self.params;
-        let (sin, _) = s[TILT].sin_cos();
         let rel = s[BALL_RATE] - s[TILT_RATE];
         let g1 = self.mgl * sin - torque_nm + p.drive_damping_nm_s_per_rad * rel;
         let g2 = self.mrl * sin * s[TILT_RATE] * s[TILT_RATE] + torque_nm
@@ -143,8 +148,11 @@ impl<T: RealField + Copy> Wip<T> {
 
     /// Forward dynamics `q_ddot = f_d(s, tau)`: `[theta_ddot, phi_ddot]` (rad/s^2).
     pub fn accelerations(&self, s: &WipState<T>, torque_nm: T) -> Vector2<T> {
-        let (g1, g2) = self.forces(s, torque_nm);
-        let c = self.coupling(s[TILT]);
+        // One sin_cos serves both the forces and the coupling inertia (hot path: the LQR-PI
+        // reference model and every simulator step).
+        let (sin, cos) = s[TILT].sin_cos();
+        let (g1, g2) = self.forces_with_sin(s, sin, torque_nm);
+        let c = self.mrl * cos - self.params.wheel_inertia_kg_m2;
         let delta = self.a * self.b - c * c;
         Vector2::new(
             (self.b * g1 - c * g2) / delta,
