@@ -38,9 +38,10 @@ cargo test --doc
 step "instruction-count budgets (valgrind callgrind)"
 bash scripts/icount.sh
 
-step "Python package: pip install into a fresh venv, mypy.stubtest, mypy --strict, pytest"
-bash scripts/test-python.sh
-
 step "reproduce smoke run (ballbot reproduce --quick)"
 cargo run -q -p ballbot-sim --bin ballbot -- reproduce --quick --out target/reproduce-quick
 grep -q '"piptb"' target/reproduce-quick/summary.json
+
+step "Python package: pip install into a fresh venv, mypy.stubtest, mypy --strict, pytest"
+bash scripts/test-python.sh
+
