@@ -5,6 +5,7 @@ use super::WorldError;
 use super::closed_loop::CoreLoop;
 use super::failure::{Failure, tilt_from_vertical_rad};
 use super::params::WorldParams;
+use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use nalgebra::Vector3;
 
@@ -64,8 +65,24 @@ impl Default for RampParams {
 
 /// Drives the robot with a velocity ramp towards `heading_deg` (body frame) under the core's
 /// controller until the world detects a failure or the ramp has held its top speed for 1 s.
+///
+/// The controller is designed from the robot with its default command shaping, which caps the
+/// commanded speed at 2.0 m/s and the acceleration at 1.0 m/s^2; use
+/// [`max_speed_ramp_with_config`] to lift those limits.
 pub fn max_speed_ramp(
     params: WorldParams,
+    heading_deg: f64,
+    ramp: &RampParams,
+) -> Result<RampResult, WorldError> {
+    let config = BallbotControllerConfig::design(&params.robot)?;
+    max_speed_ramp_with_config(params, config, heading_deg, ramp)
+}
+
+/// [`max_speed_ramp`] with a given controller configuration, e.g. with the command shaper's
+/// speed and acceleration limits raised so that the ramp, not the shaper, sets the command.
+pub fn max_speed_ramp_with_config(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
     heading_deg: f64,
     ramp: &RampParams,
 ) -> Result<RampResult, WorldError> {
@@ -75,7 +92,7 @@ pub fn max_speed_ramp(
             requirement: "accel, top speed and sample period must be > 0",
         });
     }
-    let mut sim = CoreLoop::new(params)?;
+    let mut sim = CoreLoop::with_config(params, config)?;
     let (s, c) = heading_deg.to_radians().sin_cos();
     let dir = Vector3::new(c, s, 0.0);
     let dt = params.dt_secs;
