@@ -259,13 +259,16 @@ pub fn reproduce(out: &Path, no_plots: bool, quick: bool) -> anyhow::Result<Valu
     println!(
         "brake (MiaPURE 1.4 m/s -> rest in 2 s, Hermite-Simpson N = 100): J = {:.2} N^2 m^2 s \
          (MODEL.md ~114), {} in {} iterations, {:.2} ms; lean {:.2} deg (paper ~7); \
-         minimum braking time under the actuator limits {:?} s",
+         minimum braking time under the actuator limits {}",
         sol.cost_n2m2s,
         sol.status,
         sol.iterations,
         sol.solve_time_secs * 1e3,
         sol.peak_tilt_rad().to_degrees(),
-        r.min_duration_secs
+        match r.min_duration_secs {
+            Some(t) => format!("{t:.3} s"),
+            None => "not found in the searched range".to_owned(),
+        }
     );
     if !no_plots {
         figure(
