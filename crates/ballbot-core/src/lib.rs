@@ -46,3 +46,8 @@ pub use params::{
 };
 pub use spin::{Spin, SpinState};
 pub use wip::{Wip, WipLinearization, WipReducedState, WipState};
+
+/// The Rust examples of the repository's README, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
