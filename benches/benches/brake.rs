@@ -10,42 +10,10 @@
 //!
 //! Run: `cargo bench -p ballbot-benches --bench brake -- --warm-up-time 1 --measurement-time 3`
 
+mod common;
 use ballbot_sim::trajopt::{BrakingProblem, Limits, SolveStatus};
+use common::bench_both;
 use criterion::{Criterion, criterion_group, criterion_main};
-use std::hint::black_box;
-use std::time::Duration;
-
-/// CPU time consumed by the calling thread.
-#[cfg(unix)]
-#[allow(unsafe_code)]
-fn thread_cpu_time() -> Duration {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the call only writes into it.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    if rc != 0 {
-        return Duration::ZERO;
-    }
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
-}
-
-/// Benches `problem.solve()` by wall-clock time as `name`, and by thread CPU time as
-/// `name_cpu`.
-fn bench_both(c: &mut Criterion, name: &str, problem: &BrakingProblem) {
-    c.bench_function(name, |b| b.iter(|| black_box(problem.solve())));
-    #[cfg(unix)]
-    c.bench_function(&format!("{name}_cpu"), |b| {
-        b.iter_custom(|iters| {
-            let start = thread_cpu_time();
-            for _ in 0..iters {
-                black_box(problem.solve()).ok();
-            }
-            thread_cpu_time() - start
-        })
-    });
-}
 
 fn brake(c: &mut Criterion) {
     for n in [50usize, 100, 200] {
@@ -58,7 +26,9 @@ fn brake(c: &mut Criterion) {
             eprintln!("brake bench: N = {n} did not solve");
             continue;
         }
-        bench_both(c, &format!("brake_miapure_hermite_simpson_n{n}"), &problem);
+        bench_both(c, &format!("brake_miapure_hermite_simpson_n{n}"), || {
+            problem.solve()
+        });
     }
     let limited = BrakingProblem {
         limits: Limits {
@@ -68,7 +38,9 @@ fn brake(c: &mut Criterion) {
         ..BrakingProblem::miapure()
     };
     if limited.solve().map(|s| s.status) == Ok(SolveStatus::Solved) {
-        bench_both(c, "brake_miapure_actuators_traction_n100", &limited);
+        bench_both(c, "brake_miapure_actuators_traction_n100", || {
+            limited.solve()
+        });
     }
 }
 

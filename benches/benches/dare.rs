@@ -13,46 +13,18 @@
 // A bench binary on fixed, valid fixtures: failing loudly is the right behaviour.
 #![allow(clippy::unwrap_used)]
 
+mod common;
 use ballbot_core::linalg::zoh;
 use ballbot_core::lqr::{
     RiccatiSettings, RiccatiStatus, WipLqrWeights, solve_care, solve_dare, wip_lqr_discrete,
 };
 use ballbot_core::{Wip, WipParams};
+use common::bench_both;
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::{Matrix1, Matrix3, RealField, Vector3};
 use std::hint::black_box;
-use std::time::Duration;
 
 const DT_SECS: f64 = 1.0 / 400.0;
-
-/// CPU time consumed by the calling thread.
-#[cfg(unix)]
-#[allow(unsafe_code)]
-fn thread_cpu_time() -> Duration {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the call only writes into it.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
-}
-
-/// Benches `f` by wall-clock time as `name`, and by thread CPU time as `name_cpu`.
-fn bench_both<R>(c: &mut Criterion, name: &str, mut f: impl FnMut() -> R) {
-    c.bench_function(name, |bench| bench.iter(&mut f));
-    #[cfg(unix)]
-    c.bench_function(&format!("{name}_cpu"), |bench| {
-        bench.iter_custom(|iters| {
-            let start = thread_cpu_time();
-            for _ in 0..iters {
-                black_box(f());
-            }
-            thread_cpu_time() - start
-        })
-    });
-}
 
 #[allow(clippy::type_complexity)]
 fn plant<T: RealField + Copy>() -> (Matrix3<T>, Vector3<T>, Matrix3<T>, Matrix1<T>) {
