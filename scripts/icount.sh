@@ -6,9 +6,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v valgrind >/dev/null || { echo "valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
-cargo build -q --release -p ballbot-benches --bin icount
+cargo build -q --profile icount -p ballbot-benches --bin icount
 target=${CARGO_TARGET_DIR:-$PWD/target}
-bin="$target/release/icount"
+bin="$target/icount/icount"
 n=2000
 count() { # operation iterations -> total instructions
     valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin" "$1" "$2" 2>&1 \
