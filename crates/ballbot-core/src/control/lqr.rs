@@ -18,6 +18,15 @@ use nalgebra::{RealField, Vector3, Vector4};
 ///
 /// A balancing gain has negative entries (MODEL.md section 6: MiaPURE with 60 kg, `Q =
 /// diag(100, 10, 1)`, `R = 0.1` gives `[-234.8, -45.70, -3.162]`).
+///
+/// ```
+/// use ballbot_core::control::LqrGains;
+/// // MODEL.md section 6's gains for MiaPURE with 60 kg, written out, 83.9 N m planar limit.
+/// let g = LqrGains { tilt_nm_per_rad: -234.8, tilt_rate_nm_s_per_rad: -45.70,
+///                    ball_rate_nm_s_per_rad: -3.162, max_torque_nm: 83.9 };
+/// g.validate()?;
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LqrGains<T> {
     /// `k1`, on the tilt error `theta_c - theta` (N m/rad).
@@ -33,6 +42,12 @@ pub struct LqrGains<T> {
 
 impl<T: RealField + Copy> LqrGains<T> {
     /// Gains from the reduced-state vector `[k1, k2, k3]` on `[theta, theta_dot, phi_dot]`.
+    ///
+    /// ```
+    /// use ballbot_core::control::LqrGains;
+    /// let g = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+    /// assert_eq!((g.tilt_nm_per_rad, g.ball_rate_nm_s_per_rad), (-234.8, -3.162));
+    /// ```
     pub fn from_reduced(k: [T; 3], max_torque_nm: T) -> Self {
         Self {
             tilt_nm_per_rad: k[0],
@@ -70,6 +85,20 @@ impl<T: RealField + Copy> LqrGains<T> {
     /// Gains designed by the discrete LQR at the controller's period `dt_secs`
     /// ([`crate::lqr::wip_lqr_discrete`], zero-order hold): the better choice when the loop
     /// is slow relative to the closed-loop poles.
+    ///
+    /// ```
+    /// use ballbot_core::control::LqrGains;
+    /// use ballbot_core::lqr::WipLqrWeights;
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let weights = WipLqrWeights::model_default();
+    /// let discrete = LqrGains::design_discrete(&wip, &weights, 1.0 / 400.0, 83.9)?;
+    /// let continuous = LqrGains::design(&wip, &weights, 83.9)?;
+    /// // At 400 Hz the sampled design is within a few percent of the continuous one.
+    /// let gap = (discrete.reduced() - continuous.reduced()).norm();
+    /// assert!(gap < 0.05 * continuous.reduced().norm());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn design_discrete(
         wip: &Wip<T>,
         weights: &WipLqrWeights<T>,
@@ -81,11 +110,36 @@ impl<T: RealField + Copy> LqrGains<T> {
 
     /// The documented default for `wip`: [`Self::design`] with MODEL.md's weights
     /// [`WipLqrWeights::model_default`] (`Q = diag(100, 10, 1)`, `R = 0.1`).
+    ///
+    /// ```
+    /// use ballbot_core::control::LqrGains;
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let g = LqrGains::for_wip(&wip, 83.9)?;
+    /// approx::assert_relative_eq!(g.tilt_rate_nm_s_per_rad, -45.70, max_relative = 1e-3);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn for_wip(wip: &Wip<T>, max_torque_nm: T) -> Result<Self, Error> {
         Self::design(wip, &WipLqrWeights::model_default(), max_torque_nm)
     }
 
     /// The gains of a finished design, with the torque limit `max_torque_nm`; validated.
+    ///
+    /// ```
+    /// use ballbot_core::control::LqrGains;
+    /// use ballbot_core::lqr::{WipLqrWeights, wip_lqr};
+    /// use ballbot_core::{Error, Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let lqr = wip_lqr(&wip, &WipLqrWeights::model_default())?;
+    /// let g = LqrGains::from_lqr(&lqr, 83.9)?;
+    /// assert_eq!(g.reduced().as_slice(), &lqr.reduced_gains()[..]);
+    /// // A torque limit that is not positive is rejected, naming the field.
+    /// assert!(matches!(
+    ///     LqrGains::from_lqr(&lqr, 0.0),
+    ///     Err(Error::InvalidParameter { field: "max_torque_nm", .. })
+    /// ));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn from_lqr(lqr: &WipLqr<T>, max_torque_nm: T) -> Result<Self, Error> {
         let gains = Self::from_reduced(lqr.reduced_gains(), max_torque_nm);
         gains.validate()?;
@@ -93,6 +147,12 @@ impl<T: RealField + Copy> LqrGains<T> {
     }
 
     /// The reduced-state gain `[k1, k2, k3]`.
+    ///
+    /// ```
+    /// use ballbot_core::control::LqrGains;
+    /// let g = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+    /// assert_eq!(g.reduced(), nalgebra::Vector3::new(-234.8, -45.70, -3.162));
+    /// ```
     pub fn reduced(&self) -> Vector3<T> {
         Vector3::new(
             self.tilt_nm_per_rad,
@@ -102,6 +162,13 @@ impl<T: RealField + Copy> LqrGains<T> {
     }
 
     /// The paper's full-state gain `[k1, 0, k2, k3]` on `[theta, phi, theta_dot, phi_dot]`.
+    ///
+    /// ```
+    /// use ballbot_core::control::LqrGains;
+    /// let g = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+    /// // The ball angle phi is not fed back: its entry is 0.
+    /// assert_eq!(g.full(), nalgebra::Vector4::new(-234.8, 0.0, -45.70, -3.162));
+    /// ```
     pub fn full(&self) -> Vector4<T> {
         Vector4::new(
             self.tilt_nm_per_rad,
@@ -112,6 +179,18 @@ impl<T: RealField + Copy> LqrGains<T> {
     }
 
     /// Checks every field; the error names the first one out of range.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::control::LqrGains;
+    /// let mut g = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+    /// assert!(g.validate().is_ok());
+    /// g.tilt_rate_nm_s_per_rad = f64::NAN;
+    /// assert!(matches!(
+    ///     g.validate(),
+    ///     Err(Error::InvalidParameter { field: "tilt_rate_nm_s_per_rad", .. })
+    /// ));
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         check_gain(self.tilt_nm_per_rad, "tilt_nm_per_rad")?;
         check_gain(self.tilt_rate_nm_s_per_rad, "tilt_rate_nm_s_per_rad")?;
@@ -132,6 +211,19 @@ impl<T: RealField + Copy> LqrGains<T> {
 }
 
 /// One LQR step's result, with each term for logging.
+///
+/// ```
+/// use ballbot_core::control::{LqrController, LqrGains, StepStatus};
+/// use nalgebra::Vector4;
+/// let mut lqr = LqrController::new(LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9))?;
+/// // Leaning 0.5 rad forward asks for 117.4 N m: clipped to the limit, the excess reported.
+/// let out = lqr.step(&Vector4::new(0.5, 0.0, 0.0, 0.0), &Vector4::zeros(), 0.0025);
+/// assert_eq!((out.torque_nm, out.status), (83.9, StepStatus::Saturated));
+/// let requested = out.tilt_term_nm + out.tilt_rate_term_nm + out.ball_rate_term_nm;
+/// approx::assert_relative_eq!(out.torque_nm - requested, out.saturation_nm, epsilon = 1e-12);
+/// assert!(out.saturation_nm < -30.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LqrOutput<T> {
     /// The torque to apply, after saturation (N m). Always finite.
@@ -187,17 +279,45 @@ pub struct LqrController<T> {
 
 impl<T: RealField + Copy> LqrController<T> {
     /// Validates `gains`.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrController, LqrGains};
+    /// let gains = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+    /// assert!(LqrController::new(gains).is_ok());
+    /// // Gains are validated once, here: a NaN gain is refused.
+    /// let nan_tilt = LqrGains { tilt_nm_per_rad: f64::NAN, ..gains };
+    /// assert!(LqrController::new(nan_tilt).is_err());
+    /// ```
     pub fn new(gains: LqrGains<T>) -> Result<Self, Error> {
         gains.validate()?;
         Ok(Self { gains })
     }
 
     /// The gains in use.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrController, LqrGains};
+    /// let lqr = LqrController::new(LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9))?;
+    /// assert_eq!(lqr.gains().max_torque_nm, 83.9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn gains(&self) -> &LqrGains<T> {
         &self.gains
     }
 
     /// Nothing to clear (the LQR has no state); present for the common controller shape.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrController, LqrGains};
+    /// use nalgebra::Vector4;
+    /// let mut lqr = LqrController::new(LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9))?;
+    /// let s = Vector4::new(0.1, 0.0, 0.0, 0.0);
+    /// let before = lqr.step(&s, &Vector4::zeros(), 0.0025);
+    /// lqr.reset();
+    /// // Static law: the same input gives the same torque after a reset.
+    /// assert_eq!(lqr.step(&s, &Vector4::zeros(), 0.0025), before);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {}
 
     /// `tau = k (s_c - s)`, saturated. `measured` and `command` are full WIP states

@@ -49,6 +49,18 @@ use crate::{Error, Wip, WipState};
 use nalgebra::RealField;
 
 /// Configuration of [`LqrPiOuter`]: the LQR gains and the reference integrator's anchor band.
+///
+/// ```
+/// use ballbot_core::control::{LqrGains, LqrPiOuterConfig};
+/// use ballbot_core::{Wip, WipParams};
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let config = LqrPiOuterConfig {
+///     lqr: LqrGains::for_wip(&wip, 83.9)?,
+///     max_speed_error_rad_per_s: 3.0,
+/// };
+/// config.validate()?;
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LqrPiOuterConfig<T> {
     /// The LQR gains; their `max_torque_nm` saturates the reference torque `tau_r`.
@@ -62,6 +74,18 @@ impl<T: RealField + Copy> LqrPiOuterConfig<T> {
     /// The configuration with the anchor band `max_torque_nm / kp` of the inner PI `inner`:
     /// the speed error at which the inner P term alone saturates the actuator. With `kp = 0`
     /// the band falls back to `100 rad/s`, a value that never binds in practice.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrGains, LqrPiOuterConfig, SpeedPiGains};
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let inner = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, 43.2)?;
+    /// let config = LqrPiOuterConfig::new(LqrGains::for_wip(&wip, 83.9)?, &inner)?;
+    /// // The band is the speed error at which the inner P term alone reaches 43.2 N m.
+    /// let band = config.max_speed_error_rad_per_s;
+    /// approx::assert_relative_eq!(band * inner.proportional_nm_s_per_rad, 43.2, epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(lqr: LqrGains<T>, inner: &SpeedPiGains<T>) -> Result<Self, Error> {
         let kp = inner.proportional_nm_s_per_rad;
         let band = if kp > T::zero() {
@@ -78,6 +102,19 @@ impl<T: RealField + Copy> LqrPiOuterConfig<T> {
     }
 
     /// Checks every field; the error names the first one out of range.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::control::{LqrGains, LqrPiOuterConfig};
+    /// let lqr = LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9);
+    /// let config = LqrPiOuterConfig { lqr, max_speed_error_rad_per_s: 3.0 };
+    /// assert!(config.validate().is_ok());
+    /// let zero_band = LqrPiOuterConfig { max_speed_error_rad_per_s: 0.0, ..config };
+    /// assert!(matches!(
+    ///     zero_band.validate(),
+    ///     Err(Error::InvalidParameter { field: "max_speed_error_rad_per_s", .. })
+    /// ));
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         self.lqr.validate()?;
         positive(self.max_speed_error_rad_per_s, "max_speed_error_rad_per_s")
@@ -85,6 +122,29 @@ impl<T: RealField + Copy> LqrPiOuterConfig<T> {
 }
 
 /// One outer LQR-PI step's result: what goes to the motor driver, and every term for logging.
+///
+/// ```
+/// use ballbot_core::control::{LqrGains, LqrPiOuter, LqrPiOuterConfig, StepStatus};
+/// use ballbot_core::{Wip, WipParams};
+/// use nalgebra::Vector4;
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let lqr = LqrGains::for_wip(&wip, 83.9)?;
+/// let config = LqrPiOuterConfig { lqr, max_speed_error_rad_per_s: 3.0 };
+/// let mut outer = LqrPiOuter::new(wip, config)?;
+/// let o = outer.step(&Vector4::new(0.02, 0.0, 0.0, 1.0), &Vector4::zeros(), 1.0 / 400.0);
+/// // The reference torque is the sum of the LQR terms (not saturated here).
+/// let sum = o.tilt_term_nm + o.tilt_rate_term_nm + o.ball_rate_term_nm;
+/// approx::assert_relative_eq!(o.reference_torque_nm, sum, epsilon = 1e-12);
+/// assert_eq!((o.saturation_nm, o.anchor_correction_rad_per_s), (0.0, 0.0));
+/// assert_eq!(o.status, StepStatus::Nominal);
+/// // The rate sent to the inner loop is the mean over the coming period.
+/// approx::assert_relative_eq!(
+///     o.reference_ball_rate_rad_per_s,
+///     1.0 + 0.5 / 400.0 * o.reference_ball_accel_rad_per_s2,
+///     epsilon = 1e-12
+/// );
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LqrPiOuterOutput<T> {
     /// Reference (feedforward) torque `tau_r` for the inner loop, after saturation (N m).
@@ -145,6 +205,20 @@ pub struct LqrPiOuter<T> {
 
 impl<T: RealField + Copy> LqrPiOuter<T> {
     /// Validates `config`; `model` is the reference WIP model (usually the nominal plant).
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrGains, LqrPiOuter, LqrPiOuterConfig};
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let lqr = LqrGains::for_wip(&wip, 83.9)?;
+    /// let config = LqrPiOuterConfig { lqr, max_speed_error_rad_per_s: 3.0 };
+    /// let outer = LqrPiOuter::new(wip, config)?;
+    /// assert_eq!(outer.reference_ball_rate_rad_per_s(), None);
+    /// // The configuration is validated: a NaN band is refused.
+    /// let bad = LqrPiOuterConfig { max_speed_error_rad_per_s: f64::NAN, ..config };
+    /// assert!(LqrPiOuter::new(wip, bad).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(model: Wip<T>, config: LqrPiOuterConfig<T>) -> Result<Self, Error> {
         config.validate()?;
         Ok(Self {
@@ -155,21 +229,75 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
     }
 
     /// The configuration in use.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrGains, LqrPiOuter, LqrPiOuterConfig};
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let lqr = LqrGains::for_wip(&wip, 83.9)?;
+    /// let config = LqrPiOuterConfig { lqr, max_speed_error_rad_per_s: 3.0 };
+    /// assert_eq!(LqrPiOuter::new(wip, config)?.config(), &config);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn config(&self) -> &LqrPiOuterConfig<T> {
         &self.config
     }
 
     /// The reference model.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrGains, LqrPiOuter, LqrPiOuterConfig};
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let lqr = LqrGains::for_wip(&wip, 83.9)?;
+    /// let config = LqrPiOuterConfig { lqr, max_speed_error_rad_per_s: 3.0 };
+    /// let outer = LqrPiOuter::new(wip, config)?;
+    /// assert_eq!(outer.model().params().body_mass_kg, wip.params().body_mass_kg);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn model(&self) -> &Wip<T> {
         &self.model
     }
 
     /// The stored reference ball rate (rad/s), `None` before the first valid step.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrGains, LqrPiOuter, LqrPiOuterConfig};
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let lqr = LqrGains::for_wip(&wip, 83.9)?;
+    /// let config = LqrPiOuterConfig { lqr, max_speed_error_rad_per_s: 3.0 };
+    /// let mut outer = LqrPiOuter::new(wip, config)?;
+    /// assert_eq!(outer.reference_ball_rate_rad_per_s(), None);
+    /// // Upright at 2 rad/s on command: no torque, no acceleration, the integral holds 2 rad/s.
+    /// let s = Vector4::new(0.0, 0.0, 0.0, 2.0);
+    /// outer.step(&s, &s, 1.0 / 400.0);
+    /// assert_eq!(outer.reference_ball_rate_rad_per_s(), Some(2.0));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reference_ball_rate_rad_per_s(&self) -> Option<T> {
         self.reference_ball_rate_rad_per_s
     }
 
     /// Forgets the reference integral: the next step re-anchors it at the measured ball rate.
+    ///
+    /// ```
+    /// use ballbot_core::control::{LqrGains, LqrPiOuter, LqrPiOuterConfig};
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let lqr = LqrGains::for_wip(&wip, 83.9)?;
+    /// let config = LqrPiOuterConfig { lqr, max_speed_error_rad_per_s: 3.0 };
+    /// let mut outer = LqrPiOuter::new(wip, config)?;
+    /// outer.step(&Vector4::new(0.0, 0.0, 0.0, 2.0), &Vector4::zeros(), 1.0 / 400.0);
+    /// outer.reset();
+    /// assert_eq!(outer.reference_ball_rate_rad_per_s(), None);
+    /// // The next step re-anchors at the measured 7 rad/s.
+    /// let s = Vector4::new(0.0, 0.0, 0.0, 7.0);
+    /// assert_eq!(outer.step(&s, &s, 1.0 / 400.0).reference_ball_rate_rad_per_s, 7.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         self.reference_ball_rate_rad_per_s = None;
     }
@@ -180,6 +308,50 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
     /// A non-finite input or `dt_secs <= 0` gives zero reference torque, the held reference
     /// rate (0 before the first valid step), and [`StepStatus::InvalidInput`]; the integral is
     /// not touched.
+    ///
+    /// ```
+    /// use ballbot_core::control::{
+    ///     LqrController, LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi,
+    ///     SpeedPiGains,
+    /// };
+    /// use ballbot_core::{Wip, WipParams, rk4_step};
+    /// use nalgebra::Vector4;
+    /// // The PIPTB driving at 5 rad/s with a constant -2 N m friction torque on the drive that
+    /// // the model lacks, once under the LQR-PI (outer 400 Hz, inner 8 kHz) and once under the
+    /// // plain LQR.
+    /// let wip = Wip::new(WipParams::<f64>::piptb())?;
+    /// let lqr_gains = LqrGains::for_wip(&wip, 43.2)?;
+    /// let inner_gains = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, 43.2)?;
+    /// let mut outer = LqrPiOuter::new(wip, LqrPiOuterConfig::new(lqr_gains, &inner_gains)?)?;
+    /// let mut inner = SpeedPi::new(inner_gains)?;
+    /// let mut lqr = LqrController::new(lqr_gains)?;
+    /// let (friction_nm, dt) = (-2.0, 1.0 / 8000.0);
+    /// let command = Vector4::new(0.0, 0.0, 0.0, 5.0);
+    /// let (mut s_pi, mut s_lqr) = (Vector4::zeros(), Vector4::zeros());
+    /// let mut reference = SpeedCommand { speed_rad_per_s: 0.0, feedforward_torque_nm: 0.0 };
+    /// let mut tau_lqr = 0.0;
+    /// for k in 0..8 * 8000 {
+    ///     if k % 20 == 0 {
+    ///         let o = outer.step(&s_pi, &command, 1.0 / 400.0);
+    ///         reference = SpeedCommand {
+    ///             speed_rad_per_s: o.reference_ball_rate_rad_per_s,
+    ///             feedforward_torque_nm: o.reference_torque_nm,
+    ///         };
+    ///         tau_lqr = lqr.step(&s_lqr, &command, 1.0 / 400.0).torque_nm;
+    ///     }
+    ///     let tau_pi = inner.step(s_pi[3], &reference, dt).torque_nm;
+    ///     s_pi = rk4_step(|x| wip.derivative(x, tau_pi + friction_nm), &s_pi, dt);
+    ///     s_lqr = rk4_step(|x| wip.derivative(x, tau_lqr + friction_nm), &s_lqr, dt);
+    /// }
+    /// // The LQR settles where its speed term cancels the friction: an error of tau_d / k3.
+    /// let k3 = lqr_gains.ball_rate_nm_s_per_rad;
+    /// approx::assert_relative_eq!(s_lqr[3] - 5.0, friction_nm / k3, epsilon = 1e-6);
+    /// assert!((s_lqr[3] - 5.0_f64).abs() > 0.6);
+    /// // The LQR-PI's inner integral has learned the friction: no speed error left.
+    /// assert!((s_pi[3] - 5.0_f64).abs() < 1e-6);
+    /// approx::assert_relative_eq!(inner.integral_nm(), -friction_nm, epsilon = 1e-6);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(
         &mut self,
         measured: &WipState<T>,

@@ -80,6 +80,19 @@ use crate::{Error, WipState};
 use nalgebra::RealField;
 
 /// What happened in one controller step (for logging and for the safety supervisor).
+///
+/// ```
+/// use ballbot_core::control::{LqrController, LqrGains, StepStatus};
+/// use nalgebra::Vector4;
+/// let mut lqr = LqrController::new(LqrGains::from_reduced([-234.8, -45.70, -3.162], 83.9))?;
+/// let mut status = |tilt_rad: f64| {
+///     lqr.step(&Vector4::new(tilt_rad, 0.0, 0.0, 0.0), &Vector4::zeros(), 0.0025).status
+/// };
+/// assert_eq!(status(0.1), StepStatus::Nominal); // 23.5 N m
+/// assert_eq!(status(0.5), StepStatus::Saturated); // 117 N m asked, 83.9 N m given
+/// assert_eq!(status(f64::INFINITY), StepStatus::InvalidInput);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum StepStatus {
@@ -96,6 +109,12 @@ pub enum StepStatus {
 
 impl StepStatus {
     /// `true` unless the step was rejected ([`StepStatus::InvalidInput`]).
+    ///
+    /// ```
+    /// use ballbot_core::control::StepStatus;
+    /// assert!(StepStatus::Saturated.is_valid());
+    /// assert!(!StepStatus::InvalidInput.is_valid());
+    /// ```
     pub fn is_valid(self) -> bool {
         self != Self::InvalidInput
     }

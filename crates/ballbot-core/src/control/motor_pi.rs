@@ -25,6 +25,19 @@ use crate::{Error, Wip};
 use nalgebra::RealField;
 
 /// Gains and limits of [`SpeedPi`].
+///
+/// ```
+/// use ballbot_core::control::SpeedPiGains;
+/// // The MiaPURE actuator's 43.2 N m peak; hand-picked gains with k_aw = ki / kp.
+/// let gains = SpeedPiGains {
+///     proportional_nm_s_per_rad: 10.0,
+///     integral_nm_per_rad: 100.0,
+///     anti_windup_per_s: 10.0,
+///     max_torque_nm: 43.2,
+/// };
+/// gains.validate()?;
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedPiGains<T> {
     /// Proportional gain `kp` on the speed error (N m s/rad, >= 0).
@@ -51,6 +64,26 @@ impl<T: RealField + Copy> SpeedPiGains<T> {
     ///
     /// Errors name `accel_per_torque`, `bandwidth_rad_per_s` or `max_torque_nm` when they are
     /// not finite and positive.
+    ///
+    /// ```
+    /// use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains};
+    /// // A 0.5 kg m^2 inertia (b = 2 rad/s^2 per N m) against a constant 3 N m friction torque.
+    /// let (b, friction_nm, dt) = (2.0, 3.0, 1.0 / 8000.0);
+    /// let gains = SpeedPiGains::from_bandwidth(b, 30.0, 43.2)?;
+    /// approx::assert_relative_eq!(gains.proportional_nm_s_per_rad, 30.0); // 2 w / b
+    /// approx::assert_relative_eq!(gains.integral_nm_per_rad, 450.0); // w^2 / b
+    /// let mut pi = SpeedPi::new(gains)?;
+    /// let command = SpeedCommand { speed_rad_per_s: 5.0, feedforward_torque_nm: 0.0 };
+    /// let mut speed = 0.0;
+    /// for _ in 0..8000 {
+    ///     let tau = pi.step(speed, &command, dt).torque_nm;
+    ///     speed += dt * b * (tau - friction_nm);
+    /// }
+    /// // After 1 s the integral has learned the friction and the speed error is gone.
+    /// assert!((speed - 5.0_f64).abs() < 1e-3);
+    /// approx::assert_relative_eq!(pi.integral_nm(), friction_nm, epsilon = 1e-2);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn from_bandwidth(
         accel_per_torque: T,
         bandwidth_rad_per_s: T,
@@ -97,6 +130,19 @@ impl<T: RealField + Copy> SpeedPiGains<T> {
     }
 
     /// Checks every field; the error names the first one out of range.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::control::SpeedPiGains;
+    /// let mut gains = SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?;
+    /// assert!(gains.validate().is_ok());
+    /// gains.integral_nm_per_rad = -1.0;
+    /// assert!(matches!(
+    ///     gains.validate(),
+    ///     Err(Error::InvalidParameter { field: "integral_nm_per_rad", .. })
+    /// ));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         non_negative(self.proportional_nm_s_per_rad, "proportional_nm_s_per_rad")?;
         non_negative(self.integral_nm_per_rad, "integral_nm_per_rad")?;
@@ -106,6 +152,15 @@ impl<T: RealField + Copy> SpeedPiGains<T> {
 }
 
 /// What the outer loop sends to one speed PI: a reference speed and a feedforward torque.
+///
+/// ```
+/// use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains};
+/// let mut pi = SpeedPi::new(SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?)?;
+/// // On reference, the PI passes the feedforward torque through unchanged.
+/// let command = SpeedCommand { speed_rad_per_s: 3.0, feedforward_torque_nm: 12.5 };
+/// assert_eq!(pi.step(3.0, &command, 1.0 / 8000.0).torque_nm, 12.5);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedCommand<T> {
     /// Reference speed (rad/s): `phi_dot_r`, or a wheel's reference speed `psi_dot_r`.
@@ -115,6 +170,19 @@ pub struct SpeedCommand<T> {
 }
 
 /// One speed-PI step's result, with each term for logging.
+///
+/// ```
+/// use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains, StepStatus};
+/// let mut pi = SpeedPi::new(SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?)?;
+/// let command = SpeedCommand { speed_rad_per_s: 10.0, feedforward_torque_nm: 20.0 };
+/// // 10 rad/s too slow: 20 N m + 134.7 N m requested, 43.2 N m applied.
+/// let out = pi.step(0.0, &command, 1.0 / 8000.0);
+/// assert_eq!((out.torque_nm, out.status), (43.2, StepStatus::Saturated));
+/// let requested = out.feedforward_nm + out.proportional_nm + out.integral_nm;
+/// approx::assert_relative_eq!(out.saturation_nm, 43.2 - requested, epsilon = 1e-12);
+/// assert_eq!(out.speed_error_rad_per_s, 10.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedPiOutput<T> {
     /// The torque to apply, after saturation (N m). Always finite and within the limit.
@@ -176,6 +244,15 @@ pub struct SpeedPi<T> {
 
 impl<T: RealField + Copy> SpeedPi<T> {
     /// Validates `gains`; the integral starts at zero.
+    ///
+    /// ```
+    /// use ballbot_core::control::{SpeedPi, SpeedPiGains};
+    /// let gains = SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?;
+    /// assert_eq!(SpeedPi::new(gains)?.integral_nm(), 0.0);
+    /// // Gains are validated here: a zero torque limit is refused.
+    /// assert!(SpeedPi::new(SpeedPiGains { max_torque_nm: 0.0, ..gains }).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(gains: SpeedPiGains<T>) -> Result<Self, Error> {
         gains.validate()?;
         Ok(Self {
@@ -185,16 +262,46 @@ impl<T: RealField + Copy> SpeedPi<T> {
     }
 
     /// The gains in use.
+    ///
+    /// ```
+    /// use ballbot_core::control::{SpeedPi, SpeedPiGains};
+    /// let pi = SpeedPi::new(SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?)?;
+    /// assert_eq!(pi.gains().max_torque_nm, 43.2);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn gains(&self) -> &SpeedPiGains<T> {
         &self.gains
     }
 
     /// The integral term `I` (N m) that the next step will use.
+    ///
+    /// ```
+    /// use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains};
+    /// let gains = SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?;
+    /// let mut pi = SpeedPi::new(gains)?;
+    /// let command = SpeedCommand { speed_rad_per_s: 1.0, feedforward_torque_nm: 0.0 };
+    /// pi.step(0.0, &command, 0.001);
+    /// // One step of ki * e * dt.
+    /// let ki = gains.integral_nm_per_rad;
+    /// approx::assert_relative_eq!(pi.integral_nm(), ki * 0.001, epsilon = 1e-12);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn integral_nm(&self) -> T {
         self.integral_nm
     }
 
     /// Clears the integral.
+    ///
+    /// ```
+    /// use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains};
+    /// let mut pi = SpeedPi::new(SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?)?;
+    /// let command = SpeedCommand { speed_rad_per_s: 1.0, feedforward_torque_nm: 0.0 };
+    /// pi.step(0.0, &command, 0.001);
+    /// assert!(pi.integral_nm() > 0.0);
+    /// pi.reset();
+    /// assert_eq!(pi.integral_nm(), 0.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         self.integral_nm = T::zero();
     }
@@ -233,6 +340,20 @@ impl<T: RealField + Copy> SpeedPi<T> {
     /// sees the torque the motor can actually give. A non-finite bound is ignored (the
     /// symmetric limit applies); a range that excludes zero after the intersection is
     /// rejected like a non-finite input.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::control::{SpeedCommand, SpeedPi, SpeedPiGains};
+    /// let actuator = ActuatorParams::<f64>::miapure();
+    /// let mut pi = SpeedPi::new(SpeedPiGains::from_bandwidth(4.4545, 30.0, 43.2)?)?;
+    /// let command = SpeedCommand { speed_rad_per_s: 100.0, feedforward_torque_nm: 40.0 };
+    /// // Near the no-load speed the motor gives less than its peak: the PI is clipped there.
+    /// let speed_rad_per_s = 0.9 * actuator.no_load_speed_rad_per_s;
+    /// let (lower_nm, upper_nm) = actuator.torque_bounds_nm(speed_rad_per_s);
+    /// let out = pi.step_within(speed_rad_per_s, &command, 1.0 / 8000.0, lower_nm, upper_nm);
+    /// assert!(upper_nm < 43.2 && out.torque_nm == upper_nm);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step_within(
         &mut self,
         measured_speed_rad_per_s: T,

@@ -33,12 +33,36 @@ use nalgebra::{Matrix4, RealField, RowVector4, Vector4};
 /// `p0`: two fast balance poles and two slower speed poles, all real. The fastest is kept at
 /// 1.6 `p0` so that a 10 deg tilt asks for less than MiaPURE's 83.9 N m (the tilt gain is
 /// -377 N m/rad for MiaPURE with 60 kg; the pole set `[-2, -1.2, ...]` would need -492).
+///
+/// ```
+/// assert!(ballbot_core::control::PI_PD_DEFAULT_POLES_PER_P0.iter().all(|m| *m < 0.0));
+/// ```
 pub const PI_PD_DEFAULT_POLES_PER_P0: [f64; 4] = [-1.6, -1.0, -0.4, -0.25];
 
 /// Default reference-tilt limit of [`PiPdGains::for_wip`] (rad): 0.2 rad, about 11.5 deg.
+///
+/// ```
+/// assert!((ballbot_core::control::PI_PD_DEFAULT_MAX_TILT_RAD.to_degrees() - 11.46).abs() < 0.01);
+/// ```
 pub const PI_PD_DEFAULT_MAX_TILT_RAD: f64 = 0.2;
 
 /// Gains and limits of [`PiPdController`].
+///
+/// ```
+/// use ballbot_core::control::{PiPdController, PiPdGains};
+/// // Hand-set gains in the paper's signs: balancing tilt gains negative, speed gains positive.
+/// let gains = PiPdGains {
+///     speed_p_secs: 0.05,
+///     speed_i_rad_per_rad: 0.01,
+///     tilt_p_nm_per_rad: -300.0,
+///     tilt_d_nm_s_per_rad: -50.0,
+///     max_tilt_rad: 0.2,
+///     max_torque_nm: 83.9,
+/// };
+/// let controller = PiPdController::new(gains)?;
+/// assert_eq!(controller.gains().max_tilt_rad, 0.2);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiPdGains<T> {
     /// Outer proportional gain `kp_v`: reference tilt per ball-rate error (rad per rad/s, i.e. s).
@@ -58,6 +82,22 @@ pub struct PiPdGains<T> {
 
 impl<T: RealField + Copy> PiPdGains<T> {
     /// Checks every field; the error names the first one out of range.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::control::PiPdGains;
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let gains = PiPdGains::for_wip(&wip, 83.9)?;
+    /// assert!(gains.validate().is_ok());
+    /// // Without a tilt gain the PD cannot balance: refused.
+    /// let no_tilt_gain = PiPdGains { tilt_p_nm_per_rad: 0.0, ..gains };
+    /// assert!(matches!(
+    ///     no_tilt_gain.validate(),
+    ///     Err(Error::InvalidParameter { field: "tilt_p_nm_per_rad", .. })
+    /// ));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         check_gain(self.speed_p_secs, "speed_p_secs")?;
         check_gain(self.speed_i_rad_per_rad, "speed_i_rad_per_rad")?;
@@ -75,6 +115,33 @@ impl<T: RealField + Copy> PiPdGains<T> {
     ///
     /// Errors: `poles_rad_per_s` when a pole is not finite and negative or the design fails
     /// numerically; `max_tilt_rad` / `max_torque_nm` when not finite and positive.
+    ///
+    /// ```
+    /// use ballbot_core::control::PiPdGains;
+    /// use ballbot_core::linalg::eigenvalues;
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::{Matrix4, RowVector4, Vector4};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let poles = [-12.0, -8.0, -3.0, -2.0];
+    /// let g = PiPdGains::design(&wip, poles, 0.2, 83.9)?;
+    /// // Without limits the law is tau = -K x on x = [theta, theta_dot, phi_dot, z]:
+    /// // the closed loop A - B K of the augmented linearisation has exactly the requested poles.
+    /// let (a, b) = wip.linearize_upright().reduced();
+    /// let mut a_aug = Matrix4::zeros();
+    /// a_aug.fixed_view_mut::<3, 3>(0, 0).copy_from(&a);
+    /// a_aug[(3, 2)] = -1.0; // z_dot = -phi_dot
+    /// let b_aug = Vector4::new(b[0], b[1], b[2], 0.0);
+    /// let (kp, kd) = (g.tilt_p_nm_per_rad, g.tilt_d_nm_s_per_rad);
+    /// let k = RowVector4::new(kp, kd, kp * g.speed_p_secs, -kp * g.speed_i_rad_per_rad);
+    /// let eig = eigenvalues(&(a_aug - b_aug * k)).ok_or("no eigenvalues")?;
+    /// let mut re: Vec<f64> = eig.iter().map(|z| z.re).collect();
+    /// re.sort_by(f64::total_cmp);
+    /// for (got, want) in re.iter().zip(poles) {
+    ///     approx::assert_relative_eq!(*got, want, max_relative = 1e-6);
+    /// }
+    /// assert!(eig.iter().all(|z| z.im.abs() < 1e-6));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[allow(non_snake_case)]
     pub fn design(
         wip: &Wip<T>,
@@ -163,6 +230,22 @@ impl<T: RealField + Copy> PiPdGains<T> {
 }
 
 /// One PI-PD step's result, with each term for logging.
+///
+/// ```
+/// use ballbot_core::control::{PiPdController, PiPdGains, StepStatus};
+/// use ballbot_core::{Wip, WipParams};
+/// use nalgebra::Vector4;
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let mut c = PiPdController::new(PiPdGains::for_wip(&wip, 83.9)?)?;
+/// // A 10 m/s command asks for a reference tilt far beyond 0.2 rad: the tilt limit acts.
+/// let r = wip.params().ball_radius_m;
+/// let out = c.step(&Vector4::zeros(), &Vector4::new(0.0, 0.0, 0.0, 10.0 / r), 0.0025);
+/// assert_eq!((out.reference_tilt_rad, out.status), (0.2, StepStatus::Saturated));
+/// let requested = out.tilt_feedforward_rad + out.speed_p_term_rad + out.speed_i_term_rad;
+/// approx::assert_relative_eq!(out.tilt_limit_rad, 0.2 - requested, epsilon = 1e-12);
+/// approx::assert_relative_eq!(out.torque_nm, out.tilt_p_term_nm + out.tilt_d_term_nm);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiPdOutput<T> {
     /// The torque to apply, after saturation (N m). Always finite and within the limit.
@@ -228,6 +311,16 @@ pub struct PiPdController<T> {
 
 impl<T: RealField + Copy> PiPdController<T> {
     /// Validates `gains`; the integral starts at zero.
+    ///
+    /// ```
+    /// use ballbot_core::control::{PiPdController, PiPdGains};
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::piptb())?;
+    /// let gains = PiPdGains::for_wip(&wip, 43.2)?;
+    /// assert_eq!(PiPdController::new(gains)?.speed_error_integral_rad(), 0.0);
+    /// assert!(PiPdController::new(PiPdGains { max_tilt_rad: -0.2, ..gains }).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(gains: PiPdGains<T>) -> Result<Self, Error> {
         gains.validate()?;
         Ok(Self {
@@ -237,16 +330,49 @@ impl<T: RealField + Copy> PiPdController<T> {
     }
 
     /// The gains in use.
+    ///
+    /// ```
+    /// use ballbot_core::control::{PiPdController, PiPdGains};
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::piptb())?;
+    /// let c = PiPdController::new(PiPdGains::for_wip(&wip, 43.2)?)?;
+    /// assert_eq!(c.gains().max_torque_nm, 43.2);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn gains(&self) -> &PiPdGains<T> {
         &self.gains
     }
 
     /// The integrated ball-rate error `z` (rad).
+    ///
+    /// ```
+    /// use ballbot_core::control::{PiPdController, PiPdGains};
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::piptb())?;
+    /// let mut c = PiPdController::new(PiPdGains::for_wip(&wip, 43.2)?)?;
+    /// // 1 rad/s short of the command for one 2.5 ms step: z = 1 * 0.0025 rad.
+    /// c.step(&Vector4::zeros(), &Vector4::new(0.0, 0.0, 0.0, 1.0), 0.0025);
+    /// approx::assert_relative_eq!(c.speed_error_integral_rad(), 0.0025);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn speed_error_integral_rad(&self) -> T {
         self.speed_error_integral_rad
     }
 
     /// Clears the speed integral.
+    ///
+    /// ```
+    /// use ballbot_core::control::{PiPdController, PiPdGains};
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::piptb())?;
+    /// let mut c = PiPdController::new(PiPdGains::for_wip(&wip, 43.2)?)?;
+    /// c.step(&Vector4::zeros(), &Vector4::new(0.0, 0.0, 0.0, 1.0), 0.0025);
+    /// c.reset();
+    /// assert_eq!(c.speed_error_integral_rad(), 0.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         self.speed_error_integral_rad = T::zero();
     }
@@ -255,6 +381,31 @@ impl<T: RealField + Copy> PiPdController<T> {
     /// tilt is a feedforward on the reference tilt, its tilt rate the PD's rate reference),
     /// `dt_secs` the step (s). A non-finite input or `dt_secs <= 0` gives zero torque with
     /// [`StepStatus::InvalidInput`] and leaves the integral unchanged.
+    ///
+    /// ```
+    /// use ballbot_core::control::{PiPdController, PiPdGains, StepStatus};
+    /// use ballbot_core::{Wip, WipParams, rk4_step};
+    /// use nalgebra::Vector4;
+    /// // MiaPURE with 60 kg at 400 Hz, from a 10 deg forward lean to a 1 m/s command.
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let mut c = PiPdController::new(PiPdGains::for_wip(&wip, 83.9)?)?;
+    /// let speed_rad_per_s = 1.0 / wip.params().ball_radius_m;
+    /// let command = Vector4::new(0.0, 0.0, 0.0, speed_rad_per_s);
+    /// let mut s = Vector4::new(10f64.to_radians(), 0.0, 0.0, 0.0);
+    /// for _ in 0..20 * 400 {
+    ///     let out = c.step(&s, &command, 0.0025);
+    ///     assert_ne!(out.status, StepStatus::InvalidInput);
+    ///     s = rk4_step(|x| wip.derivative(x, out.torque_nm), &s, 0.0025);
+    /// }
+    /// // Upright, and the speed integral has removed the speed error.
+    /// assert!(s[0].abs() < 1e-3 && (s[3] - speed_rad_per_s).abs() < 1e-2 * speed_rad_per_s);
+    /// // A NaN measurement: zero torque, flagged, the integral untouched.
+    /// let z = c.speed_error_integral_rad();
+    /// let out = c.step(&Vector4::new(f64::NAN, 0.0, 0.0, 0.0), &command, 0.0025);
+    /// assert_eq!((out.torque_nm, out.status), (0.0, StepStatus::InvalidInput));
+    /// assert_eq!(c.speed_error_integral_rad(), z);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(
         &mut self,
         measured: &WipState<T>,
