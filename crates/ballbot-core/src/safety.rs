@@ -86,6 +86,28 @@ use core::fmt;
 use nalgebra::RealField;
 
 /// The supervisor's mode.
+///
+/// ```
+/// use ballbot_core::safety::{Mode, ModeRequest, SafetyParams, SafetySupervisor};
+/// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// # use ballbot_core::safety::SafetyInput;
+/// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+/// # let input = |t_us: u64, request| SafetyInput {
+/// #     now_us: t_us,
+/// #     imu: ImuSample::<f64>::upright(t_us),
+/// #     encoders: EncoderSample::still(t_us),
+/// #     command_timestamp_us: Some(t_us),
+/// #     command_finite: true,
+/// #     request,
+/// # };
+/// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+/// assert_eq!(sup.mode(), Mode::Idle);
+/// assert_eq!(sup.step(&input(0, ModeRequest::Arm)).mode, Mode::Balancing);
+/// assert_eq!(sup.step(&input(2500, ModeRequest::Stop)).mode, Mode::ControlledStop);
+/// assert_eq!(sup.step(&input(5000, ModeRequest::Resume)).mode, Mode::Balancing);
+/// assert_eq!(sup.step(&input(7500, ModeRequest::Disarm)).mode, Mode::Idle);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Mode {
     /// Motors off, waiting to be armed.
@@ -101,12 +123,42 @@ pub enum Mode {
 
 impl Mode {
     /// Whether the motors are driven in this mode.
+    ///
+    /// ```
+    /// use ballbot_core::safety::Mode;
+    /// // A controlled stop keeps balancing: zero torque would drop the rider.
+    /// assert!(Mode::ControlledStop.motors_enabled());
+    /// assert!(!Mode::Fault.motors_enabled() && !Mode::Idle.motors_enabled());
+    /// ```
     pub const fn motors_enabled(self) -> bool {
         matches!(self, Self::Balancing | Self::ControlledStop)
     }
 }
 
 /// What the operator (or the application) asks of the supervisor this step.
+///
+/// ```
+/// use ballbot_core::safety::{Mode, ModeRequest, SafetyParams, SafetySupervisor};
+/// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// # use ballbot_core::safety::SafetyInput;
+/// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+/// # let input = |t_us: u64, request| SafetyInput {
+/// #     now_us: t_us,
+/// #     imu: ImuSample::<f64>::upright(t_us),
+/// #     encoders: EncoderSample::still(t_us),
+/// #     command_timestamp_us: Some(t_us),
+/// #     command_finite: true,
+/// #     request,
+/// # };
+/// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+/// // Arming is refused while the body leans 5 deg (the limit is 3 deg) ...
+/// let mut leaning = input(0, ModeRequest::Arm);
+/// leaning.imu.pitch_rad = 5f64.to_radians();
+/// assert_eq!(sup.step(&leaning).mode, Mode::Idle);
+/// // ... and accepted upright.
+/// assert_eq!(sup.step(&input(2500, ModeRequest::Arm)).mode, Mode::Balancing);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ModeRequest {
     /// Nothing.
@@ -125,6 +177,13 @@ pub enum ModeRequest {
 }
 
 /// Whether a fault can be handled while balancing.
+///
+/// ```
+/// use ballbot_core::safety::{Fault, Severity};
+/// // A lost command link is handled by a controlled stop; a stale IMU disables the motors.
+/// assert_eq!(Fault::CommandLinkLost.severity(), Severity::Recoverable);
+/// assert_eq!(Fault::ImuStale.severity(), Severity::Unrecoverable);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Severity {
     /// Handled by a controlled stop that keeps balancing.
@@ -134,6 +193,13 @@ pub enum Severity {
 }
 
 /// A typed fault code. `code()` is stable (for logs and telemetry).
+///
+/// ```
+/// use ballbot_core::safety::{Fault, Severity};
+/// let fault = Fault::TiltLimit;
+/// assert_eq!((fault.code(), fault.severity()), (7, Severity::Unrecoverable));
+/// assert_eq!(format!("{fault}"), "fault 7: tilt beyond the recoverable limit");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[repr(u8)]
 pub enum Fault {
@@ -169,6 +235,12 @@ pub enum Fault {
 
 impl Fault {
     /// Every fault, in code order.
+    ///
+    /// ```
+    /// use ballbot_core::safety::Fault;
+    /// // In code order, one entry per code.
+    /// assert!(Fault::ALL.iter().enumerate().all(|(i, f)| usize::from(f.code()) == i));
+    /// ```
     pub const ALL: [Self; 14] = [
         Self::ImuNonFinite,
         Self::ImuOutOfRange,
@@ -187,11 +259,22 @@ impl Fault {
     ];
 
     /// The stable numeric code.
+    ///
+    /// ```
+    /// assert_eq!(ballbot_core::safety::Fault::CommandLinkLost.code(), 11);
+    /// ```
     pub const fn code(self) -> u8 {
         self as u8
     }
 
     /// How the supervisor reacts (see the module docs' table).
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, Severity};
+    /// // A single bad IMU sample is recoverable (held data); a frozen IMU is not.
+    /// assert_eq!(Fault::ImuNonFinite.severity(), Severity::Recoverable);
+    /// assert_eq!(Fault::ImuFrozen.severity(), Severity::Unrecoverable);
+    /// ```
     pub const fn severity(self) -> Severity {
         match self {
             Self::ImuStale
@@ -212,6 +295,11 @@ impl Fault {
     }
 
     /// A short description.
+    ///
+    /// ```
+    /// use ballbot_core::safety::Fault;
+    /// assert_eq!(Fault::LoopOverrun.description(), "control loop overrun");
+    /// ```
     pub const fn description(self) -> &'static str {
         match self {
             Self::ImuNonFinite => "IMU sample is not finite",
@@ -239,41 +327,102 @@ impl fmt::Display for Fault {
 }
 
 /// A set of [`Fault`]s (a bit set; `Copy`, no allocation).
+///
+/// ```
+/// use ballbot_core::safety::{Fault, FaultSet, Severity};
+/// let mut faults = FaultSet::empty();
+/// faults.insert(Fault::CommandLinkLost);
+/// faults.insert(Fault::LoopOverrun);
+/// assert!(faults.any(Severity::Recoverable) && !faults.any(Severity::Unrecoverable));
+/// assert_eq!(faults.bits(), (1 << 9) | (1 << 11));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct FaultSet(u16);
 
 impl FaultSet {
     /// No fault.
+    ///
+    /// ```
+    /// use ballbot_core::safety::FaultSet;
+    /// assert!(FaultSet::empty().is_empty() && FaultSet::empty() == FaultSet::default());
+    /// ```
     pub const fn empty() -> Self {
         Self(0)
     }
 
     /// The set as bits, bit `code()` per fault (for telemetry).
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, FaultSet};
+    /// let mut faults = FaultSet::empty();
+    /// faults.insert(Fault::ImuStale); // code 2
+    /// assert_eq!(faults.bits(), 0b100);
+    /// ```
     pub const fn bits(self) -> u16 {
         self.0
     }
 
     /// Adds `fault`.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, FaultSet};
+    /// let mut faults = FaultSet::empty();
+    /// faults.insert(Fault::ClockFault);
+    /// faults.insert(Fault::ClockFault); // a set: inserting twice changes nothing
+    /// assert_eq!(faults.iter().count(), 1);
+    /// ```
     pub fn insert(&mut self, fault: Fault) {
         self.0 |= 1 << fault.code();
     }
 
     /// Whether `fault` is in the set.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, FaultSet};
+    /// let mut faults = FaultSet::empty();
+    /// faults.insert(Fault::EncoderStale);
+    /// assert!(faults.contains(Fault::EncoderStale) && !faults.contains(Fault::ImuStale));
+    /// ```
     pub const fn contains(self, fault: Fault) -> bool {
         self.0 & (1 << fault.code()) != 0
     }
 
     /// Whether the set is empty.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, FaultSet};
+    /// let mut faults = FaultSet::empty();
+    /// assert!(faults.is_empty());
+    /// faults.insert(Fault::TiltLimit);
+    /// assert!(!faults.is_empty());
+    /// ```
     pub const fn is_empty(self) -> bool {
         self.0 == 0
     }
 
     /// The union of two sets.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, FaultSet};
+    /// let (mut a, mut b) = (FaultSet::empty(), FaultSet::empty());
+    /// a.insert(Fault::ImuStale);
+    /// b.insert(Fault::EncoderStale);
+    /// let both = a.union(b);
+    /// assert!(both.contains(Fault::ImuStale) && both.contains(Fault::EncoderStale));
+    /// ```
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
     }
 
     /// Whether any fault of `severity` is in the set.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, FaultSet, Severity};
+    /// let mut faults = FaultSet::empty();
+    /// faults.insert(Fault::WheelSpeedLimit);
+    /// assert!(faults.any(Severity::Recoverable));
+    /// assert!(!faults.any(Severity::Unrecoverable));
+    /// ```
     pub const fn any(self, severity: Severity) -> bool {
         let mask = match severity {
             Severity::Unrecoverable => Self::UNRECOVERABLE,
@@ -303,6 +452,17 @@ impl FaultSet {
     }
 
     /// The faults in the set, in code order.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, FaultSet};
+    /// let mut faults = FaultSet::empty();
+    /// faults.insert(Fault::StateNonFinite);
+    /// faults.insert(Fault::ImuNonFinite);
+    /// let mut it = faults.iter();
+    /// assert_eq!(it.next(), Some(Fault::ImuNonFinite)); // code 0 first
+    /// assert_eq!(it.next(), Some(Fault::StateNonFinite)); // code 13
+    /// assert_eq!(it.next(), None);
+    /// ```
     pub fn iter(self) -> impl Iterator<Item = Fault> {
         Fault::ALL.into_iter().filter(move |f| self.contains(*f))
     }
@@ -310,6 +470,15 @@ impl FaultSet {
 
 /// Thresholds and timeouts of the [`SafetySupervisor`]. Times in microseconds of the robot's
 /// monotonic clock.
+///
+/// ```
+/// use ballbot_core::safety::{SafetyParams, SafetySupervisor};
+/// // MiaPURE's defaults, without a remote control (no command-link supervision).
+/// let params = SafetyParams::<f64> { command_timeout_us: None, ..SafetyParams::miapure() };
+/// let sup = SafetySupervisor::new(params)?;
+/// assert_eq!(sup.params().command_timeout_us, None);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SafetyParams<T> {
     /// Longest age of the newest valid IMU sample (us).
@@ -344,11 +513,33 @@ impl<T: RealField + Copy> SafetyParams<T> {
     /// period 5 ms (2 periods), tilt limit 20 deg, arming within 3 deg and 0.2 rad/s, gyro range
     /// 2000 deg/s, wheel-speed limit 90 % of the 62 rad/s no-load speed, encoder range twice
     /// the no-load speed.
+    ///
+    /// ```
+    /// use ballbot_core::safety::SafetyParams;
+    /// let p = SafetyParams::<f64>::miapure();
+    /// approx::assert_relative_eq!(p.tilt_limit_rad.to_degrees(), 20.0, epsilon = 1e-9);
+    /// // 90 % of the actuator's 62 rad/s no-load speed.
+    /// approx::assert_relative_eq!(p.wheel_speed_limit_rad_per_s, 55.8, epsilon = 1e-9);
+    /// assert_eq!(p.imu_timeout_us, 20_000); // 8 periods at 400 Hz
+    /// ```
     pub fn miapure() -> Self {
         Self::for_actuator(&ActuatorParams::miapure())
     }
 
     /// The [`Self::miapure`] thresholds with the wheel-speed limits taken from `actuator`.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::safety::SafetyParams;
+    /// // A faster gearing: 100 rad/s no-load at the omniwheel.
+    /// let actuator = ActuatorParams {
+    ///     no_load_speed_rad_per_s: 100.0,
+    ///     ..ActuatorParams::<f64>::miapure()
+    /// };
+    /// let p = SafetyParams::for_actuator(&actuator);
+    /// approx::assert_relative_eq!(p.wheel_speed_limit_rad_per_s, 90.0, epsilon = 1e-9);
+    /// approx::assert_relative_eq!(p.encoder_range_rad_per_s, 200.0, epsilon = 1e-9);
+    /// ```
     pub fn for_actuator(actuator: &ActuatorParams<T>) -> Self {
         let deg = T::pi() / lit(180.0);
         Self {
@@ -367,6 +558,19 @@ impl<T: RealField + Copy> SafetyParams<T> {
     }
 
     /// Checks every field.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::safety::SafetyParams;
+    /// let p = SafetyParams::<f64>::miapure();
+    /// assert!(p.validate().is_ok());
+    /// // Arming must not be allowed beyond the tilt at which balancing is given up.
+    /// let bad = SafetyParams { arm_tilt_limit_rad: 0.5, ..p };
+    /// assert!(matches!(
+    ///     bad.validate(),
+    ///     Err(Error::InvalidParameter { field: "arm_tilt_limit_rad", .. })
+    /// ));
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         let nonzero = |v: u64, field| {
             if v > 0 {
@@ -410,6 +614,22 @@ impl<T: RealField + Copy> SafetyParams<T> {
 }
 
 /// What the supervisor looks at in one step.
+///
+/// ```
+/// use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// use ballbot_core::safety::{Mode, ModeRequest, SafetyInput, SafetyParams, SafetySupervisor};
+/// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+/// let input = SafetyInput {
+///     now_us: 10_000,
+///     imu: ImuSample::<f64>::upright(9_900),
+///     encoders: EncoderSample::still(9_950),
+///     command_timestamp_us: Some(8_000),
+///     command_finite: true,
+///     request: ModeRequest::Arm,
+/// };
+/// assert_eq!(sup.step(&input).mode, Mode::Balancing);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SafetyInput<T: nalgebra::Scalar> {
     /// The time of this step on the robot's monotonic clock (us).
@@ -427,6 +647,30 @@ pub struct SafetyInput<T: nalgebra::Scalar> {
 }
 
 /// The supervisor's verdict for one step.
+///
+/// ```
+/// use ballbot_core::safety::{Fault, Mode, ModeRequest, SafetyParams, SafetySupervisor};
+/// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// # use ballbot_core::safety::SafetyInput;
+/// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+/// # let input = |t_us: u64, request| SafetyInput {
+/// #     now_us: t_us,
+/// #     imu: ImuSample::<f64>::upright(t_us),
+/// #     encoders: EncoderSample::still(t_us),
+/// #     command_timestamp_us: Some(t_us),
+/// #     command_finite: true,
+/// #     request,
+/// # };
+/// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+/// sup.step(&input(0, ModeRequest::Arm));
+/// // An encoder reads 80 rad/s: beyond the 55.8 rad/s wheel-speed limit, within its range.
+/// let mut fast = input(2500, ModeRequest::None);
+/// fast.encoders.wheel_speeds_rad_per_s[0] = 80.0;
+/// let status = sup.step(&fast);
+/// assert!(status.faults.contains(Fault::WheelSpeedLimit) && status.encoders_valid);
+/// assert_eq!((status.previous_mode, status.mode), (Mode::Balancing, Mode::ControlledStop));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SafetyStatus {
     /// The mode after this step.
@@ -443,6 +687,25 @@ pub struct SafetyStatus {
 
 impl SafetyStatus {
     /// Whether the mode changed in this step.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{ModeRequest, SafetyParams, SafetySupervisor};
+    /// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// # use ballbot_core::safety::SafetyInput;
+    /// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+    /// # let input = |t_us: u64, request| SafetyInput {
+    /// #     now_us: t_us,
+    /// #     imu: ImuSample::<f64>::upright(t_us),
+    /// #     encoders: EncoderSample::still(t_us),
+    /// #     command_timestamp_us: Some(t_us),
+    /// #     command_finite: true,
+    /// #     request,
+    /// # };
+    /// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+    /// assert!(sup.step(&input(0, ModeRequest::Arm)).transitioned());
+    /// assert!(!sup.step(&input(2500, ModeRequest::None)).transitioned());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn transitioned(&self) -> bool {
         self.mode != self.previous_mode
     }
@@ -450,6 +713,32 @@ impl SafetyStatus {
 
 /// The safety supervisor: checks samples, timing and the command link every outer step and
 /// runs the [`Mode`] state machine. O(1), allocation-free, panic-free.
+///
+/// ```
+/// use ballbot_core::safety::{Fault, Mode, ModeRequest, SafetyParams, SafetySupervisor};
+/// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// # use ballbot_core::safety::SafetyInput;
+/// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+/// # let input = |t_us: u64, request| SafetyInput {
+/// #     now_us: t_us,
+/// #     imu: ImuSample::<f64>::upright(t_us),
+/// #     encoders: EncoderSample::still(t_us),
+/// #     command_timestamp_us: Some(t_us),
+/// #     command_finite: true,
+/// #     request,
+/// # };
+/// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+/// sup.step(&input(0, ModeRequest::Arm));
+/// // The body tips past 20 deg: balancing is given up, the motors are disabled ...
+/// let mut fallen = input(2500, ModeRequest::None);
+/// fallen.imu.pitch_rad = 25f64.to_radians();
+/// let status = sup.step(&fallen);
+/// assert!(status.faults.contains(Fault::TiltLimit));
+/// assert_eq!(status.mode, Mode::Fault);
+/// // ... until the operator acknowledges the fault, which leaves the motors off.
+/// assert_eq!(sup.step(&input(5000, ModeRequest::Reset)).mode, Mode::Idle);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SafetySupervisor<T: nalgebra::Scalar> {
     params: SafetyParams<T>,
@@ -466,6 +755,15 @@ pub struct SafetySupervisor<T: nalgebra::Scalar> {
 
 impl<T: RealField + Copy> SafetySupervisor<T> {
     /// Validates `params`; starts in [`Mode::Idle`].
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Mode, SafetyParams, SafetySupervisor};
+    /// let sup = SafetySupervisor::new(SafetyParams::<f64>::miapure())?;
+    /// assert_eq!(sup.mode(), Mode::Idle);
+    /// let no_timeout = SafetyParams { imu_timeout_us: 0, ..SafetyParams::<f64>::miapure() };
+    /// assert!(SafetySupervisor::new(no_timeout).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(params: SafetyParams<T>) -> Result<Self, Error> {
         params.validate()?;
         Ok(Self {
@@ -482,17 +780,72 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
     }
 
     /// The thresholds.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{SafetyParams, SafetySupervisor};
+    /// let sup = SafetySupervisor::new(SafetyParams::<f64>::miapure())?;
+    /// assert_eq!(sup.params().max_loop_period_us, 5_000);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn params(&self) -> &SafetyParams<T> {
         &self.params
     }
 
     /// The current mode.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, Mode, ModeRequest, SafetyParams, SafetySupervisor};
+    /// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// # use ballbot_core::safety::SafetyInput;
+    /// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+    /// # let input = |t_us: u64, request| SafetyInput {
+    /// #     now_us: t_us,
+    /// #     imu: ImuSample::<f64>::upright(t_us),
+    /// #     encoders: EncoderSample::still(t_us),
+    /// #     command_timestamp_us: Some(t_us),
+    /// #     command_finite: true,
+    /// #     request,
+    /// # };
+    /// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+    /// sup.step(&input(0, ModeRequest::Arm));
+    /// assert_eq!(sup.mode(), Mode::Balancing);
+    /// sup.report(Fault::LoopOverrun);
+    /// assert_eq!(sup.mode(), Mode::ControlledStop);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn mode(&self) -> Mode {
         self.mode
     }
 
     /// Every fault seen since the last arm, resume or reset, including those of the step that
     /// made it (for diagnostics).
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, ModeRequest, SafetyParams, SafetySupervisor};
+    /// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// # use ballbot_core::safety::SafetyInput;
+    /// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+    /// # let input = |t_us: u64, request| SafetyInput {
+    /// #     now_us: t_us,
+    /// #     imu: ImuSample::<f64>::upright(t_us),
+    /// #     encoders: EncoderSample::still(t_us),
+    /// #     command_timestamp_us: Some(t_us),
+    /// #     command_finite: true,
+    /// #     request,
+    /// # };
+    /// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+    /// sup.step(&input(0, ModeRequest::Arm));
+    /// let mut nan = input(2500, ModeRequest::None);
+    /// nan.command_finite = false;
+    /// sup.step(&nan);
+    /// // The fault is gone in the next step but stays latched for diagnostics ...
+    /// assert!(sup.step(&input(5000, ModeRequest::None)).faults.is_empty());
+    /// assert!(sup.latched_faults().contains(Fault::CommandNonFinite));
+    /// // ... until the operator resumes.
+    /// sup.step(&input(7500, ModeRequest::Resume));
+    /// assert!(sup.latched_faults().is_empty());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn latched_faults(&self) -> FaultSet {
         self.latched
     }
@@ -502,6 +855,28 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
     /// once: an unrecoverable fault while the motors are on enters [`Mode::Fault`], a
     /// recoverable one while balancing enters [`Mode::ControlledStop`]. It is also listed in
     /// the next step's faults. Returns the mode.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, Mode, ModeRequest, SafetyParams, SafetySupervisor};
+    /// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// # use ballbot_core::safety::SafetyInput;
+    /// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+    /// # let input = |t_us: u64, request| SafetyInput {
+    /// #     now_us: t_us,
+    /// #     imu: ImuSample::<f64>::upright(t_us),
+    /// #     encoders: EncoderSample::still(t_us),
+    /// #     command_timestamp_us: Some(t_us),
+    /// #     command_finite: true,
+    /// #     request,
+    /// # };
+    /// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+    /// sup.step(&input(0, ModeRequest::Arm));
+    /// // The controller's estimate went NaN: motors off at once, not at the next step.
+    /// assert_eq!(sup.report(Fault::StateNonFinite), Mode::Fault);
+    /// // The next step lists it.
+    /// assert!(sup.step(&input(2500, ModeRequest::None)).faults.contains(Fault::StateNonFinite));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn report(&mut self, fault: Fault) -> Mode {
         self.reported.insert(fault);
         self.latched.insert(fault);
@@ -519,6 +894,41 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
     }
 
     /// Checks the samples and timing of one step and applies the operator's request.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{Fault, Mode, ModeRequest, SafetyParams, SafetySupervisor};
+    /// # use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// # use ballbot_core::safety::SafetyInput;
+    /// // `input(t_us, request)`: fresh, upright and still samples at `t_us` (see `SafetyInput`).
+    /// # let input = |t_us: u64, request| SafetyInput {
+    /// #     now_us: t_us,
+    /// #     imu: ImuSample::<f64>::upright(t_us),
+    /// #     encoders: EncoderSample::still(t_us),
+    /// #     command_timestamp_us: Some(t_us),
+    /// #     command_finite: true,
+    /// #     request,
+    /// # };
+    /// let mut sup = SafetySupervisor::new(SafetyParams::miapure())?;
+    /// sup.step(&input(0, ModeRequest::Arm));
+    /// // One non-finite IMU sample: rejected (the last good one is held), a controlled stop
+    /// // starts.
+    /// let mut glitch = input(2500, ModeRequest::None);
+    /// glitch.imu.pitch_rad = f64::NAN;
+    /// let status = sup.step(&glitch);
+    /// assert!(!status.imu_valid && status.faults.contains(Fault::ImuNonFinite));
+    /// assert_eq!(status.mode, Mode::ControlledStop);
+    /// // If no valid sample follows within 20 ms the IMU data is stale: the motors are disabled.
+    /// let mut t = 2500;
+    /// while sup.mode() == Mode::ControlledStop && t < 100_000 {
+    ///     t += 2500;
+    ///     glitch.now_us = t;
+    ///     sup.step(&glitch);
+    /// }
+    /// assert_eq!(sup.mode(), Mode::Fault);
+    /// assert!(sup.latched_faults().contains(Fault::ImuStale));
+    /// assert!(t > 20_000 && t <= 25_000);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(&mut self, input: &SafetyInput<T>) -> SafetyStatus {
         let p = &self.params;
         let now = input.now_us;
