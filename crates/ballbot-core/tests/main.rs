@@ -2,6 +2,7 @@
 
 mod ballbot3d;
 mod controllers;
+mod doc_examples;
 mod kinematics;
 mod lqr;
 mod safety;
