@@ -42,6 +42,20 @@ use crate::{OmniKinematics, SpinState};
 use nalgebra::{Quaternion, RealField, UnitQuaternion, Vector3};
 
 /// One IMU reading.
+///
+/// ```
+/// use ballbot_core::estimation::ImuSample;
+/// use nalgebra::Vector3;
+/// // Pitched 2 deg forward and tipping further at 0.1 rad/s, heading 90 deg.
+/// let imu = ImuSample {
+///     timestamp_us: 1_000_000,
+///     roll_rad: 0.0,
+///     pitch_rad: 2f64.to_radians(),
+///     yaw_rad: core::f64::consts::FRAC_PI_2,
+///     angular_velocity_rad_per_s: Vector3::new(0.0, 0.1, 0.0),
+/// };
+/// assert!(imu.is_finite());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImuSample<T: nalgebra::Scalar> {
     /// When it was measured, on the robot's monotonic clock (microseconds).
@@ -58,6 +72,13 @@ pub struct ImuSample<T: nalgebra::Scalar> {
 
 impl<T: RealField + Copy> ImuSample<T> {
     /// An upright, still reading at time `timestamp_us`.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::ImuSample;
+    /// let imu = ImuSample::<f64>::upright(2500);
+    /// assert_eq!((imu.timestamp_us, imu.pitch_rad), (2500, 0.0));
+    /// assert_eq!(imu.angular_velocity_rad_per_s.norm(), 0.0);
+    /// ```
     pub fn upright(timestamp_us: u64) -> Self {
         Self {
             timestamp_us,
@@ -103,6 +124,14 @@ impl<T: RealField + Copy> ImuSample<T> {
     }
 
     /// Whether every number in the reading is finite.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::ImuSample;
+    /// let mut imu = ImuSample::<f64>::upright(0);
+    /// assert!(imu.is_finite());
+    /// imu.angular_velocity_rad_per_s[2] = f64::INFINITY;
+    /// assert!(!imu.is_finite());
+    /// ```
     pub fn is_finite(&self) -> bool {
         self.roll_rad.is_finite()
             && self.pitch_rad.is_finite()
@@ -115,6 +144,14 @@ impl<T: RealField + Copy> ImuSample<T> {
 }
 
 /// One reading of the three omniwheel encoders.
+///
+/// ```
+/// use ballbot_core::estimation::EncoderSample;
+/// use nalgebra::Vector3;
+/// let speeds = Vector3::new(3.0, -1.5, -1.5);
+/// let enc = EncoderSample { timestamp_us: 2500, wheel_speeds_rad_per_s: speeds };
+/// assert!(enc.is_finite());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EncoderSample<T: nalgebra::Scalar> {
     /// When it was measured, on the robot's monotonic clock (microseconds).
@@ -125,6 +162,12 @@ pub struct EncoderSample<T: nalgebra::Scalar> {
 
 impl<T: RealField + Copy> EncoderSample<T> {
     /// All wheels still at time `timestamp_us`.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::EncoderSample;
+    /// let enc = EncoderSample::<f64>::still(0);
+    /// assert_eq!(enc.wheel_speeds_rad_per_s, nalgebra::Vector3::zeros());
+    /// ```
     pub fn still(timestamp_us: u64) -> Self {
         Self {
             timestamp_us,
@@ -133,12 +176,30 @@ impl<T: RealField + Copy> EncoderSample<T> {
     }
 
     /// Whether every speed is finite.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::EncoderSample;
+    /// let mut enc = EncoderSample::<f64>::still(0);
+    /// enc.wheel_speeds_rad_per_s[1] = f64::NAN;
+    /// assert!(!enc.is_finite());
+    /// ```
     pub fn is_finite(&self) -> bool {
         self.wheel_speeds_rad_per_s.iter().all(|x| x.is_finite())
     }
 }
 
 /// The three planar states of a ballbot.
+///
+/// ```
+/// use ballbot_core::estimation::PlanarStates;
+/// use ballbot_core::{BallbotParams, OmniKinematics};
+/// let mut s = PlanarStates::<f64>::zeros();
+/// // 1 m/s forward: the sagittal ball rate is the speed over the ball radius.
+/// let r = BallbotParams::<f64>::miapure_60kg().sagittal.ball_radius_m;
+/// s.sagittal[3] = 1.0 / r;
+/// s.spin[1] = 0.5; // turning left at 0.5 rad/s
+/// assert!(s.is_finite());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlanarStates<T: nalgebra::Scalar> {
     /// Sagittal plane `[theta_y, phi_y, theta_dot_y, phi_dot_y]`.
@@ -151,6 +212,12 @@ pub struct PlanarStates<T: nalgebra::Scalar> {
 
 impl<T: RealField + Copy> PlanarStates<T> {
     /// All zero: upright, at rest, heading 0.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::PlanarStates;
+    /// let s = PlanarStates::<f64>::zeros();
+    /// assert!(s.sagittal.iter().chain(s.frontal.iter()).chain(s.spin.iter()).all(|x| *x == 0.0));
+    /// ```
     pub fn zeros() -> Self {
         Self {
             sagittal: WipState::zeros(),
@@ -160,6 +227,14 @@ impl<T: RealField + Copy> PlanarStates<T> {
     }
 
     /// Whether every entry is finite.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::PlanarStates;
+    /// let mut s = PlanarStates::<f64>::zeros();
+    /// assert!(s.is_finite());
+    /// s.spin[0] = f64::NAN;
+    /// assert!(!s.is_finite());
+    /// ```
     pub fn is_finite(&self) -> bool {
         self.sagittal.iter().all(|x| x.is_finite())
             && self.frontal.iter().all(|x| x.is_finite())
@@ -197,6 +272,15 @@ pub struct Estimator<T: nalgebra::Scalar> {
 
 impl<T: RealField + Copy> Estimator<T> {
     /// An estimator at rest, heading taken from the first IMU sample.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::{Estimator, PlanarStates};
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let est = Estimator::new(kin);
+    /// assert_eq!(*est.states(), PlanarStates::zeros());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(kinematics: OmniKinematics<T>) -> Self {
         Self {
             kinematics,
@@ -206,16 +290,52 @@ impl<T: RealField + Copy> Estimator<T> {
     }
 
     /// The kinematics it inverts.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::Estimator;
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert_eq!(Estimator::new(kin).kinematics(), &kin);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn kinematics(&self) -> &OmniKinematics<T> {
         &self.kinematics
     }
 
     /// The latest estimate.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::{Estimator, ImuSample};
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut est = Estimator::new(kin);
+    /// let imu = ImuSample { roll_rad: -0.01, ..ImuSample::upright(0) };
+    /// let returned = est.update(Some(&imu), None, 0.0025);
+    /// assert_eq!(*est.states(), returned);
+    /// assert_eq!(est.states().frontal[0], -0.01); // theta_x = roll
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn states(&self) -> &PlanarStates<T> {
         &self.states
     }
 
     /// Forgets everything: back to rest, ball angles 0, heading from the next IMU sample.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::{EncoderSample, Estimator, PlanarStates};
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut est = Estimator::new(kin);
+    /// let speeds = Vector3::new(5.0, -2.5, -2.5);
+    /// let rolling = EncoderSample { timestamp_us: 0, wheel_speeds_rad_per_s: speeds };
+    /// est.update(None, Some(&rolling), 0.0025);
+    /// est.update(None, Some(&rolling), 0.0025);
+    /// assert_ne!(*est.states(), PlanarStates::zeros()); // rolling: ball rates and angles
+    /// est.reset();
+    /// assert_eq!(*est.states(), PlanarStates::zeros());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         self.states = PlanarStates::zeros();
         self.last_yaw_rad = None;
@@ -224,6 +344,23 @@ impl<T: RealField + Copy> Estimator<T> {
     /// Folds in the samples accepted this step (`None`: missing or rejected) and integrates
     /// the ball angles over `dt_secs` (trapezoidal; a non-finite or negative `dt_secs`
     /// integrates nothing). Non-finite samples are ignored.
+    ///
+    /// ```
+    /// use ballbot_core::estimation::{Estimator, ImuSample};
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut est = Estimator::new(kin);
+    /// // The IMU's yaw wraps from +3.1 to -3.1 rad: the heading goes on continuously.
+    /// let imu = ImuSample { yaw_rad: 3.1, ..ImuSample::upright(0) };
+    /// est.update(Some(&imu), None, 0.0025);
+    /// let imu = ImuSample { yaw_rad: -3.1, ..ImuSample::upright(2500) };
+    /// let s = est.update(Some(&imu), None, 0.0025);
+    /// approx::assert_relative_eq!(s.spin[0], 2.0 * core::f64::consts::PI - 3.1, epsilon = 1e-12);
+    /// // A NaN sample is ignored: the last good attitude is held.
+    /// let bad = ImuSample { pitch_rad: f64::NAN, ..ImuSample::upright(5000) };
+    /// assert_eq!(est.update(Some(&bad), None, 0.0025), s);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn update(
         &mut self,
         imu: Option<&ImuSample<T>>,
@@ -287,6 +424,33 @@ fn wrap_pi<T: RealField + Copy>(angle: T) -> T {
 /// The exact sensor readings of a robot in the planar states `states` at `timestamp_us`: the
 /// inverse of [`Estimator::update`] (yaw wrapped into (-pi, pi]). For simulators driving the
 /// controller from planar plants, and for tests.
+///
+/// ```
+/// use ballbot_core::estimation::{Estimator, PlanarStates, synthesize_sensors};
+/// use ballbot_core::{BallbotParams, OmniKinematics};
+/// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+/// // Rolling diagonally while leaning and turning.
+/// let mut truth = PlanarStates::zeros();
+/// truth.sagittal[0] = 0.03;
+/// truth.sagittal[3] = 5.0;
+/// truth.frontal[2] = -0.2;
+/// truth.frontal[3] = -2.0;
+/// truth.spin[1] = 0.7;
+/// let (imu, enc) = synthesize_sensors(&kin, &truth, 42);
+/// assert_eq!((imu.timestamp_us, enc.timestamp_us), (42, 42));
+/// // The estimator inverts it: rates and tilts come back.
+/// let s = Estimator::new(kin).update(Some(&imu), Some(&enc), 0.0025);
+/// let pairs = [
+///     (s.sagittal[3], 5.0),
+///     (s.frontal[3], -2.0),
+///     (s.frontal[2], -0.2),
+///     (s.spin[1], 0.7),
+/// ];
+/// for (got, want) in pairs {
+///     approx::assert_relative_eq!(got, want, epsilon = 1e-12);
+/// }
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 pub fn synthesize_sensors<T: RealField + Copy>(
     kinematics: &OmniKinematics<T>,
     states: &PlanarStates<T>,
