@@ -6,6 +6,21 @@ use core::fmt;
 ///
 /// Errors are for malformed input, checked once at construction. The outcome of a numerical
 /// solve (converged or not) is a status in its result, not an `Error`.
+///
+/// ```
+/// use ballbot_core::{Error, WipParams};
+/// let mut params = WipParams::<f64>::miapure_60kg();
+/// params.body_mass_kg = -1.0;
+/// let err = Error::InvalidParameter {
+///     field: "body_mass_kg",
+///     requirement: "must be finite and > 0",
+/// };
+/// assert_eq!(params.validate(), Err(err));
+/// assert_eq!(
+///     err.to_string(),
+///     "invalid parameter `body_mass_kg`: must be finite and > 0"
+/// );
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Error {
@@ -25,6 +40,18 @@ pub enum Error {
 
 impl Error {
     /// Shorthand for [`Error::InvalidParameter`].
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// const TOO_FAST: Error = Error::invalid("speed_m_per_s", "must be <= 3");
+    /// assert!(matches!(
+    ///     TOO_FAST,
+    ///     Error::InvalidParameter {
+    ///         field: "speed_m_per_s",
+    ///         ..
+    ///     }
+    /// ));
+    /// ```
     pub const fn invalid(field: &'static str, requirement: &'static str) -> Self {
         Self::InvalidParameter { field, requirement }
     }

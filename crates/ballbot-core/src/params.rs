@@ -11,6 +11,20 @@ use nalgebra::RealField;
 /// One plane of the wheeled inverted pendulum (WIP): ball plus upper body.
 ///
 /// The upper body is everything but the ball (chassis, omniwheels, payload).
+///
+/// ```
+/// use ballbot_core::{Wip, WipParams};
+/// // A variant of a preset: MiaPURE with a lighter, 40 kg payload.
+/// let params = WipParams {
+///     body_mass_kg: 54.3,
+///     ..WipParams::<f64>::miapure_60kg()
+/// };
+/// params.validate()?;
+/// // A lighter body falls more slowly.
+/// let light = Wip::new(params)?.upright_unstable_pole_rad_per_s();
+/// assert!(light < Wip::new(WipParams::miapure_60kg())?.upright_unstable_pole_rad_per_s());
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -49,6 +63,24 @@ impl<T: RealField + Copy> WipParams<T> {
     /// Ball: 22.9 cm, 3.6 kg, 0.047 kg m^2 (paper). Upper body 74.3 kg = 17.9 - 3.6 + 60
     /// (derived). COM height 0.50 m and body inertia 4.0 kg m^2 are estimates (seated-human
     /// COM with the chassis). Frictions and wheel inertia are 0: the nominal design model.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// let params = WipParams::<f64>::miapure_60kg();
+    /// // Robot (17.9 kg) plus payload (60 kg), ball included.
+    /// approx::assert_relative_eq!(
+    ///     params.ball_mass_kg + params.body_mass_kg,
+    ///     77.9,
+    ///     epsilon = 1e-12
+    /// );
+    /// // MODEL.md section 6: open-loop poles 0, 0, +-8.04 rad/s.
+    /// approx::assert_relative_eq!(
+    ///     Wip::new(params)?.upright_unstable_pole_rad_per_s(),
+    ///     8.04,
+    ///     epsilon = 0.005
+    /// );
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn miapure_60kg() -> Self {
         Self {
             ball_radius_m: lit(0.1145),
@@ -68,6 +100,24 @@ impl<T: RealField + Copy> WipParams<T> {
     ///
     /// COM height 0.20 m and body inertia 0.40 kg m^2 are estimates (a 14.3 kg,
     /// 0.45 x 0.36 x 0.36 m box whose centre sits 0.2 m above the ball centre).
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// let params = WipParams::<f64>::miapure_unloaded();
+    /// // The 14.3 kg chassis on the same 3.6 kg ball.
+    /// assert_eq!(params.body_mass_kg, 14.3);
+    /// assert_eq!(
+    ///     params.ball_radius_m,
+    ///     WipParams::<f64>::miapure_60kg().ball_radius_m
+    /// );
+    /// // Lower COM, lighter body: the upright falls more slowly than with payload (6.89 rad/s).
+    /// approx::assert_relative_eq!(
+    ///     Wip::new(params)?.upright_unstable_pole_rad_per_s(),
+    ///     6.89,
+    ///     epsilon = 0.005
+    /// );
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn miapure_unloaded() -> Self {
         Self {
             body_mass_kg: lit(14.3),
@@ -82,6 +132,28 @@ impl<T: RealField + Copy> WipParams<T> {
     /// The paper gives only "half the size, one fifth of the weight of MiaPURE with payload";
     /// every number here is an estimate: wheel 0.0573 m, 0.9 kg, inertia 0.5 m r^2; body
     /// 14.7 kg, COM 0.25 m, 0.25 kg m^2.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// let piptb = WipParams::<f64>::piptb();
+    /// let mia = WipParams::<f64>::miapure_60kg();
+    /// // "One fifth of the weight of MiaPURE with payload" and half its ball size.
+    /// let mass_ratio =
+    ///     (piptb.ball_mass_kg + piptb.body_mass_kg) / (mia.ball_mass_kg + mia.body_mass_kg);
+    /// approx::assert_relative_eq!(mass_ratio, 0.2, epsilon = 0.001);
+    /// approx::assert_relative_eq!(
+    ///     piptb.ball_radius_m / mia.ball_radius_m,
+    ///     0.5,
+    ///     epsilon = 0.001
+    /// );
+    /// // The smaller pendulum falls faster: 10.50 rad/s.
+    /// approx::assert_relative_eq!(
+    ///     Wip::new(piptb)?.upright_unstable_pole_rad_per_s(),
+    ///     10.50,
+    ///     epsilon = 0.005
+    /// );
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn piptb() -> Self {
         let wheel_radius_m: T = lit(0.0573);
         let wheel_mass_kg: T = lit(0.9);
@@ -100,6 +172,23 @@ impl<T: RealField + Copy> WipParams<T> {
     }
 
     /// Checks every field; the error names the first field out of range.
+    ///
+    /// ```
+    /// use ballbot_core::{Error, WipParams};
+    /// assert_eq!(WipParams::<f64>::piptb().validate(), Ok(()));
+    /// // Friction may be zero but not negative; the error names the field.
+    /// let params = WipParams {
+    ///     ball_damping_nm_s_per_rad: -0.1,
+    ///     ..WipParams::<f64>::piptb()
+    /// };
+    /// assert_eq!(
+    ///     params.validate(),
+    ///     Err(Error::invalid(
+    ///         "ball_damping_nm_s_per_rad",
+    ///         "must be finite and >= 0"
+    ///     ))
+    /// );
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.ball_radius_m, "ball_radius_m")?;
         positive(self.ball_mass_kg, "ball_mass_kg")?;
@@ -119,6 +208,19 @@ impl<T: RealField + Copy> WipParams<T> {
 }
 
 /// The spin (yaw) model: `I_z theta_z_ddot + D_z theta_z_dot = tau_z`.
+///
+/// ```
+/// use ballbot_core::{Spin, SpinParams};
+/// // A heavier, better-lubricated variant.
+/// let spin = Spin::new(SpinParams {
+///     inertia_kg_m2: 2.5,
+///     damping_nm_s_per_rad: 0.5,
+/// })?;
+/// // The yaw rate of a coasting robot decays with time constant I_z / D_z = 5 s.
+/// let (a, _) = spin.state_space();
+/// approx::assert_relative_eq!(-1.0 / a[(1, 1)], 5.0, epsilon = 1e-12);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -134,6 +236,14 @@ pub struct SpinParams<T> {
 
 impl<T: RealField + Copy> SpinParams<T> {
     /// MiaPURE with 60 kg payload: I_z 1.8 kg m^2, D_z 1.0 N m s/rad (both estimates).
+    ///
+    /// ```
+    /// use ballbot_core::SpinParams;
+    /// let spin = SpinParams::<f64>::miapure_60kg();
+    /// assert_eq!((spin.inertia_kg_m2, spin.damping_nm_s_per_rad), (1.8, 1.0));
+    /// // The payload dominates the yaw inertia: about 5 times the unloaded chassis's.
+    /// assert!(spin.inertia_kg_m2 > 5.0 * SpinParams::<f64>::miapure_unloaded().inertia_kg_m2);
+    /// ```
     pub fn miapure_60kg() -> Self {
         Self {
             inertia_kg_m2: lit(1.8),
@@ -143,6 +253,13 @@ impl<T: RealField + Copy> SpinParams<T> {
 
     /// MiaPURE without payload: I_z 0.35 kg m^2 (estimate: chassis box plus wheels),
     /// D_z 1.0 N m s/rad (estimate).
+    ///
+    /// ```
+    /// use ballbot_core::SpinParams;
+    /// let spin = SpinParams::<f32>::miapure_unloaded();
+    /// assert_eq!(spin.inertia_kg_m2, 0.35);
+    /// assert_eq!(spin.validate(), Ok(()));
+    /// ```
     pub fn miapure_unloaded() -> Self {
         Self {
             inertia_kg_m2: lit(0.35),
@@ -151,6 +268,18 @@ impl<T: RealField + Copy> SpinParams<T> {
     }
 
     /// Checks every field; the error names the first field out of range.
+    ///
+    /// ```
+    /// use ballbot_core::{Error, SpinParams};
+    /// let spin = SpinParams {
+    ///     inertia_kg_m2: f64::NAN,
+    ///     damping_nm_s_per_rad: 1.0,
+    /// };
+    /// assert_eq!(
+    ///     spin.validate(),
+    ///     Err(Error::invalid("inertia_kg_m2", "must be finite and > 0"))
+    /// );
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.inertia_kg_m2, "inertia_kg_m2")?;
         non_negative(self.damping_nm_s_per_rad, "damping_nm_s_per_rad")?;
@@ -159,6 +288,20 @@ impl<T: RealField + Copy> SpinParams<T> {
 }
 
 /// One actuator (motor plus gearbox), its limits stated at the output (the omniwheel).
+///
+/// ```
+/// use ballbot_core::ActuatorParams;
+/// // A weaker actuator: 20 N m peak, 80 rad/s no-load at the wheel.
+/// let weak = ActuatorParams {
+///     peak_torque_nm: 20.0,
+///     no_load_speed_rad_per_s: 80.0,
+///     ..ActuatorParams::<f64>::miapure()
+/// };
+/// weak.validate()?;
+/// // At half the no-load speed, half the peak is left for motoring, all of it for braking.
+/// assert_eq!(weak.torque_bounds_nm(40.0), (-20.0, 10.0));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -177,6 +320,21 @@ pub struct ActuatorParams<T> {
 impl<T: RealField + Copy> ActuatorParams<T> {
     /// The T-motor QDD actuator of MiaPURE: ratio 7.5, 43.2 N m peak, 62 rad/s no-load at
     /// 45 V (paper). The PIPTB uses similar hardware (paper); we assume the same actuator.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// let qdd = ActuatorParams::<f64>::miapure();
+    /// assert_eq!(
+    ///     (
+    ///         qdd.gear_ratio,
+    ///         qdd.peak_torque_nm,
+    ///         qdd.no_load_speed_rad_per_s
+    ///     ),
+    ///     (7.5, 43.2, 62.0)
+    /// );
+    /// // The rotor's peak torque is the output's divided by the ratio: 5.76 N m.
+    /// approx::assert_relative_eq!(qdd.peak_torque_nm / qdd.gear_ratio, 5.76, epsilon = 1e-12);
+    /// ```
     pub fn miapure() -> Self {
         Self {
             gear_ratio: lit(7.5),
@@ -189,6 +347,21 @@ impl<T: RealField + Copy> ActuatorParams<T> {
     /// `speed_rad_per_s`: the current limit `peak_torque_nm`, and, when the torque drives in
     /// the direction of motion, the line from the peak at rest to 0 at the no-load speed.
     /// Torque against the motion (braking) may use the full peak.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// let qdd = ActuatorParams::<f64>::miapure();
+    /// // At rest: the full 43.2 N m either way.
+    /// assert_eq!(qdd.torque_bounds_nm(0.0), (-43.2, 43.2));
+    /// // Turning forward at half the no-load speed (31 rad/s): 21.6 N m left to speed up,
+    /// // the full peak to brake; mirrored when turning backwards.
+    /// let (lo, hi) = qdd.torque_bounds_nm(31.0);
+    /// approx::assert_relative_eq!(hi, 21.6, epsilon = 1e-12);
+    /// assert_eq!(lo, -43.2);
+    /// assert_eq!(qdd.torque_bounds_nm(-31.0), (-hi, 43.2));
+    /// // Beyond the no-load speed nothing is left for motoring.
+    /// assert_eq!(qdd.torque_bounds_nm(70.0).1, 0.0);
+    /// ```
     pub fn torque_bounds_nm(&self, speed_rad_per_s: T) -> (T, T) {
         let peak = self.peak_torque_nm;
         let line = peak * (T::one() - speed_rad_per_s.abs() / self.no_load_speed_rad_per_s);
@@ -204,6 +377,16 @@ impl<T: RealField + Copy> ActuatorParams<T> {
 
     /// `torque_nm` clamped to [`Self::torque_bounds_nm`] at `speed_rad_per_s`; a non-finite
     /// request gives 0.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// let qdd = ActuatorParams::<f64>::miapure();
+    /// // 30 N m asked at 31 rad/s forward: only 21.6 N m can drive, braking passes in full.
+    /// approx::assert_relative_eq!(qdd.clamp_torque_nm(30.0, 31.0), 21.6, epsilon = 1e-12);
+    /// assert_eq!(qdd.clamp_torque_nm(-30.0, 31.0), -30.0);
+    /// // A non-finite request (a failed computation upstream) gives no torque.
+    /// assert_eq!(qdd.clamp_torque_nm(f64::NAN, 0.0), 0.0);
+    /// ```
     pub fn clamp_torque_nm(&self, torque_nm: T, speed_rad_per_s: T) -> T {
         if !torque_nm.is_finite() {
             return T::zero();
@@ -213,6 +396,18 @@ impl<T: RealField + Copy> ActuatorParams<T> {
     }
 
     /// Checks every field; the error names the first field out of range.
+    ///
+    /// ```
+    /// use ballbot_core::{ActuatorParams, Error};
+    /// let no_gearbox = ActuatorParams {
+    ///     gear_ratio: 0.0,
+    ///     ..ActuatorParams::<f64>::miapure()
+    /// };
+    /// assert_eq!(
+    ///     no_gearbox.validate(),
+    ///     Err(Error::invalid("gear_ratio", "must be finite and > 0"))
+    /// );
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.gear_ratio, "gear_ratio")?;
         positive(self.peak_torque_nm, "peak_torque_nm")?;
@@ -222,9 +417,35 @@ impl<T: RealField + Copy> ActuatorParams<T> {
 }
 
 /// Number of omniwheels. The kinematics and the controllers are written for three.
+///
+/// ```
+/// use ballbot_core::{DrivetrainParams, WHEEL_COUNT};
+/// assert_eq!(
+///     DrivetrainParams::<f64>::miapure().wheel_azimuths_rad.len(),
+///     WHEEL_COUNT
+/// );
+/// ```
 pub const WHEEL_COUNT: usize = 3;
 
 /// The omniwheel drivetrain geometry (MODEL.md section 1) and its actuators.
+///
+/// ```
+/// use ballbot_core::{DrivetrainParams, OmniKinematics};
+/// // MiaPURE's drivetrain with the contacts nearer the top of the ball (40 deg from the vertical).
+/// let steep = DrivetrainParams {
+///     contact_angle_rad: 40f64.to_radians(),
+///     ..DrivetrainParams::miapure()
+/// };
+/// let kin = OmniKinematics::new(steep, 0.1145)?;
+/// let nominal = OmniKinematics::new(DrivetrainParams::miapure(), 0.1145)?;
+/// // That trades yaw torque capacity for tilt torque capacity.
+/// let (cap, cap0) = (
+///     kin.planar_torque_capacity_nm(),
+///     nominal.planar_torque_capacity_nm(),
+/// );
+/// assert!(cap[1] > cap0[1] && cap[2] < cap0[2]);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -251,6 +472,18 @@ pub struct DrivetrainParams<T> {
 impl<T: RealField + Copy> DrivetrainParams<T> {
     /// MiaPURE: wheels at 0, 120, 240 deg, 45 deg contact angle, 125 mm omniwheels, the QDD
     /// actuator (paper); friction coefficients are estimates.
+    ///
+    /// ```
+    /// use ballbot_core::DrivetrainParams;
+    /// let d = DrivetrainParams::<f64>::miapure();
+    /// // Wheels 120 deg apart, contacts 45 deg from the vertical, 125 mm omniwheels.
+    /// approx::assert_relative_eq!(
+    ///     d.wheel_azimuths_rad[2] - d.wheel_azimuths_rad[1],
+    ///     120f64.to_radians()
+    /// );
+    /// approx::assert_relative_eq!(d.contact_angle_rad, std::f64::consts::FRAC_PI_4);
+    /// assert_eq!(2.0 * d.wheel_radius_m, 0.125);
+    /// ```
     pub fn miapure() -> Self {
         let deg = T::pi() / lit(180.0);
         Self {
@@ -265,6 +498,34 @@ impl<T: RealField + Copy> DrivetrainParams<T> {
 
     /// Checks every field, including that the three wheels span all three rotation axes
     /// (a singular layout, e.g. two wheels at the same azimuth, is rejected).
+    ///
+    /// ```
+    /// use ballbot_core::{DrivetrainParams, Error};
+    /// let mut d = DrivetrainParams::<f64>::miapure();
+    /// d.validate()?;
+    /// // Two wheels at the same azimuth cannot drive all three axes.
+    /// d.wheel_azimuths_rad[2] = d.wheel_azimuths_rad[1];
+    /// assert!(matches!(
+    ///     d.validate(),
+    ///     Err(Error::InvalidParameter {
+    ///         field: "wheel_azimuths_rad",
+    ///         ..
+    ///     })
+    /// ));
+    /// // A contact at 90 deg from the vertical cannot carry the robot's weight.
+    /// let flat = DrivetrainParams {
+    ///     contact_angle_rad: std::f64::consts::FRAC_PI_2,
+    ///     ..DrivetrainParams::miapure()
+    /// };
+    /// assert!(matches!(
+    ///     flat.validate(),
+    ///     Err(Error::InvalidParameter {
+    ///         field: "contact_angle_rad",
+    ///         ..
+    ///     })
+    /// ));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         for beta in self.wheel_azimuths_rad {
             finite(beta, "wheel_azimuths_rad")?;
@@ -296,6 +557,19 @@ impl<T: RealField + Copy> DrivetrainParams<T> {
 }
 
 /// A complete 3D ballbot: sagittal and frontal planes, spin, drivetrain.
+///
+/// ```
+/// use ballbot_core::{BallbotParams, WipParams};
+/// // MiaPURE carrying 60 kg, its payload's COM 10 cm higher in the frontal plane only.
+/// let mut params = BallbotParams::<f64>::miapure_60kg();
+/// params.frontal = WipParams {
+///     com_height_m: 0.60,
+///     ..params.frontal
+/// };
+/// params.validate()?;
+/// assert_ne!(params.sagittal, params.frontal);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -315,6 +589,18 @@ pub struct BallbotParams<T> {
 
 impl<T: RealField + Copy> BallbotParams<T> {
     /// MiaPURE carrying a 60 kg payload.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, WipParams};
+    /// let params = BallbotParams::<f64>::miapure_60kg();
+    /// // The two planes are alike (a symmetric robot), and total 77.9 kg with the ball.
+    /// assert_eq!(params.sagittal, params.frontal);
+    /// assert_eq!(params.sagittal, WipParams::miapure_60kg());
+    /// approx::assert_relative_eq!(
+    ///     params.sagittal.body_mass_kg + params.sagittal.ball_mass_kg,
+    ///     77.9
+    /// );
+    /// ```
     pub fn miapure_60kg() -> Self {
         Self {
             sagittal: WipParams::miapure_60kg(),
@@ -325,6 +611,19 @@ impl<T: RealField + Copy> BallbotParams<T> {
     }
 
     /// MiaPURE without payload.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// let empty = BallbotParams::<f64>::miapure_unloaded();
+    /// let loaded = BallbotParams::<f64>::miapure_60kg();
+    /// // Same drivetrain and ball, 60 kg less on top.
+    /// assert_eq!(empty.drivetrain, loaded.drivetrain);
+    /// approx::assert_relative_eq!(
+    ///     loaded.frontal.body_mass_kg - empty.frontal.body_mass_kg,
+    ///     60.0,
+    ///     epsilon = 1e-12
+    /// );
+    /// ```
     pub fn miapure_unloaded() -> Self {
         Self {
             sagittal: WipParams::miapure_unloaded(),
@@ -335,11 +634,31 @@ impl<T: RealField + Copy> BallbotParams<T> {
     }
 
     /// The ball radius shared by both planes (m).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// // MiaPURE's ball is 22.9 cm across.
+    /// assert_eq!(BallbotParams::<f64>::miapure_60kg().ball_radius_m(), 0.1145);
+    /// ```
     pub fn ball_radius_m(&self) -> T {
         self.sagittal.ball_radius_m
     }
 
     /// Checks every part and that both planes agree on the ball.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, Error};
+    /// // One ball: both planes must agree on its radius.
+    /// let mut params = BallbotParams::<f64>::miapure_60kg();
+    /// params.frontal.ball_radius_m = 0.12;
+    /// assert_eq!(
+    ///     params.validate(),
+    ///     Err(Error::invalid(
+    ///         "frontal.ball_radius_m",
+    ///         "must equal sagittal.ball_radius_m (one ball)"
+    ///     ))
+    /// );
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         self.sagittal.validate()?;
         self.frontal.validate()?;
@@ -356,6 +675,22 @@ impl<T: RealField + Copy> BallbotParams<T> {
 }
 
 /// A planar robot (the PIPTB): one WIP plane driven by one actuator.
+///
+/// ```
+/// use ballbot_core::{ActuatorParams, PlanarRobotParams};
+/// // The PIPTB with an actuator of half the peak torque.
+/// let actuator = ActuatorParams {
+///     peak_torque_nm: 21.6,
+///     ..ActuatorParams::<f64>::miapure()
+/// };
+/// let robot = PlanarRobotParams {
+///     actuator,
+///     ..PlanarRobotParams::piptb()
+/// };
+/// robot.validate()?;
+/// assert_eq!(robot.actuator.torque_bounds_nm(0.0), (-21.6, 21.6));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -371,6 +706,22 @@ pub struct PlanarRobotParams<T> {
 
 impl<T: RealField + Copy> PlanarRobotParams<T> {
     /// The PIPTB testbed (estimates, see [`WipParams::piptb`]).
+    ///
+    /// ```
+    /// use ballbot_core::{ActuatorParams, PlanarRobotParams, WipParams};
+    /// let robot = PlanarRobotParams::<f64>::piptb();
+    /// assert_eq!(robot.plane, WipParams::piptb());
+    /// assert_eq!(robot.actuator, ActuatorParams::miapure());
+    /// // At the testbed's 1 m/s cruise the wheel turns at 17.5 rad/s, well below the 62 rad/s
+    /// // no-load speed: 31 N m of the 43.2 N m peak is left to accelerate.
+    /// let wheel_rate_rad_per_s = 1.0 / robot.plane.ball_radius_m;
+    /// approx::assert_relative_eq!(wheel_rate_rad_per_s, 17.45, epsilon = 0.01);
+    /// approx::assert_relative_eq!(
+    ///     robot.actuator.torque_bounds_nm(wheel_rate_rad_per_s).1,
+    ///     31.04,
+    ///     epsilon = 0.01
+    /// );
+    /// ```
     pub fn piptb() -> Self {
         Self {
             plane: WipParams::piptb(),
@@ -379,6 +730,21 @@ impl<T: RealField + Copy> PlanarRobotParams<T> {
     }
 
     /// Checks every part.
+    ///
+    /// ```
+    /// use ballbot_core::{Error, PlanarRobotParams};
+    /// let mut robot = PlanarRobotParams::<f64>::piptb();
+    /// robot.validate()?;
+    /// robot.actuator.no_load_speed_rad_per_s = f64::INFINITY;
+    /// assert_eq!(
+    ///     robot.validate(),
+    ///     Err(Error::invalid(
+    ///         "no_load_speed_rad_per_s",
+    ///         "must be finite and > 0"
+    ///     ))
+    /// );
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         self.plane.validate()?;
         self.actuator.validate()

@@ -22,8 +22,14 @@ use std::path::{Path, PathBuf};
 
 /// Files (relative to `crates/ballbot-core/src`) whose public items must all have examples.
 const CHECKED: &[&str] = &[
+    // One file a line, so that additions merge trivially.
     "check.rs",
     "integrate.rs",
+    "lib.rs",
+    "lqr/mod.rs",
+    "error.rs",
+    "params.rs",
+    "spin.rs",
     "control/mod.rs",
     "control/feedforward.rs",
     "control/lqr.rs",
@@ -37,17 +43,13 @@ const CHECKED: &[&str] = &[
 /// Files whose examples are still being written (issue 8); they move to [`CHECKED`] when done
 /// (a file in both lists is checked).
 const PENDING: &[&str] = &[
-    "lib.rs",
-    "error.rs",
-    "params.rs",
+    // One file a line.
     "wip.rs",
-    "spin.rs",
     "hal.rs",
     "linalg.rs",
     "kinematics/mod.rs",
     "kinematics/contact.rs",
     "kinematics/limits.rs",
-    "lqr/mod.rs",
     "lqr/design.rs",
     "lqr/riccati.rs",
     "control/mod.rs",
