@@ -55,6 +55,13 @@ use nalgebra::RealField;
 ///
 /// For a translation axis the value is a speed: `max_value` in m/s, `max_rate_per_s` an
 /// acceleration in m/s^2, `max_jerk_per_s2` a jerk in m/s^3. For yaw: rad/s, rad/s^2, rad/s^3.
+///
+/// ```
+/// use ballbot_core::command::{AxisLimits, CommandShaperParams};
+/// // MiaPURE's translation limits: 2 m/s, 1 m/s^2, 2 m/s^3.
+/// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 2.0 };
+/// assert_eq!(CommandShaperParams::<f64>::miapure().translation, limits);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisLimits<T> {
     /// Largest magnitude of the value (m/s or rad/s).
@@ -67,6 +74,16 @@ pub struct AxisLimits<T> {
 
 impl<T: RealField + Copy> AxisLimits<T> {
     /// Checks that every limit is finite and positive.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::command::AxisLimits;
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 0.0 };
+    /// assert!(matches!(
+    ///     limits.validate(),
+    ///     Err(Error::InvalidParameter { field: "max_jerk_per_s2", .. })
+    /// ));
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.max_value, "max_value")?;
         positive(self.max_rate_per_s, "max_rate_per_s")?;
@@ -107,6 +124,12 @@ pub struct JerkLimiter<T> {
 
 impl<T: RealField + Copy> JerkLimiter<T> {
     /// A limiter at rest at `value`.
+    ///
+    /// ```
+    /// use ballbot_core::command::JerkLimiter;
+    /// let limiter = JerkLimiter::at(1.5);
+    /// assert_eq!((limiter.value(), limiter.rate_per_s()), (1.5, 0.0));
+    /// ```
     pub fn at(value: T) -> Self {
         Self {
             value,
@@ -116,22 +139,60 @@ impl<T: RealField + Copy> JerkLimiter<T> {
     }
 
     /// The shaped value.
+    ///
+    /// ```
+    /// use ballbot_core::command::{AxisLimits, JerkLimiter};
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 2.0 };
+    /// let mut limiter = JerkLimiter::at(0.0);
+    /// let returned = limiter.step(1.0, &limits, 0.0025);
+    /// assert_eq!(limiter.value(), returned);
+    /// ```
     pub fn value(&self) -> T {
         self.value
     }
 
     /// Its rate of change (the acceleration, per s).
+    ///
+    /// ```
+    /// use ballbot_core::command::{AxisLimits, JerkLimiter};
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 2.0 };
+    /// let mut limiter = JerkLimiter::at(0.0);
+    /// // After 0.25 s of jerk at 2 m/s^3 the acceleration is 0.5 m/s^2.
+    /// for _ in 0..100 {
+    ///     limiter.step(1.0, &limits, 0.0025);
+    /// }
+    /// approx::assert_relative_eq!(limiter.rate_per_s(), 0.5, epsilon = 1e-9);
+    /// ```
     pub fn rate_per_s(&self) -> T {
         self.rate_per_s
     }
 
     /// The jerk applied in the last step (per s^2).
+    ///
+    /// ```
+    /// use ballbot_core::command::{AxisLimits, JerkLimiter};
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 2.0 };
+    /// let mut limiter = JerkLimiter::at(0.0);
+    /// limiter.step(1.0, &limits, 0.0025);
+    /// // A step in the target starts at the full jerk, not at a jump in acceleration.
+    /// approx::assert_relative_eq!(limiter.jerk_per_s2(), 2.0, epsilon = 1e-9);
+    /// ```
     pub fn jerk_per_s2(&self) -> T {
         self.jerk_per_s2
     }
 
     /// Restarts from `value` moving at `rate_per_s` (bumpless hand-over from another source).
     /// Non-finite inputs restart at rest at 0.
+    ///
+    /// ```
+    /// use ballbot_core::command::JerkLimiter;
+    /// let mut limiter = JerkLimiter::at(0.0);
+    /// // Take over from a source that is at 0.8 m/s and accelerating at 0.3 m/s^2.
+    /// limiter.reset(0.8, 0.3);
+    /// assert_eq!((limiter.value(), limiter.rate_per_s()), (0.8, 0.3));
+    /// limiter.reset(f64::NAN, 0.3);
+    /// assert_eq!(limiter, JerkLimiter::at(0.0));
+    /// ```
     pub fn reset(&mut self, value: T, rate_per_s: T) {
         if value.is_finite() && rate_per_s.is_finite() {
             *self = Self {
@@ -145,6 +206,29 @@ impl<T: RealField + Copy> JerkLimiter<T> {
     }
 
     /// Advances one step of `dt_secs` towards a constant `target` and returns the new value.
+    ///
+    /// ```
+    /// use ballbot_core::command::{AxisLimits, JerkLimiter};
+    /// // MiaPURE's translation limits at 400 Hz: a 1 m/s step in the target becomes an S-ramp.
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 2.0 };
+    /// let dt = 0.0025;
+    /// let mut limiter = JerkLimiter::at(0.0);
+    /// let (mut previous, mut arrived_at_secs): (f64, Option<f64>) = (0.0, None);
+    /// for k in 1..=1000 {
+    ///     let v = limiter.step(1.0, &limits, dt);
+    ///     assert!(v >= previous && v <= 1.0); // monotonic, no overshoot
+    ///     assert!(limiter.rate_per_s() <= 1.0 + 1e-12);
+    ///     assert!(limiter.jerk_per_s2().abs() <= 2.0 + 1e-9);
+    ///     if v == 1.0 && arrived_at_secs.is_none() {
+    ///         arrived_at_secs = Some(f64::from(k) * dt);
+    ///     }
+    ///     previous = v;
+    /// }
+    /// // Jerk up 0.5 s, accelerate 0.5 s, jerk down 0.5 s: it arrives after about 1.5 s.
+    /// let t = arrived_at_secs.ok_or("never arrived")?;
+    /// assert!((1.45..1.6).contains(&t), "{t}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn step(&mut self, target: T, limits: &AxisLimits<T>, dt_secs: T) -> T {
         self.step_tracking(target, T::zero(), limits, dt_secs)
     }
@@ -155,6 +239,28 @@ impl<T: RealField + Copy> JerkLimiter<T> {
     /// The target's rate is fed forward and the braking-limited correction added to it, so a
     /// target that respects the limits is followed with a lag of about one step instead of the
     /// `a^2 / (2 j)` a pure error-driven limiter would keep. A non-finite rate counts as 0.
+    ///
+    /// ```
+    /// use ballbot_core::command::{AxisLimits, JerkLimiter};
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 2.0 };
+    /// let dt = 0.0025;
+    /// // Follow a gentle sine, 0.5 m/s amplitude at 0.5 rad/s, feeding its rate forward.
+    /// let target = |t: f64| 0.5 * (0.5 * t).sin();
+    /// let target_rate = |t: f64| 0.25 * (0.5 * t).cos();
+    /// let (mut tracking, mut plain) = (JerkLimiter::at(0.0), JerkLimiter::at(0.0));
+    /// let (mut worst_tracking, mut worst_plain): (f64, f64) = (0.0, 0.0);
+    /// for k in 1..=4000 {
+    ///     let t = f64::from(k) * dt;
+    ///     let a = tracking.step_tracking(target(t), target_rate(t), &limits, dt);
+    ///     let b = plain.step(target(t), &limits, dt);
+    ///     if t > 2.0 {
+    ///         worst_tracking = worst_tracking.max((a - target(t)).abs());
+    ///         worst_plain = worst_plain.max((b - target(t)).abs());
+    ///     }
+    /// }
+    /// // With the rate fed forward the lag is far smaller.
+    /// assert!(worst_tracking < 0.1 * worst_plain, "{worst_tracking} {worst_plain}");
+    /// ```
     pub fn step_tracking(
         &mut self,
         target: T,
@@ -236,6 +342,13 @@ impl<T: RealField + Copy> JerkLimiter<T> {
 }
 
 /// A remote-control velocity command in the body frame.
+///
+/// ```
+/// use ballbot_core::command::VelocityCommand;
+/// // Forward and to the left at 0.5 m/s each, turning clockwise at 0.2 rad/s.
+/// let v = VelocityCommand { vx_m_per_s: 0.5, vy_m_per_s: 0.5, yaw_rate_rad_per_s: -0.2 };
+/// assert!(v.is_finite());
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct VelocityCommand<T> {
     /// Forward speed, towards omniwheel 1 (body x) (m/s).
@@ -248,6 +361,11 @@ pub struct VelocityCommand<T> {
 
 impl<T: RealField + Copy> VelocityCommand<T> {
     /// Standing still.
+    ///
+    /// ```
+    /// use ballbot_core::command::VelocityCommand;
+    /// assert_eq!(VelocityCommand::<f64>::zero(), VelocityCommand::default());
+    /// ```
     pub fn zero() -> Self {
         Self {
             vx_m_per_s: T::zero(),
@@ -257,6 +375,12 @@ impl<T: RealField + Copy> VelocityCommand<T> {
     }
 
     /// Whether every component is finite.
+    ///
+    /// ```
+    /// use ballbot_core::command::VelocityCommand;
+    /// let v = VelocityCommand { vx_m_per_s: f64::NAN, ..VelocityCommand::zero() };
+    /// assert!(!v.is_finite());
+    /// ```
     pub fn is_finite(&self) -> bool {
         self.vx_m_per_s.is_finite()
             && self.vy_m_per_s.is_finite()
@@ -266,6 +390,17 @@ impl<T: RealField + Copy> VelocityCommand<T> {
 
 /// A rider's torso lean, measured relative to the robot's body (e.g. by a seat-back or
 /// rider-worn sensor), plus an optional yaw-rate request (e.g. a twist grip).
+///
+/// ```
+/// use ballbot_core::command::{LeanInput, LeanToDrive, LeanToDriveParams};
+/// let lean = LeanToDrive::new(LeanToDriveParams::<f64>::rider())?;
+/// // 0.15 rad towards the front left: the command points the same way.
+/// let input = LeanInput { towards_x_rad: 0.1, towards_y_rad: 0.1, yaw_rate_rad_per_s: 0.0 };
+/// let v = lean.velocity(&input);
+/// approx::assert_relative_eq!(v.vx_m_per_s, v.vy_m_per_s, epsilon = 1e-12);
+/// assert!(v.vx_m_per_s > 0.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LeanInput<T> {
     /// Lean towards body +x (forward) (rad).
@@ -281,6 +416,20 @@ pub struct LeanInput<T> {
 /// The lean vector's magnitude beyond the deadband, times the gain, is the speed along the
 /// lean's direction, capped at `max_speed_m_per_s`. The deadband is radial, so small leans in
 /// any direction do nothing and the speed is continuous in the lean.
+///
+/// ```
+/// use ballbot_core::command::{LeanInput, LeanToDrive, LeanToDriveParams};
+/// // A nervous rider: a wider 5 deg deadband, 0.5 m/s top speed.
+/// let params = LeanToDriveParams {
+///     deadband_rad: 5f64.to_radians(),
+///     max_speed_m_per_s: 0.5,
+///     ..LeanToDriveParams::rider()
+/// };
+/// let lean = LeanToDrive::new(params)?;
+/// let far = LeanInput { towards_x_rad: 0.4, ..LeanInput::default() };
+/// assert_eq!(lean.velocity(&far).vx_m_per_s, 0.5);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LeanToDriveParams<T> {
     /// Lean magnitude that commands nothing (rad).
@@ -298,8 +447,17 @@ pub struct LeanToDriveParams<T> {
 
 impl<T: RealField + Copy> LeanToDriveParams<T> {
     /// Defaults for a seated rider on MiaPURE (engineering choices, not from the paper):
-    /// 3 deg deadband, 6 m/s per rad (10 deg of lean beyond the deadband gives 0.73 m/s),
+    /// 3 deg deadband, 6 m/s per rad (a 10 deg lean, 7 deg beyond the deadband, gives 0.73 m/s),
     /// 1.0 m/s, 0.5 m/s^2, 1.0 rad/s.
+    ///
+    /// ```
+    /// use ballbot_core::command::{LeanInput, LeanToDrive, LeanToDriveParams};
+    /// let lean = LeanToDrive::new(LeanToDriveParams::<f64>::rider())?;
+    /// // A 10 deg lean, 7 deg beyond the 3 deg deadband, gives 0.73 m/s.
+    /// let input = LeanInput { towards_x_rad: 10f64.to_radians(), ..LeanInput::default() };
+    /// approx::assert_relative_eq!(lean.velocity(&input).vx_m_per_s, 0.733, epsilon = 1e-3);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn rider() -> Self {
         Self {
             deadband_rad: lit(0.0524),
@@ -311,6 +469,17 @@ impl<T: RealField + Copy> LeanToDriveParams<T> {
     }
 
     /// Checks every field.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::command::LeanToDriveParams;
+    /// let rider = LeanToDriveParams::<f64>::rider();
+    /// let params = LeanToDriveParams { gain_m_per_s_per_rad: -6.0, ..rider };
+    /// assert!(matches!(
+    ///     params.validate(),
+    ///     Err(Error::InvalidParameter { field: "gain_m_per_s_per_rad", .. })
+    /// ));
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         non_negative(self.deadband_rad, "deadband_rad")?;
         positive(self.gain_m_per_s_per_rad, "gain_m_per_s_per_rad")?;
@@ -340,17 +509,44 @@ pub struct LeanToDrive<T> {
 
 impl<T: RealField + Copy> LeanToDrive<T> {
     /// Validates `params`.
+    ///
+    /// ```
+    /// use ballbot_core::command::{LeanToDrive, LeanToDriveParams};
+    /// assert!(LeanToDrive::new(LeanToDriveParams::<f64>::rider()).is_ok());
+    /// let no_deadband = LeanToDriveParams { deadband_rad: -0.1, ..LeanToDriveParams::rider() };
+    /// assert!(LeanToDrive::new(no_deadband).is_err());
+    /// ```
     pub fn new(params: LeanToDriveParams<T>) -> Result<Self, Error> {
         params.validate()?;
         Ok(Self { params })
     }
 
     /// The settings.
+    ///
+    /// ```
+    /// use ballbot_core::command::{LeanToDrive, LeanToDriveParams};
+    /// let lean = LeanToDrive::new(LeanToDriveParams::<f64>::rider())?;
+    /// assert_eq!(lean.params().max_speed_m_per_s, 1.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn params(&self) -> &LeanToDriveParams<T> {
         &self.params
     }
 
     /// The velocity command for a lean; a non-finite lean commands standing still.
+    ///
+    /// ```
+    /// use ballbot_core::command::{LeanInput, LeanToDrive, LeanToDriveParams};
+    /// let lean = LeanToDrive::new(LeanToDriveParams::<f64>::rider())?;
+    /// // Leaning hard is capped at the 1 m/s top speed; a twist-grip request at 1 rad/s.
+    /// let hard = LeanInput { towards_x_rad: 0.0, towards_y_rad: -0.5, yaw_rate_rad_per_s: 3.0 };
+    /// let v = lean.velocity(&hard);
+    /// assert_eq!((v.vx_m_per_s, v.vy_m_per_s, v.yaw_rate_rad_per_s), (0.0, -1.0, 1.0));
+    /// // A broken sensor (NaN) commands standing still.
+    /// let broken = LeanInput { towards_x_rad: f64::NAN, ..LeanInput::default() };
+    /// assert_eq!(lean.velocity(&broken).vx_m_per_s, 0.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn velocity(&self, lean: &LeanInput<T>) -> VelocityCommand<T> {
         let p = &self.params;
         let (lx, ly) = (lean.towards_x_rad, lean.towards_y_rad);
@@ -401,6 +597,17 @@ pub struct Trajectory<'a, T: nalgebra::Scalar> {
 impl<'a, T: RealField + Copy> Trajectory<'a, T> {
     /// Validates the samples (at least one, all finite) and the period (finite, > 0). Checking
     /// every sample once here keeps [`Self::sample`] O(1).
+    ///
+    /// ```
+    /// use ballbot_core::command::Trajectory;
+    /// use nalgebra::Vector4;
+    /// let samples = [Vector4::zeros(), Vector4::new(0.0, 0.0, 0.0, 1.0)];
+    /// assert!(Trajectory::new(&samples, 0.01, 0.0).is_ok());
+    /// // No samples, a NaN sample or a zero period are refused.
+    /// assert!(Trajectory::<f64>::new(&[], 0.01, 0.0).is_err());
+    /// assert!(Trajectory::new(&[Vector4::repeat(f64::NAN)], 0.01, 0.0).is_err());
+    /// assert!(Trajectory::new(&samples, 0.0, 0.0).is_err());
+    /// ```
     pub fn new(
         samples: &'a [WipState<T>],
         sample_period_secs: T,
@@ -424,6 +631,16 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
 
     /// The same trajectory with a constant yaw rate commanded alongside (rad/s). A non-finite
     /// rate is replaced by 0.
+    ///
+    /// ```
+    /// use ballbot_core::command::Trajectory;
+    /// use nalgebra::Vector4;
+    /// let samples = [Vector4::new(0.0, 0.0, 0.0, 1.0)];
+    /// let traj = Trajectory::new(&samples, 0.01, 0.0)?.with_yaw_rate(0.3);
+    /// assert_eq!(traj.yaw_rate_rad_per_s(), 0.3);
+    /// assert_eq!(traj.with_yaw_rate(f64::NAN).yaw_rate_rad_per_s(), 0.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn with_yaw_rate(mut self, yaw_rate_rad_per_s: T) -> Self {
         self.yaw_rate_rad_per_s = if yaw_rate_rad_per_s.is_finite() {
             yaw_rate_rad_per_s
@@ -434,16 +651,44 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
     }
 
     /// The travel heading in the body frame (rad).
+    ///
+    /// ```
+    /// use ballbot_core::command::Trajectory;
+    /// use nalgebra::Vector4;
+    /// let samples = [Vector4::new(0.0, 0.0, 0.0, 1.0)];
+    /// // Travel towards body +y.
+    /// let traj = Trajectory::new(&samples, 0.01, core::f64::consts::FRAC_PI_2)?;
+    /// assert_eq!(traj.heading_rad(), core::f64::consts::FRAC_PI_2);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn heading_rad(&self) -> T {
         self.heading_rad
     }
 
     /// The commanded yaw rate (rad/s).
+    ///
+    /// ```
+    /// use ballbot_core::command::Trajectory;
+    /// use nalgebra::Vector4;
+    /// let samples = [Vector4::new(0.0, 0.0, 0.0, 1.0)];
+    /// let traj = Trajectory::new(&samples, 0.01, 0.0)?;
+    /// assert_eq!(traj.yaw_rate_rad_per_s(), 0.0); // none unless asked for
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn yaw_rate_rad_per_s(&self) -> T {
         self.yaw_rate_rad_per_s
     }
 
     /// The duration covered by the samples (s).
+    ///
+    /// ```
+    /// use ballbot_core::command::Trajectory;
+    /// use nalgebra::Vector4;
+    /// // 101 samples 10 ms apart cover 1 s.
+    /// let samples = [Vector4::<f64>::zeros(); 101];
+    /// approx::assert_relative_eq!(Trajectory::new(&samples, 0.01, 0.0)?.duration_secs(), 1.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn duration_secs(&self) -> T {
         let n: T = nalgebra::convert((self.samples.len() - 1) as f64);
         n * self.sample_period_secs
@@ -451,12 +696,36 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
 
     /// The command state at `time_secs` after the start, linearly interpolated; the first
     /// sample before the start, the last after the end (and for a non-finite time).
+    ///
+    /// ```
+    /// use ballbot_core::command::Trajectory;
+    /// use nalgebra::Vector4;
+    /// // Braking from 8 rad/s to rest in 1 s.
+    /// let samples = [Vector4::new(0.0, 0.0, 0.0, 8.0), Vector4::new(0.0, 4.0, 0.0, 0.0)];
+    /// let traj = Trajectory::new(&samples, 1.0, 0.0)?;
+    /// approx::assert_relative_eq!(traj.sample(0.75)[3], 2.0);
+    /// assert_eq!(traj.sample(-1.0), samples[0]); // before the start: the first sample
+    /// assert_eq!(traj.sample(f64::NAN), samples[1]); // non-finite time: the last
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn sample(&self, time_secs: T) -> WipState<T> {
         self.sample_with_rate(time_secs).0
     }
 
     /// The interpolated command state at `time_secs` and its time derivative (the slope of
     /// the interval it falls in; zero before the start and after the end).
+    ///
+    /// ```
+    /// use ballbot_core::command::Trajectory;
+    /// use nalgebra::Vector4;
+    /// let samples = [Vector4::new(0.0, 0.0, 0.0, 8.0), Vector4::new(0.0, 4.0, 0.0, 0.0)];
+    /// let traj = Trajectory::new(&samples, 1.0, 0.0)?;
+    /// let (s, rate) = traj.sample_with_rate(0.5);
+    /// assert_eq!(s[3], 4.0);
+    /// assert_eq!(rate[3], -8.0); // decelerating at 8 rad/s^2
+    /// assert_eq!(traj.sample_with_rate(2.0).1, Vector4::zeros()); // held after the end
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn sample_with_rate(&self, time_secs: T) -> (WipState<T>, WipState<T>) {
         let last = self.samples.len() - 1;
         let (first, final_state) = (self.samples[0], self.samples[last]);
@@ -486,6 +755,20 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
 }
 
 /// What the robot is asked to do this step.
+///
+/// ```
+/// use ballbot_core::command::{Command, LeanInput, Trajectory, VelocityCommand};
+/// use nalgebra::Vector4;
+/// let samples = [Vector4::new(0.0, 0.0, 0.0, 5.0)];
+/// let commands = [
+///     Command::Stop,
+///     Command::Velocity(VelocityCommand { vx_m_per_s: 0.5, ..VelocityCommand::zero() }),
+///     Command::Lean(LeanInput { towards_x_rad: 0.1, ..LeanInput::default() }),
+///     Command::Trajectory { trajectory: Trajectory::new(&samples, 0.01, 0.0)?, time_secs: 0.0 },
+/// ];
+/// assert!(commands.iter().all(|c| c.is_finite()));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Command<'a, T: nalgebra::Scalar> {
     /// Come to rest and hold upright (the controlled stop uses this).
@@ -506,6 +789,13 @@ pub enum Command<'a, T: nalgebra::Scalar> {
 impl<T: RealField + Copy> Command<'_, T> {
     /// Whether every number in the command is finite (a trajectory's samples were checked when
     /// it was built).
+    ///
+    /// ```
+    /// use ballbot_core::command::{Command, VelocityCommand};
+    /// let garbled = VelocityCommand { yaw_rate_rad_per_s: f64::INFINITY, ..Default::default() };
+    /// assert!(!Command::Velocity(garbled).is_finite());
+    /// assert!(Command::<f64>::Stop.is_finite());
+    /// ```
     pub fn is_finite(&self) -> bool {
         match self {
             Self::Stop => true,
@@ -521,6 +811,19 @@ impl<T: RealField + Copy> Command<'_, T> {
 }
 
 /// Limits and settings of the [`CommandShaper`].
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::command::{AxisLimits, CommandShaper, CommandShaperParams};
+/// // A cautious setting: 0.5 m/s and 0.3 m/s^2 at most.
+/// let params = CommandShaperParams {
+///     translation: AxisLimits { max_value: 0.5, max_rate_per_s: 0.3, max_jerk_per_s2: 1.0 },
+///     ..CommandShaperParams::miapure()
+/// };
+/// let shaper = CommandShaper::new(params, &BallbotParams::<f64>::miapure_60kg())?;
+/// assert_eq!(shaper.params().translation.max_value, 0.5);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CommandShaperParams<T> {
     /// Limits of each translation axis, body x and body y (m/s, m/s^2, m/s^3).
@@ -539,6 +842,13 @@ impl<T: RealField + Copy> CommandShaperParams<T> {
     /// Defaults for MiaPURE with a payload (engineering choices): 2.0 m/s (the paper's design
     /// target), 1.0 m/s^2, 2.0 m/s^3 (the lean changes by 7 deg over 0.5 s); yaw 1.5 rad/s, 3 rad/s^2, 20 rad/s^3; the rider
     /// lean-to-drive defaults; tilt command within 0.2 rad and 1.0 rad/s.
+    ///
+    /// ```
+    /// use ballbot_core::command::CommandShaperParams;
+    /// let p = CommandShaperParams::<f64>::miapure();
+    /// // The paper's 2 m/s design target.
+    /// assert_eq!((p.translation.max_value, p.yaw.max_value), (2.0, 1.5));
+    /// ```
     pub fn miapure() -> Self {
         Self {
             translation: AxisLimits {
@@ -558,6 +868,14 @@ impl<T: RealField + Copy> CommandShaperParams<T> {
     }
 
     /// Checks every field.
+    ///
+    /// ```
+    /// use ballbot_core::command::CommandShaperParams;
+    /// let mut p = CommandShaperParams::<f64>::miapure();
+    /// assert!(p.validate().is_ok());
+    /// p.max_tilt_command_rad = 0.0;
+    /// assert!(p.validate().is_err());
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         self.translation.validate()?;
         self.yaw.validate()?;
@@ -571,6 +889,19 @@ impl<T: RealField + Copy> CommandShaperParams<T> {
 }
 
 /// Body-frame motion: velocity, or one of its derivatives.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+/// let turn = Command::Velocity(VelocityCommand { yaw_rate_rad_per_s: 1.0, ..Default::default() });
+/// // The yaw acceleration after one step is the 20 rad/s^3 jerk limit times 2.5 ms.
+/// let a = shaper.step(&turn, 0.0025).acceleration;
+/// assert_eq!((a.x, a.y), (0.0, 0.0));
+/// approx::assert_relative_eq!(a.yaw, 20.0 * 0.0025, epsilon = 1e-12);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BodyMotion<T> {
     /// Along body x (m/s, m/s^2 or m/s^3).
@@ -582,6 +913,23 @@ pub struct BodyMotion<T> {
 }
 
 /// The command state of each planar controller.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+/// // Sideways to the left: the frontal plane travels along -y, so its ball rate is negative.
+/// let left = Command::Velocity(VelocityCommand { vy_m_per_s: 0.5, ..VelocityCommand::zero() });
+/// let mut planar = shaper.step(&left, 0.0025).planar;
+/// for _ in 0..800 {
+///     planar = shaper.step(&left, 0.0025).planar;
+/// }
+/// let r = robot.frontal.ball_radius_m;
+/// approx::assert_relative_eq!(planar.frontal[3], -0.5 / r, epsilon = 1e-9);
+/// assert_eq!(planar.sagittal[3], 0.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlanarCommands<T: nalgebra::Scalar> {
     /// Sagittal plane `s_cy = [theta_y, phi_y, theta_dot_y, phi_dot_y]`.
@@ -593,6 +941,19 @@ pub struct PlanarCommands<T: nalgebra::Scalar> {
 }
 
 /// One step of shaped command.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+/// let garbled = Command::Velocity(VelocityCommand { vx_m_per_s: f64::NAN, ..Default::default() });
+/// // A non-finite command is flagged and replaced by a stop.
+/// let shaped = shaper.step(&garbled, 0.0025);
+/// assert!(!shaped.command_finite);
+/// assert_eq!(shaped.velocity.vx_m_per_s, 0.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapedCommand<T: nalgebra::Scalar> {
     /// Shaped body velocity (m/s, m/s, rad/s).
@@ -606,6 +967,15 @@ pub struct ShapedCommand<T: nalgebra::Scalar> {
 }
 
 /// A shaped velocity with named fields (m/s, m/s, rad/s).
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::command::{BodyVelocity, CommandShaper, CommandShaperParams};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+/// assert_eq!(shaper.velocity(), BodyVelocity::default()); // starts at rest
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BodyVelocity<T> {
     /// Along body x (m/s).
@@ -643,6 +1013,28 @@ impl<T: RealField + Copy> PlaneShaping<T> {
 ///
 /// Holds three [`JerkLimiter`]s (body x speed, body y speed, yaw rate), the integrated heading
 /// command and the integrated ball-angle commands. Allocation-free and O(1) per step.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+/// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 2.0, ..VelocityCommand::zero() });
+/// // Mid-ramp, accelerating at the 1 m/s^2 limit: the sagittal command leans forward by the
+/// // equilibrium lean theta_ff = (b + c0) a / (r m_U g l), 7.3 deg for MiaPURE with 60 kg.
+/// let mut shaped = shaper.step(&go, 0.0025);
+/// for _ in 0..400 {
+///     shaped = shaper.step(&go, 0.0025);
+/// }
+/// let p = &robot.sagittal;
+/// let (r, l, m) = (p.ball_radius_m, p.com_height_m, p.body_mass_kg);
+/// let b = p.ball_inertia_kg_m2 + (p.ball_mass_kg + m) * r * r;
+/// let lean_rad_per_m_per_s2 = (b + m * r * l) / (r * m * p.gravity_m_per_s2 * l);
+/// assert_eq!(shaped.acceleration.x, 1.0);
+/// approx::assert_relative_eq!(shaped.planar.sagittal[0], lean_rad_per_m_per_s2, epsilon = 1e-12);
+/// assert!((shaped.planar.sagittal[0].to_degrees() - 7.3).abs() < 0.1);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CommandShaper<T> {
     params: CommandShaperParams<T>,
@@ -659,6 +1051,18 @@ pub struct CommandShaper<T> {
 
 impl<T: RealField + Copy> CommandShaper<T> {
     /// Validates `params` and `robot` and starts at rest with heading 0.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::command::{CommandShaper, CommandShaperParams};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+    /// assert!(shaper.is_at_rest());
+    /// let mut bad = CommandShaperParams::miapure();
+    /// bad.yaw.max_rate_per_s = f64::NAN;
+    /// assert!(CommandShaper::new(bad, &robot).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(params: CommandShaperParams<T>, robot: &BallbotParams<T>) -> Result<Self, Error> {
         params.validate()?;
         robot.validate()?;
@@ -677,12 +1081,33 @@ impl<T: RealField + Copy> CommandShaper<T> {
     }
 
     /// The settings.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::command::{CommandShaper, CommandShaperParams};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+    /// assert_eq!(shaper.params(), &CommandShaperParams::miapure());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn params(&self) -> &CommandShaperParams<T> {
         &self.params
     }
 
     /// Restarts at rest with heading command `heading_rad` (use the measured heading when
     /// arming) and ball-angle commands `phi_x_rad`, `phi_y_rad`. Non-finite values become 0.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+    /// // Arming while the robot faces 1.2 rad: hold that heading, not 0.
+    /// shaper.reset(1.2, 0.0, 0.0);
+    /// let shaped = shaper.step(&Command::Stop, 0.0025);
+    /// assert_eq!(shaped.planar.spin[0], 1.2);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self, heading_rad: T, phi_x_rad: T, phi_y_rad: T) {
         let or_zero = |x: T| if x.is_finite() { x } else { T::zero() };
         self.vx = JerkLimiter::at(T::zero());
@@ -694,6 +1119,17 @@ impl<T: RealField + Copy> CommandShaper<T> {
     }
 
     /// The shaped velocity now.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+    /// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, ..VelocityCommand::zero() });
+    /// let shaped = shaper.step(&go, 0.0025);
+    /// assert_eq!(shaper.velocity(), shaped.velocity);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn velocity(&self) -> BodyVelocity<T> {
         BodyVelocity {
             vx_m_per_s: self.vx.value(),
@@ -703,6 +1139,25 @@ impl<T: RealField + Copy> CommandShaper<T> {
     }
 
     /// Whether the shaped command is at rest (speeds and accelerations exactly 0).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+    /// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, ..VelocityCommand::zero() });
+    /// for _ in 0..800 {
+    ///     shaper.step(&go, 0.0025);
+    /// }
+    /// // A controlled stop: Stop until the shaped command is at rest, exactly.
+    /// let mut steps = 0;
+    /// while !shaper.is_at_rest() && steps < 4000 {
+    ///     shaper.step(&Command::Stop, 0.0025);
+    ///     steps += 1;
+    /// }
+    /// assert!(shaper.is_at_rest() && steps < 4000);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn is_at_rest(&self) -> bool {
         let z = T::zero();
         self.vx.value() == z
@@ -716,6 +1171,22 @@ impl<T: RealField + Copy> CommandShaper<T> {
     /// Advances one step of `dt_secs` (non-finite or non-positive: no motion) towards
     /// `command`. A non-finite command is treated as [`Command::Stop`] and flagged in the
     /// output.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, Trajectory};
+    /// use nalgebra::Vector4;
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+    /// // A trajectory driven towards body +y (heading pi/2): it lands in the frontal plane with
+    /// // the opposite sign (y = -r phi_x), and its own tilt is passed through.
+    /// let samples = [Vector4::new(0.05, 0.0, 0.0, 0.0); 2];
+    /// let trajectory = Trajectory::new(&samples, 0.1, core::f64::consts::FRAC_PI_2)?;
+    /// let shaped = shaper.step(&Command::Trajectory { trajectory, time_secs: 0.0 }, 0.0025);
+    /// approx::assert_relative_eq!(shaped.planar.frontal[0], -0.05, epsilon = 1e-12);
+    /// approx::assert_relative_eq!(shaped.planar.sagittal[0], 0.0, epsilon = 1e-12);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(&mut self, command: &Command<'_, T>, dt_secs: T) -> ShapedCommand<T> {
         let command_finite = command.is_finite();
         let command = if command_finite {
