@@ -63,6 +63,22 @@ use core::fmt;
 use nalgebra::Vector3;
 
 /// What kind of failure a device reported, for code that handles any device's error.
+///
+/// ```
+/// use ballbot_core::hal::{DeviceError, DeviceErrorKind};
+/// use core::convert::Infallible;
+/// // A driver with nothing more to say about a failure can return the kind itself.
+/// fn read_status(bus_ok: bool) -> Result<u8, DeviceErrorKind> {
+///     if bus_ok { Ok(0x2a) } else { Err(DeviceErrorKind::Bus) }
+/// }
+/// assert_eq!(read_status(false).map_err(|e| e.kind()), Err(DeviceErrorKind::Bus));
+/// assert_eq!(DeviceErrorKind::Timeout.to_string(), "device timed out");
+/// // A device that cannot fail uses `Infallible`, which is a `DeviceError` too.
+/// fn classify<E: DeviceError>(result: Result<u8, E>) -> Option<DeviceErrorKind> {
+///     result.err().map(|e| e.kind())
+/// }
+/// assert_eq!(classify(Ok::<u8, Infallible>(1)), None);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum DeviceErrorKind {

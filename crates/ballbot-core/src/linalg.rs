@@ -69,6 +69,15 @@ pub fn norm1<T: RealField + Copy, const R: usize, const C: usize>(m: &SMatrix<T,
 }
 
 /// `true` when every entry is finite.
+///
+/// ```
+/// use ballbot_core::linalg::is_finite;
+/// use nalgebra::Matrix2;
+/// assert!(is_finite(&Matrix2::new(1.0, -2.0, 0.0, 1e300)));
+/// // One NaN or infinity anywhere (e.g. an overflowed product) is enough to fail.
+/// assert!(!is_finite(&Matrix2::new(1.0, f64::NAN, 0.0, 1.0)));
+/// assert!(!is_finite(&(Matrix2::new(1e300, 0.0, 0.0, 1.0) * 1e10)));
+/// ```
 pub fn is_finite<T: RealField + Copy, const R: usize, const C: usize>(
     m: &SMatrix<T, R, C>,
 ) -> bool {
@@ -262,7 +271,11 @@ fn scaling<T: RealField + Copy>(norm: T) -> Option<(u32, T)> {
 /// // The generator of plane rotations: exp([[0, -t], [t, 0]]) = [[cos t, -sin t], [sin t, cos t]].
 /// let t = 0.7_f64;
 /// let e = expm(&Matrix2::new(0.0, -t, t, 0.0)).unwrap();
-/// approx::assert_relative_eq!(e, Matrix2::new(t.cos(), -t.sin(), t.sin(), t.cos()), epsilon = 1e-15);
+/// approx::assert_relative_eq!(
+///     e,
+///     Matrix2::new(t.cos(), -t.sin(), t.sin(), t.cos()),
+///     epsilon = 1e-15
+/// );
 /// ```
 pub fn expm<T: RealField + Copy, const N: usize>(a: &SMatrix<T, N, N>) -> Option<SMatrix<T, N, N>> {
     let (squarings, factor) = scaling(norm1(a))?;
@@ -345,7 +358,11 @@ pub struct DiscreteLti<T: RealField + Copy, const N: usize, const M: usize> {
 /// use ballbot_core::linalg::zoh;
 /// use nalgebra::{Matrix2, Vector2};
 /// // Double integrator: Ad = [[1, dt], [0, 1]], Bd = [dt^2 / 2, dt].
-/// let d = zoh(&Matrix2::new(0.0, 1.0, 0.0, 0.0), &Vector2::new(0.0, 1.0), 0.1_f64)?;
+/// let d = zoh(
+///     &Matrix2::new(0.0, 1.0, 0.0, 0.0),
+///     &Vector2::new(0.0, 1.0),
+///     0.1_f64,
+/// )?;
 /// approx::assert_relative_eq!(d.a, Matrix2::new(1.0, 0.1, 0.0, 1.0), epsilon = 1e-15);
 /// approx::assert_relative_eq!(d.b, Vector2::new(0.005, 0.1), epsilon = 1e-15);
 /// # Ok::<(), ballbot_core::Error>(())

@@ -34,22 +34,81 @@ use crate::{Error, WipParams};
 use nalgebra::{Matrix2, Matrix3, Matrix4, RealField, Vector2, Vector3, Vector4};
 
 /// WIP state `[theta (rad), phi (rad), theta_dot (rad/s), phi_dot (rad/s)]`.
+///
+/// ```
+/// use ballbot_core::WipState;
+/// use ballbot_core::wip::{BALL_RATE, TILT};
+/// // Leaning 0.05 rad forward while the ball rolls at 10 rad/s.
+/// let s: WipState<f64> = WipState::new(0.05, 0.0, 0.0, 10.0);
+/// assert_eq!((s[TILT], s[BALL_RATE]), (0.05, 10.0));
+/// ```
 pub type WipState<T> = Vector4<T>;
 
 /// Reduced WIP state `[theta (rad), theta_dot (rad/s), phi_dot (rad/s)]`: the paper does not
 /// feed back the ball angle `phi`, so controllers are designed on this state.
+///
+/// ```
+/// use ballbot_core::WipReducedState;
+/// use ballbot_core::lqr::{WipLqrWeights, wip_lqr};
+/// use ballbot_core::{Wip, WipParams};
+/// // The LQR acts on [theta, theta_dot, phi_dot]: the ball angle is not fed back.
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let lqr = wip_lqr(&wip, &WipLqrWeights::model_default())?;
+/// let measured: WipReducedState<f64> = WipReducedState::new(0.0, 0.0, 1.0);
+/// // Ball rolling forward at 1 rad/s, reference at rest: k3 = -3.162 asks for 3.162 N m.
+/// approx::assert_relative_eq!(
+///     lqr.control(&WipReducedState::zeros(), &measured),
+///     3.162,
+///     epsilon = 1e-3
+/// );
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 pub type WipReducedState<T> = Vector3<T>;
 
 /// Index of `theta` in [`WipState`].
+///
+/// ```
+/// use ballbot_core::wip::TILT;
+/// assert_eq!(nalgebra::Vector4::new(0.1, 2.0, 0.0, 0.0)[TILT], 0.1);
+/// ```
 pub const TILT: usize = 0;
 /// Index of `phi` in [`WipState`].
+///
+/// ```
+/// use ballbot_core::wip::BALL_ANGLE;
+/// assert_eq!(nalgebra::Vector4::new(0.1, 2.0, 0.0, 0.0)[BALL_ANGLE], 2.0);
+/// ```
 pub const BALL_ANGLE: usize = 1;
 /// Index of `theta_dot` in [`WipState`].
+///
+/// ```
+/// use ballbot_core::wip::TILT_RATE;
+/// assert_eq!(nalgebra::Vector4::new(0.0, 0.0, 0.3, 9.0)[TILT_RATE], 0.3);
+/// ```
 pub const TILT_RATE: usize = 2;
 /// Index of `phi_dot` in [`WipState`].
+///
+/// ```
+/// use ballbot_core::wip::BALL_RATE;
+/// assert_eq!(nalgebra::Vector4::new(0.0, 0.0, 0.3, 9.0)[BALL_RATE], 9.0);
+/// ```
 pub const BALL_RATE: usize = 3;
 
 /// A validated WIP model with its constant inertia terms precomputed.
+///
+/// ```
+/// use ballbot_core::{Wip, WipParams, rk4_step};
+/// use nalgebra::Vector4;
+/// // Without control the upright is unstable: a 1 mrad lean grows about e-fold every
+/// // 1 / 8.04 s, so it is 20 times larger after 0.37 s.
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let mut s = Vector4::new(1e-3, 0.0, 0.0, 0.0);
+/// for _ in 0..370 {
+///     s = rk4_step(|x| wip.derivative(x, 0.0), &s, 1e-3);
+/// }
+/// approx::assert_relative_eq!(s[0], 1e-3 * (8.04f64 * 0.37).cosh(), max_relative = 0.01);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wip<T> {
     params: WipParams<T>,
@@ -64,6 +123,17 @@ pub struct Wip<T> {
 }
 
 /// Linearisation `s_dot ~ A (s - s0) + B (tau - tau0)` about a point.
+///
+/// ```
+/// use ballbot_core::{Wip, WipParams};
+/// let lin = Wip::new(WipParams::<f64>::miapure_60kg())?.linearize_upright();
+/// // MODEL.md section 6: A31 = 64.64, A41 = -257.39, B3 = -0.8836, B4 = 4.4545.
+/// approx::assert_relative_eq!(lin.A[(2, 0)], 64.64, epsilon = 0.005);
+/// approx::assert_relative_eq!(lin.A[(3, 0)], -257.39, epsilon = 0.005);
+/// approx::assert_relative_eq!(lin.B[2], -0.8836, epsilon = 5e-5);
+/// approx::assert_relative_eq!(lin.B[3], 4.4545, epsilon = 5e-5);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[allow(non_snake_case)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WipLinearization<T> {
@@ -76,6 +146,18 @@ pub struct WipLinearization<T> {
 impl<T: RealField + Copy> WipLinearization<T> {
     /// The same linearisation on the reduced state `[theta, theta_dot, phi_dot]` (drops
     /// `phi`, which no right-hand side depends on).
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// let lin = Wip::new(WipParams::<f64>::miapure_60kg())?.linearize_upright();
+    /// let (a, b) = lin.reduced();
+    /// // theta_ddot = A31 theta + B3 tau sits in row 1 of the reduced system.
+    /// assert_eq!((a[(1, 0)], b[1]), (lin.A[(2, 0)], lin.B[2]));
+    /// // The reduced system keeps the unstable pair +-8.04 rad/s and drops one zero pole.
+    /// approx::assert_relative_eq!(a.determinant(), 0.0, epsilon = 1e-9);
+    /// approx::assert_relative_eq!(a[(1, 0)].sqrt(), 8.04, epsilon = 0.005);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     #[allow(non_snake_case)]
     pub fn reduced(&self) -> (Matrix3<T>, Vector3<T>) {
         const KEEP: [usize; 3] = [TILT, TILT_RATE, BALL_RATE];
@@ -87,6 +169,22 @@ impl<T: RealField + Copy> WipLinearization<T> {
 
 impl<T: RealField + Copy> Wip<T> {
     /// Validates `params` and precomputes the model's constants.
+    ///
+    /// ```
+    /// use ballbot_core::{Error, Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f32>::miapure_60kg())?;
+    /// assert_eq!(wip.params().com_height_m, 0.5);
+    /// // Invalid parameters are rejected once, here, naming the field.
+    /// let bad = WipParams {
+    ///     com_height_m: 0.0,
+    ///     ..WipParams::<f32>::miapure_60kg()
+    /// };
+    /// assert_eq!(
+    ///     Wip::new(bad),
+    ///     Err(Error::invalid("com_height_m", "must be finite and > 0"))
+    /// );
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(params: WipParams<T>) -> Result<Self, Error> {
         params.validate()?;
         let p = &params;
@@ -111,6 +209,13 @@ impl<T: RealField + Copy> Wip<T> {
     }
 
     /// The parameters this model was built from.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::piptb())?;
+    /// assert_eq!(*wip.params(), WipParams::piptb());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn params(&self) -> &WipParams<T> {
         &self.params
     }
@@ -122,6 +227,20 @@ impl<T: RealField + Copy> Wip<T> {
     }
 
     /// The mass matrix `M(theta)` (kg m^2).
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// // MODEL.md section 6: M0 = [[22.575, 4.2537], [4.2537, 1.0683]].
+    /// let m0 = wip.mass_matrix(0.0);
+    /// approx::assert_relative_eq!(m0[(0, 0)], 22.575, epsilon = 1e-9);
+    /// approx::assert_relative_eq!(m0[(0, 1)], 4.2537, epsilon = 1e-4);
+    /// approx::assert_relative_eq!(m0[(1, 1)], 1.0683, epsilon = 1e-4);
+    /// // Leaning reduces the coupling by cos(theta); M stays positive definite.
+    /// assert!(wip.mass_matrix(1.0)[(0, 1)] < m0[(0, 1)]);
+    /// assert!(wip.mass_matrix(1.0).cholesky().is_some());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn mass_matrix(&self, tilt_rad: T) -> Matrix2<T> {
         let c = self.coupling(tilt_rad);
         Matrix2::new(self.a, c, c, self.b)
@@ -147,6 +266,18 @@ impl<T: RealField + Copy> Wip<T> {
     }
 
     /// Forward dynamics `q_ddot = f_d(s, tau)`: `[theta_ddot, phi_ddot]` (rad/s^2).
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// // Upright at rest, a forward ball torque tips the body back and rolls the ball forward:
+    /// // [theta_ddot, phi_ddot] = tau [B3, B4].
+    /// let q_ddot = wip.accelerations(&Vector4::zeros(), 10.0);
+    /// approx::assert_relative_eq!(q_ddot[0], -8.836, epsilon = 1e-3);
+    /// approx::assert_relative_eq!(q_ddot[1], 44.545, epsilon = 1e-3);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn accelerations(&self, s: &WipState<T>, torque_nm: T) -> Vector2<T> {
         // One sin_cos serves both the forces and the coupling inertia (hot path: the LQR-PI
         // reference model and every simulator step).
@@ -161,6 +292,21 @@ impl<T: RealField + Copy> Wip<T> {
     }
 
     /// State derivative `s_dot = [theta_dot, phi_dot, theta_ddot, phi_ddot]`.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams, rk4_step};
+    /// use nalgebra::Vector4;
+    /// // The frictionless WIP conserves energy: 1 s of a large swing at 1 kHz drifts by < 1e-6 J.
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let mut s = Vector4::new(0.2, 0.0, -0.5, 1.0);
+    /// let e0 = wip.energy_j(&s);
+    /// for _ in 0..1000 {
+    ///     s = rk4_step(|x| wip.derivative(x, 0.0), &s, 1e-3);
+    /// }
+    /// assert!(s[0] > 0.2);
+    /// approx::assert_abs_diff_eq!(wip.energy_j(&s), e0, epsilon = 1e-6);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn derivative(&self, s: &WipState<T>, torque_nm: T) -> WipState<T> {
         let q_ddot = self.accelerations(s, torque_nm);
         Vector4::new(s[TILT_RATE], s[BALL_RATE], q_ddot[0], q_ddot[1])
@@ -168,6 +314,18 @@ impl<T: RealField + Copy> Wip<T> {
 
     /// Total mechanical energy `1/2 q_dot^T M q_dot + m_U g l cos(theta)` (J), zero potential
     /// at the ball centre's height.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// // Upright at rest: only the potential m_U g l = 74.3 * 9.81 * 0.5 J.
+    /// approx::assert_relative_eq!(wip.energy_j(&Vector4::zeros()), 364.4415, epsilon = 1e-9);
+    /// // Rolling at 1 rad/s adds b / 2 = 0.534 J of kinetic energy.
+    /// let rolling = wip.energy_j(&Vector4::new(0.0, 0.0, 0.0, 1.0));
+    /// approx::assert_relative_eq!(rolling - 364.4415, 1.0683 / 2.0, epsilon = 1e-4);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn energy_j(&self, s: &WipState<T>) -> T {
         let q_dot = Vector2::new(s[TILT_RATE], s[BALL_RATE]);
         let kinetic = (q_dot.transpose() * self.mass_matrix(s[TILT]) * q_dot)[0] * lit(0.5);
@@ -175,11 +333,45 @@ impl<T: RealField + Copy> Wip<T> {
     }
 
     /// Power flowing into the mechanism from the input torque (W): `tau (phi_dot - theta_dot)`.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams, rk4_step};
+    /// use nalgebra::Vector4;
+    /// // Energy balance: with no friction, the input power integrates to the energy change.
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let (mut s, tau, dt) = (Vector4::new(0.05, 0.0, 0.0, 2.0), 5.0, 1e-4);
+    /// let (e0, mut work_j) = (wip.energy_j(&s), 0.0);
+    /// for _ in 0..1000 {
+    ///     let next = rk4_step(|x| wip.derivative(x, tau), &s, dt);
+    ///     // Trapezoidal rule on the power.
+    ///     work_j += 0.5 * dt * (wip.input_power_w(&s, tau) + wip.input_power_w(&next, tau));
+    ///     s = next;
+    /// }
+    /// approx::assert_relative_eq!(wip.energy_j(&s) - e0, work_j, max_relative = 1e-4);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn input_power_w(&self, s: &WipState<T>, torque_nm: T) -> T {
         torque_nm * (s[BALL_RATE] - s[TILT_RATE])
     }
 
     /// Analytic Jacobians of [`Self::derivative`] at any state and torque.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// use nalgebra::Vector4;
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// // The analytic Jacobian against a central difference, away from upright.
+    /// let (s, tau, h) = (Vector4::new(0.3, 0.0, -0.4, 2.0), 12.0, 1e-6);
+    /// let lin = wip.linearize(&s, tau);
+    /// for j in 0..4 {
+    ///     let e = Vector4::ith(j, h);
+    ///     let column = (wip.derivative(&(s + e), tau) - wip.derivative(&(s - e), tau)) / (2.0 * h);
+    ///     approx::assert_relative_eq!(lin.A.column(j).into_owned(), column, epsilon = 1e-5);
+    /// }
+    /// let column_b = (wip.derivative(&s, tau + h) - wip.derivative(&s, tau - h)) / (2.0 * h);
+    /// approx::assert_relative_eq!(lin.B, column_b, epsilon = 1e-6);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     #[allow(non_snake_case)]
     pub fn linearize(&self, s: &WipState<T>, torque_nm: T) -> WipLinearization<T> {
         let p = &self.params;
@@ -224,6 +416,22 @@ impl<T: RealField + Copy> Wip<T> {
     }
 
     /// Linearisation about upright at rest with zero torque.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let lin = wip.linearize_upright();
+    /// // Open-loop poles 0, 0, +-8.04 rad/s: the characteristic polynomial is s^2 (s^2 - A31).
+    /// let poles = lin.A.complex_eigenvalues();
+    /// let fastest = poles.iter().map(|p| p.re).fold(f64::MIN, f64::max);
+    /// approx::assert_relative_eq!(fastest, 8.04, epsilon = 0.005);
+    /// approx::assert_relative_eq!(
+    ///     fastest,
+    ///     wip.upright_unstable_pole_rad_per_s(),
+    ///     epsilon = 1e-9
+    /// );
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn linearize_upright(&self) -> WipLinearization<T> {
         self.linearize(&WipState::zeros(), T::zero())
     }
@@ -232,6 +440,28 @@ impl<T: RealField + Copy> Wip<T> {
     /// (`theta_dot = 0`, no acceleration) as `(state, torque_nm)`. Without ball-floor friction
     /// the body cruises upright with zero torque. `None` when friction would need the body to
     /// lean beyond 90 deg.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// // Frictionless: cruising at 10 rad/s needs neither lean nor torque.
+    /// let ideal = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// let (s, tau) = ideal.cruise_equilibrium(10.0).unwrap_or_default();
+    /// assert_eq!((s[0], s[3], tau), (0.0, 10.0, 0.0));
+    /// // With 2 N m s/rad of ball-floor friction the body leans into it and the motor pushes
+    /// // 20 N m: sin(theta) = b_k phi_dot / (m_U g l) = 20 / 364.4.
+    /// let params = WipParams {
+    ///     ball_damping_nm_s_per_rad: 2.0,
+    ///     ..WipParams::<f64>::miapure_60kg()
+    /// };
+    /// let (s, tau) = Wip::new(params)?
+    ///     .cruise_equilibrium(10.0)
+    ///     .unwrap_or_default();
+    /// approx::assert_relative_eq!(s[0].sin(), 20.0 / 364.4415, epsilon = 1e-12);
+    /// assert_eq!(tau, 20.0);
+    /// // No lean holds 400 rad/s against that friction.
+    /// assert!(Wip::new(params)?.cruise_equilibrium(400.0).is_none());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn cruise_equilibrium(&self, ball_rate_rad_per_s: T) -> Option<(WipState<T>, T)> {
         let p = &self.params;
         let torque =
@@ -247,6 +477,24 @@ impl<T: RealField + Copy> Wip<T> {
 
     /// Linearisation about the steady cruise at `ball_rate_rad_per_s` (see
     /// [`Self::cruise_equilibrium`]).
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// // Frictionless, cruising is the same as standing still: the linearisation is upright's.
+    /// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+    /// assert_eq!(wip.linearize_cruise(10.0), Some(wip.linearize_upright()));
+    /// // With ball-floor friction, the forward lean changes the linearisation.
+    /// let params = WipParams {
+    ///     ball_damping_nm_s_per_rad: 2.0,
+    ///     ..WipParams::<f64>::miapure_60kg()
+    /// };
+    /// let rough = Wip::new(params)?;
+    /// assert_ne!(
+    ///     rough.linearize_cruise(10.0),
+    ///     Some(rough.linearize_upright())
+    /// );
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn linearize_cruise(&self, ball_rate_rad_per_s: T) -> Option<WipLinearization<T>> {
         let (s, torque) = self.cruise_equilibrium(ball_rate_rad_per_s)?;
         Some(self.linearize(&s, torque))
@@ -254,6 +502,21 @@ impl<T: RealField + Copy> Wip<T> {
 
     /// Growth rate of the unstable upright mode of the frictionless model,
     /// `sqrt(m_U g l b / Delta0)` (rad/s): the open-loop poles are `0, 0, +-` this.
+    ///
+    /// ```
+    /// use ballbot_core::{Wip, WipParams};
+    /// // MODEL.md section 6: +-8.04 rad/s for MiaPURE with 60 kg; the unloaded chassis falls
+    /// // slower (6.89 rad/s), the smaller PIPTB faster (10.50 rad/s).
+    /// let pole = |p| Wip::new(p).map(|w| w.upright_unstable_pole_rad_per_s());
+    /// approx::assert_relative_eq!(
+    ///     pole(WipParams::<f64>::miapure_60kg())?,
+    ///     8.04,
+    ///     epsilon = 0.005
+    /// );
+    /// approx::assert_relative_eq!(pole(WipParams::miapure_unloaded())?, 6.89, epsilon = 0.005);
+    /// approx::assert_relative_eq!(pole(WipParams::piptb())?, 10.50, epsilon = 0.005);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn upright_unstable_pole_rad_per_s(&self) -> T {
         let c0 = self.coupling(T::zero());
         (self.mgl * self.b / (self.a * self.b - c0 * c0)).sqrt()
