@@ -82,6 +82,18 @@ use nalgebra::{RealField, Vector3};
 
 /// Gains of the spin LQR `tau_rz = k_heading (theta_zc - theta_z) + k_rate (theta_dot_zc -
 /// theta_dot_z)`, saturated.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::BallbotControllerConfig;
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let g = config.spin.gains;
+/// // Turning left (positive yaw) needs positive torque: both gains are positive.
+/// assert!(g.heading_nm_per_rad > 0.0 && g.rate_nm_s_per_rad > 0.0);
+/// // The limit is the drivetrain's yaw torque capacity, 167.9 N m for MiaPURE.
+/// approx::assert_relative_eq!(g.max_torque_nm, 167.9, epsilon = 0.05);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpinGains<T> {
     /// On the heading error (N m/rad).
@@ -93,6 +105,15 @@ pub struct SpinGains<T> {
 }
 
 /// Configuration of [`SpinOuter`].
+///
+/// ```
+/// use ballbot_core::ballbot::{SpinGains, SpinOuterConfig};
+/// let (heading_nm_per_rad, rate_nm_s_per_rad) = (10.0, 8.0);
+/// let gains = SpinGains { heading_nm_per_rad, rate_nm_s_per_rad, max_torque_nm: 167.9 };
+/// let config = SpinOuterConfig { gains, max_rate_error_rad_per_s: 2.0 };
+/// config.validate()?;
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpinOuterConfig<T> {
     /// The LQR gains.
@@ -104,6 +125,18 @@ pub struct SpinOuterConfig<T> {
 
 impl<T: RealField + Copy> SpinOuterConfig<T> {
     /// Checks every field.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::ballbot::{SpinGains, SpinOuterConfig};
+    /// let (heading_nm_per_rad, rate_nm_s_per_rad) = (10.0, 8.0);
+    /// let gains = SpinGains { heading_nm_per_rad, rate_nm_s_per_rad, max_torque_nm: 167.9 };
+    /// let config = SpinOuterConfig { gains, max_rate_error_rad_per_s: 0.0 };
+    /// assert!(matches!(
+    ///     config.validate(),
+    ///     Err(Error::InvalidParameter { field: "max_rate_error_rad_per_s", .. })
+    /// ));
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         let g = &self.gains;
         crate::check::finite(g.heading_nm_per_rad, "heading_nm_per_rad")?;
@@ -114,6 +147,27 @@ impl<T: RealField + Copy> SpinOuterConfig<T> {
 }
 
 /// One [`SpinOuter`] step.
+///
+/// ```
+/// use ballbot_core::ballbot::{SpinGains, SpinOuter, SpinOuterConfig};
+/// use ballbot_core::control::StepStatus;
+/// use ballbot_core::{Spin, SpinParams};
+/// use nalgebra::Vector2;
+/// let (heading_nm_per_rad, rate_nm_s_per_rad) = (10.0, 8.0);
+/// let gains = SpinGains { heading_nm_per_rad, rate_nm_s_per_rad, max_torque_nm: 167.9 };
+/// let config = SpinOuterConfig { gains, max_rate_error_rad_per_s: 2.0 };
+/// let mut spin = SpinOuter::new(Spin::new(SpinParams::<f64>::miapure_60kg())?, config)?;
+/// // 0.5 rad short of the commanded heading: 5 N m of yaw torque, the model accelerates.
+/// let o = spin.step(&Vector2::zeros(), &Vector2::new(0.5, 0.0), 0.0025);
+/// assert_eq!((o.reference_torque_nm, o.status), (5.0, StepStatus::Nominal));
+/// assert!(o.reference_accel_rad_per_s2 > 0.0);
+/// approx::assert_relative_eq!(
+///     o.reference_rate_rad_per_s,
+///     0.5 * 0.0025 * o.reference_accel_rad_per_s2,
+///     epsilon = 1e-12
+/// );
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpinOuterOutput<T> {
     /// Reference yaw torque `tau_rz` after saturation (N m).
@@ -129,6 +183,26 @@ pub struct SpinOuterOutput<T> {
 /// The spin plane of the cascaded LQR-PI: LQR reference torque, reference spin model
 /// `theta_ddot_rz = (tau_rz - D_z theta_dot_z) / I_z` at the measured state, integrated to the
 /// reference yaw rate (anchored to the measured rate as [`LqrPiOuter`] does).
+///
+/// ```
+/// use ballbot_core::ballbot::{SpinGains, SpinOuter, SpinOuterConfig};
+/// use ballbot_core::{Spin, SpinParams, rk4_step};
+/// use nalgebra::Vector2;
+/// // Turning the robot 90 deg with the spin outer loop alone (its reference torque applied).
+/// let model = Spin::new(SpinParams::<f64>::miapure_60kg())?;
+/// let (heading_nm_per_rad, rate_nm_s_per_rad) = (10.0, 8.0);
+/// let gains = SpinGains { heading_nm_per_rad, rate_nm_s_per_rad, max_torque_nm: 167.9 };
+/// let config = SpinOuterConfig { gains, max_rate_error_rad_per_s: 2.0 };
+/// let mut spin = SpinOuter::new(model, config)?;
+/// let command = Vector2::new(core::f64::consts::FRAC_PI_2, 0.0);
+/// let mut s = Vector2::zeros();
+/// for _ in 0..10 * 400 {
+///     let tau = spin.step(&s, &command, 0.0025).reference_torque_nm;
+///     s = rk4_step(|x| model.derivative(x, tau), &s, 0.0025);
+/// }
+/// approx::assert_relative_eq!(s[0], core::f64::consts::FRAC_PI_2, epsilon = 1e-3);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpinOuter<T> {
     model: Spin<T>,
@@ -138,6 +212,20 @@ pub struct SpinOuter<T> {
 
 impl<T: RealField + Copy> SpinOuter<T> {
     /// Validates `config`; `model` is the reference spin model.
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::{SpinGains, SpinOuter, SpinOuterConfig};
+    /// use ballbot_core::{Spin, SpinParams};
+    /// let model = Spin::new(SpinParams::<f64>::miapure_60kg())?;
+    /// let (heading_nm_per_rad, rate_nm_s_per_rad) = (10.0, 8.0);
+    /// let gains = SpinGains { heading_nm_per_rad, rate_nm_s_per_rad, max_torque_nm: 167.9 };
+    /// let config = SpinOuterConfig { gains, max_rate_error_rad_per_s: 2.0 };
+    /// assert!(SpinOuter::new(model, config).is_ok());
+    /// let nan_gain = SpinGains { heading_nm_per_rad: f64::NAN, ..gains };
+    /// let bad = SpinOuterConfig { gains: nan_gain, max_rate_error_rad_per_s: 2.0 };
+    /// assert!(SpinOuter::new(model, bad).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(model: Spin<T>, config: SpinOuterConfig<T>) -> Result<Self, Error> {
         config.validate()?;
         Ok(Self {
@@ -148,6 +236,29 @@ impl<T: RealField + Copy> SpinOuter<T> {
     }
 
     /// Forgets the reference integral (re-anchored at the next step).
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::{SpinGains, SpinOuter, SpinOuterConfig};
+    /// use ballbot_core::{Spin, SpinParams};
+    /// use nalgebra::Vector2;
+    /// let model = Spin::new(SpinParams::<f64>::miapure_60kg())?;
+    /// let (heading_nm_per_rad, rate_nm_s_per_rad) = (10.0, 8.0);
+    /// let gains = SpinGains { heading_nm_per_rad, rate_nm_s_per_rad, max_torque_nm: 167.9 };
+    /// let config = SpinOuterConfig { gains, max_rate_error_rad_per_s: 2.0 };
+    /// let mut spin = SpinOuter::new(model, config)?;
+    /// spin.step(&Vector2::zeros(), &Vector2::new(1.0, 0.0), 0.0025);
+    /// spin.reset();
+    /// // Re-anchored at the measured 0.3 rad/s, on command: no torque; the reference starts
+    /// // at the measurement.
+    /// let s = Vector2::new(0.0, 0.3);
+    /// let o = spin.step(&s, &s, 0.0025);
+    /// let damping = model.params().damping_nm_s_per_rad;
+    /// assert_eq!(o.reference_torque_nm, 0.0);
+    /// let accel = o.reference_accel_rad_per_s2;
+    /// approx::assert_relative_eq!(accel, -damping * 0.3 / model.params().inertia_kg_m2);
+    /// approx::assert_relative_eq!(o.reference_rate_rad_per_s, 0.3 + 0.5 * 0.0025 * accel);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         self.reference_rate_rad_per_s = None;
     }
@@ -155,6 +266,25 @@ impl<T: RealField + Copy> SpinOuter<T> {
     /// One step: `measured` and `command` are `[theta_z, theta_dot_z]`. A non-finite input or
     /// a bad `dt_secs` gives zero torque, the held reference and
     /// [`StepStatus::InvalidInput`].
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::{SpinGains, SpinOuter, SpinOuterConfig};
+    /// use ballbot_core::control::StepStatus;
+    /// use ballbot_core::{Spin, SpinParams};
+    /// use nalgebra::Vector2;
+    /// let model = Spin::new(SpinParams::<f64>::miapure_60kg())?;
+    /// let (heading_nm_per_rad, rate_nm_s_per_rad) = (10.0, 8.0);
+    /// let gains = SpinGains { heading_nm_per_rad, rate_nm_s_per_rad, max_torque_nm: 20.0 };
+    /// let config = SpinOuterConfig { gains, max_rate_error_rad_per_s: 2.0 };
+    /// let mut spin = SpinOuter::new(model, config)?;
+    /// // Half a turn away: 31 N m asked, clipped to the 20 N m limit.
+    /// let o = spin.step(&Vector2::zeros(), &Vector2::new(core::f64::consts::PI, 0.0), 0.0025);
+    /// assert_eq!((o.reference_torque_nm, o.status), (20.0, StepStatus::Saturated));
+    /// // A NaN heading: zero torque, flagged.
+    /// let o = spin.step(&Vector2::new(f64::NAN, 0.0), &Vector2::zeros(), 0.0025);
+    /// assert_eq!((o.reference_torque_nm, o.status), (0.0, StepStatus::InvalidInput));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(
         &mut self,
         measured: &SpinState<T>,
@@ -200,6 +330,17 @@ impl<T: RealField + Copy> SpinOuter<T> {
 }
 
 /// Everything the 3D controller needs, validated by [`BallbotController::new`].
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+/// // The designed configuration, then one engineering change: no remote, no link supervision.
+/// let mut config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// config.safety.command_timeout_us = None;
+/// let controller = BallbotController::new(config)?;
+/// assert_eq!(controller.config().safety.command_timeout_us, None);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BallbotControllerConfig<T> {
     /// The robot (reference models and kinematics).
@@ -221,6 +362,21 @@ pub struct BallbotControllerConfig<T> {
 }
 
 /// LQR weights and bandwidths for [`BallbotControllerConfig::design_with`].
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotControllerConfig, BallbotDesign};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// // A stiffer motor loop: 60 rad/s instead of 30.
+/// let stiff = BallbotDesign { motor_bandwidth_rad_per_s: 60.0, ..BallbotDesign::paper() };
+/// let a = BallbotControllerConfig::design_with(&robot, &stiff)?;
+/// let b = BallbotControllerConfig::design(&robot)?;
+/// // kp grows with the bandwidth, ki with its square.
+/// let (a, b) = (a.motor, b.motor);
+/// approx::assert_relative_eq!(a.proportional_nm_s_per_rad, 2.0 * b.proportional_nm_s_per_rad);
+/// approx::assert_relative_eq!(a.integral_nm_per_rad, 4.0 * b.integral_nm_per_rad);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BallbotDesign<T: RealField + Copy> {
     /// Weights of both WIP planes on `[theta, theta_dot, phi_dot]` and the torque.
@@ -237,6 +393,13 @@ impl<T: RealField + Copy> BallbotDesign<T> {
     /// MODEL.md's plane weights `Q = diag(100, 10, 1)`, `R = 0.1`; spin `Q = diag(100, 10)`,
     /// `R = 1` (an engineering choice: heading error 0.1 rad costs like 1 N m); a 30 rad/s
     /// motor PI; 400 Hz.
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::BallbotDesign;
+    /// let d = BallbotDesign::<f64>::paper();
+    /// assert_eq!((d.motor_bandwidth_rad_per_s, d.outer_dt_secs), (30.0, 1.0 / 400.0));
+    /// assert_eq!(d.plane_weights.r, 0.1);
+    /// ```
     pub fn paper() -> Self {
         Self {
             plane_weights: WipLqrWeights::model_default(),
@@ -249,6 +412,19 @@ impl<T: RealField + Copy> BallbotDesign<T> {
 
 impl<T: RealField + Copy> BallbotControllerConfig<T> {
     /// [`Self::design_with`] the [`BallbotDesign::paper`] weights.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::BallbotControllerConfig;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// // Discrete LQR at 400 Hz, close to MODEL.md's continuous k1 = -234.8.
+    /// let k1 = config.sagittal.lqr.tilt_nm_per_rad;
+    /// approx::assert_relative_eq!(k1, -234.8, max_relative = 0.1);
+    /// // The frontal plane has the smaller torque capacity (83.9 vs 96.9 N m).
+    /// approx::assert_relative_eq!(config.frontal.lqr.max_torque_nm, 83.9, epsilon = 0.05);
+    /// approx::assert_relative_eq!(config.sagittal.lqr.max_torque_nm, 96.9, epsilon = 0.05);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn design(robot: &BallbotParams<T>) -> Result<Self, Error> {
         Self::design_with(robot, &BallbotDesign::paper())
     }
@@ -257,6 +433,23 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
     /// upright linearisation and on the spin model (torque limits: the planar torque
     /// capacity of the drivetrain), the motor PI from [`motor_speed_pi_gains`], and the
     /// MiaPURE shaping and safety defaults (wheel-speed limits from the robot's actuator).
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::{BallbotControllerConfig, BallbotDesign};
+    /// use ballbot_core::{BallbotParams, Error};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// // A 200 Hz outer loop.
+    /// let slow = BallbotDesign { outer_dt_secs: 1.0 / 200.0, ..BallbotDesign::paper() };
+    /// let config = BallbotControllerConfig::design_with(&robot, &slow)?;
+    /// assert_eq!(config.outer_dt_secs, 0.005);
+    /// // A period that is not positive is refused, naming the field.
+    /// let broken = BallbotDesign { outer_dt_secs: 0.0, ..BallbotDesign::paper() };
+    /// assert!(matches!(
+    ///     BallbotControllerConfig::design_with(&robot, &broken),
+    ///     Err(Error::InvalidParameter { field: "outer_dt_secs", .. })
+    /// ));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn design_with(robot: &BallbotParams<T>, design: &BallbotDesign<T>) -> Result<Self, Error> {
         let kin = OmniKinematics::from_ballbot(robot)?;
         let capacity = kin.planar_torque_capacity_nm();
@@ -302,6 +495,26 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
 /// Per-omniwheel speed PI gains (torques at the omniwheel) with a critically damped double
 /// pole at `-bandwidth_rad_per_s` for translation (see the module docs): the plant gain is
 /// `b_w = B4 (J^T J)_xy`, averaged over the two planes' `B4` and the x and y diagonal entries.
+///
+/// ```
+/// use ballbot_core::ballbot::motor_speed_pi_gains;
+/// use ballbot_core::control::SpeedPiGains;
+/// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let kin = OmniKinematics::from_ballbot(&robot)?;
+/// let wheel = motor_speed_pi_gains(&robot, &kin, 30.0)?;
+/// // Seen from the plane, the three wheel PIs act as the planar PI of the paper:
+/// // S J^T kp J = kp (J^T J)_xx, so kp_wheel (J^T J)_xx equals the planar kp (to the
+/// // difference between the two planes' B4, averaged here).
+/// let j = kin.wheel_speed_matrix();
+/// let jtj = j.transpose() * j;
+/// let planar = SpeedPiGains::for_wip_ball_rate(&Wip::new(robot.sagittal)?, 30.0, 96.9)?;
+/// let kp_planar_equivalent = wheel.proportional_nm_s_per_rad * jtj[(1, 1)];
+/// let kp_planar = planar.proportional_nm_s_per_rad;
+/// approx::assert_relative_eq!(kp_planar_equivalent, kp_planar, max_relative = 0.05);
+/// assert_eq!(wheel.max_torque_nm, 43.2); // the actuator's peak, at the omniwheel
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 pub fn motor_speed_pi_gains<T: RealField + Copy>(
     robot: &BallbotParams<T>,
     kinematics: &OmniKinematics<T>,
@@ -320,6 +533,26 @@ pub fn motor_speed_pi_gains<T: RealField + Copy>(
 }
 
 /// What the outer loop reads in one step.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+/// use ballbot_core::command::Command;
+/// use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// use ballbot_core::safety::{Mode, ModeRequest};
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut outer = BallbotController::new(config)?;
+/// let input = OuterInput {
+///     now_us: 0,
+///     imu: ImuSample::upright(0),
+///     encoders: EncoderSample::still(0),
+///     command: Command::Stop,
+///     command_timestamp_us: Some(0),
+///     request: ModeRequest::Arm,
+/// };
+/// assert_eq!(outer.step(&input).safety.mode, Mode::Balancing);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OuterInput<'a, T: nalgebra::Scalar> {
     /// Now, on the robot's monotonic clock (us).
@@ -345,6 +578,29 @@ pub struct OuterInput<'a, T: nalgebra::Scalar> {
 /// `±accel dt / 2` that the PIs would fight every period; see
 /// [`MotorSpeedLoop::set_references`]). A driver that can only hold a speed should hold the
 /// period's mean, `speed_rad_per_s + accel_rad_per_s2 * dt / 2`.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotControllerConfig, MotorReferences, MotorSpeedLoop};
+/// use nalgebra::Vector3;
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut inner = MotorSpeedLoop::new(&config)?;
+/// // Wheel 1 at 2 rad/s, accelerating at 40 rad/s^2: halfway through the 2.5 ms period the
+/// // driver's reference has ramped to 2.05 rad/s.
+/// inner.set_references(&MotorReferences {
+///     enabled: true,
+///     speed_rad_per_s: Vector3::new(2.0, 0.0, 0.0),
+///     accel_rad_per_s2: Vector3::new(40.0, 0.0, 0.0),
+///     feedforward_torque_nm: Vector3::zeros(),
+/// });
+/// let mut out = inner.step(&Vector3::new(2.0, 0.0, 0.0), 1.25e-4);
+/// for _ in 0..9 {
+///     out = inner.step(&Vector3::new(2.0, 0.0, 0.0), 1.25e-4);
+/// }
+/// let expected = 2.0 + 40.0 * 9.5 * 1.25e-4; // at the middle of the 10th inner step
+/// approx::assert_relative_eq!(out.reference_speed_rad_per_s[0], expected, epsilon = 1e-12);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MotorReferences<T: nalgebra::Scalar> {
     /// Whether the drivers may apply torque; when `false` every other field is 0.
@@ -361,6 +617,12 @@ pub struct MotorReferences<T: nalgebra::Scalar> {
 
 impl<T: RealField + Copy> MotorReferences<T> {
     /// Motors off.
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::MotorReferences;
+    /// let off = MotorReferences::<f64>::disabled();
+    /// assert!(!off.enabled && off.feedforward_torque_nm.norm() == 0.0);
+    /// ```
     pub fn disabled() -> Self {
         Self {
             enabled: false,
@@ -372,6 +634,32 @@ impl<T: RealField + Copy> MotorReferences<T> {
 }
 
 /// One outer step: the motor references and everything that made them (for logging).
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+/// use ballbot_core::command::Command;
+/// use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// use ballbot_core::safety::ModeRequest;
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut outer = BallbotController::new(config)?;
+/// // Armed while pitched 2 deg forward: the sagittal plane pushes the ball forward (tau_ry > 0),
+/// // the frontal and spin planes have nothing to do.
+/// let imu = ImuSample { pitch_rad: 2f64.to_radians(), ..ImuSample::upright(0) };
+/// let input = OuterInput {
+///     now_us: 0,
+///     imu,
+///     encoders: EncoderSample::still(0),
+///     command: Command::Stop,
+///     command_timestamp_us: Some(0),
+///     request: ModeRequest::Arm,
+/// };
+/// let out = outer.step(&input);
+/// assert!(out.motors.enabled && out.reference_torque_nm[1] > 0.0);
+/// assert_eq!((out.reference_torque_nm[0], out.reference_torque_nm[2]), (0.0, 0.0));
+/// assert_eq!(out.states.sagittal[0], 2f64.to_radians());
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OuterOutput<T: nalgebra::Scalar> {
     /// For the motor drivers.
@@ -402,6 +690,61 @@ pub struct OuterOutput<T: nalgebra::Scalar> {
 /// exactly that torque, and the heading command by `(I_z theta_ddot_zc + D_z theta_dot_zc) /
 /// k_heading` for the spin plane. The logged [`OuterOutput::commands`] are the unshifted,
 /// physical command states.
+///
+/// ```
+/// use ballbot_core::ballbot::{
+///     BallbotController, BallbotControllerConfig, MotorSpeedLoop, OuterInput,
+/// };
+/// use ballbot_core::command::{Command, VelocityCommand};
+/// use ballbot_core::estimation::{PlanarStates, synthesize_sensors};
+/// use ballbot_core::kinematics::relative_rate_from_planar;
+/// use ballbot_core::safety::{Mode, ModeRequest};
+/// use ballbot_core::{BallbotParams, OmniKinematics, Spin, Wip, rk4_step};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let config = BallbotControllerConfig::design(&robot)?;
+/// let (mut outer, mut inner) = (BallbotController::new(config)?, MotorSpeedLoop::new(&config)?);
+/// // The plant: the three planar models, coupled through the omniwheel kinematics.
+/// let kin = OmniKinematics::from_ballbot(&robot)?;
+/// let (fro, sag) = (Wip::new(robot.frontal)?, Wip::new(robot.sagittal)?);
+/// let spin = Spin::new(robot.spin)?;
+/// let mut s = PlanarStates::zeros();
+/// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, ..VelocityCommand::zero() });
+/// let dt_inner = 1.0 / 8000.0;
+/// for k in 0..4 * 400 {
+///     let now_us = k * 2500;
+///     let (imu, encoders) = synthesize_sensors(&kin, &s, now_us);
+///     let request = if k == 0 { ModeRequest::Arm } else { ModeRequest::None };
+///     let input = OuterInput {
+///         now_us,
+///         imu,
+///         encoders,
+///         command: go,
+///         command_timestamp_us: Some(now_us),
+///         request,
+///     };
+///     let out = outer.step(&input);
+///     inner.set_references(&out.motors);
+///     for _ in 0..20 {
+///         let rel = relative_rate_from_planar(
+///             [s.frontal[3], s.sagittal[3]],
+///             [s.frontal[2], s.sagittal[2]],
+///             s.spin[1],
+///         );
+///         let wheel_torques_nm = inner.step(&kin.wheel_speeds_rad_per_s(&rel), dt_inner).torque_nm;
+///         let tau = kin.planar_torque_nm(&wheel_torques_nm);
+///         s.frontal = rk4_step(|x| fro.derivative(x, tau[0]), &s.frontal, dt_inner);
+///         s.sagittal = rk4_step(|x| sag.derivative(x, tau[1]), &s.sagittal, dt_inner);
+///         s.spin = rk4_step(|x| spin.derivative(x, tau[2]), &s.spin, dt_inner);
+///     }
+/// }
+/// assert_eq!(outer.mode(), Mode::Balancing);
+/// // After 4 s the ball rolls forward at 1 m/s (x = r phi_y), the body upright; nothing moved
+/// // sideways or turned.
+/// let r = robot.sagittal.ball_radius_m;
+/// assert!((s.sagittal[3] * r - 1.0).abs() < 0.01 && s.sagittal[0].abs() < 1e-3);
+/// assert!(s.frontal[3].abs() < 1e-9 && s.spin[1].abs() < 1e-9);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BallbotController<T: RealField + Copy> {
     config: BallbotControllerConfig<T>,
@@ -462,6 +805,17 @@ impl<T: RealField + Copy> InputFeedforward<T> {
 
 impl<T: RealField + Copy> BallbotController<T> {
     /// Validates `config` and builds every piece; starts in [`Mode::Idle`].
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// use ballbot_core::safety::Mode;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert_eq!(BallbotController::new(config)?.mode(), Mode::Idle);
+    /// let bad = BallbotControllerConfig { outer_dt_secs: -0.0025, ..config };
+    /// assert!(BallbotController::new(bad).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(config: BallbotControllerConfig<T>) -> Result<Self, Error> {
         let kinematics = OmniKinematics::from_ballbot(&config.robot)?;
         positive(config.outer_dt_secs, "outer_dt_secs")?;
@@ -480,28 +834,114 @@ impl<T: RealField + Copy> BallbotController<T> {
     }
 
     /// The configuration.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert_eq!(BallbotController::new(config)?.config().outer_dt_secs, 1.0 / 400.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn config(&self) -> &BallbotControllerConfig<T> {
         &self.config
     }
 
     /// The current mode.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// use ballbot_core::safety::{Fault, Mode};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut outer = BallbotController::new(config)?;
+    /// assert_eq!(outer.mode(), Mode::Idle);
+    /// // While idle a reported fault changes nothing.
+    /// outer.report(Fault::LoopOverrun);
+    /// assert_eq!(outer.mode(), Mode::Idle);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn mode(&self) -> Mode {
         self.supervisor.mode()
     }
 
     /// The supervisor (latched faults, thresholds).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let outer = BallbotController::new(config)?;
+    /// assert!(outer.supervisor().latched_faults().is_empty());
+    /// // The wheel-speed limit follows MiaPURE's actuator: 90 % of 62 rad/s.
+    /// let limit = outer.supervisor().params().wheel_speed_limit_rad_per_s;
+    /// approx::assert_relative_eq!(limit, 55.8, epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn supervisor(&self) -> &SafetySupervisor<T> {
         &self.supervisor
     }
 
     /// Reports a fault found by the application (e.g. a measured compute overrun); see
     /// [`SafetySupervisor::report`]. The next [`Self::step`] acts on the new mode.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+    /// use ballbot_core::command::Command;
+    /// use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// use ballbot_core::safety::{Fault, Mode, ModeRequest};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut outer = BallbotController::new(config)?;
+    /// let input = |now_us: u64, request| OuterInput {
+    ///     now_us,
+    ///     imu: ImuSample::upright(now_us),
+    ///     encoders: EncoderSample::still(now_us),
+    ///     command: Command::Stop,
+    ///     command_timestamp_us: Some(now_us),
+    ///     request,
+    /// };
+    /// outer.step(&input(0, ModeRequest::Arm));
+    /// // The application measured a compute overrun: a controlled stop, motors still on.
+    /// assert_eq!(outer.report(Fault::LoopOverrun), Mode::ControlledStop);
+    /// assert!(outer.step(&input(2500, ModeRequest::None)).motors.enabled);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn report(&mut self, fault: Fault) -> Mode {
         self.supervisor.report(fault)
     }
 
     /// One outer step (see the module docs). Never panics; every output is finite and within
     /// the actuator's limits.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+    /// use ballbot_core::command::{Command, VelocityCommand};
+    /// use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// use ballbot_core::safety::{Fault, Mode, ModeRequest};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut outer = BallbotController::new(config)?;
+    /// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, ..VelocityCommand::zero() });
+    /// let input = |now_us: u64, request| OuterInput {
+    ///     now_us,
+    ///     imu: ImuSample::upright(now_us),
+    ///     encoders: EncoderSample::still(now_us),
+    ///     command: go,
+    ///     command_timestamp_us: Some(now_us),
+    ///     request,
+    /// };
+    /// assert!(outer.step(&input(0, ModeRequest::Arm)).motors.enabled);
+    /// // A non-finite IMU sample: rejected, the estimate held, and a controlled stop begins; the
+    /// // motors stay on (zero torque would drop a rider) and the command becomes "come to rest".
+    /// let mut glitch = input(2500, ModeRequest::None);
+    /// glitch.imu.roll_rad = f64::NAN;
+    /// let out = outer.step(&glitch);
+    /// assert!(out.safety.faults.contains(Fault::ImuNonFinite));
+    /// assert_eq!(out.safety.mode, Mode::ControlledStop);
+    /// assert!(out.motors.enabled && out.states.is_finite());
+    /// assert!(out.motors.feedforward_torque_nm.iter().all(|t| t.is_finite() && t.abs() <= 43.2));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(&mut self, input: &OuterInput<'_, T>) -> OuterOutput<T> {
         let dt = self.config.outer_dt_secs;
         let safety = self.supervisor.step(&SafetyInput {
@@ -629,6 +1069,25 @@ impl<T: RealField + Copy> BallbotController<T> {
 }
 
 /// One inner step's result.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotControllerConfig, MotorReferences, MotorSpeedLoop};
+/// use nalgebra::Vector3;
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut inner = MotorSpeedLoop::new(&config)?;
+/// inner.set_references(&MotorReferences {
+///     enabled: true,
+///     speed_rad_per_s: Vector3::new(50.0, 0.0, 0.0),
+///     accel_rad_per_s2: Vector3::zeros(),
+///     feedforward_torque_nm: Vector3::new(40.0, 0.0, 0.0),
+/// });
+/// // 40 N m asked of wheel 1 at 50 rad/s: near its 62 rad/s no-load speed it gives 8.4 N m.
+/// let out = inner.step(&Vector3::new(50.0, 0.0, 0.0), 1.25e-4);
+/// approx::assert_relative_eq!(out.torque_nm[0], 43.2 * (1.0 - 50.0 / 62.0), epsilon = 1e-9);
+/// assert!(out.saturation_nm[0] < 0.0 && !out.timed_out);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InnerOutput<T: nalgebra::Scalar> {
     /// Omniwheel torques to apply (N m, at the omniwheel; divide by the gear ratio for the
@@ -650,6 +1109,31 @@ pub struct InnerOutput<T: nalgebra::Scalar> {
 /// acceleration for at most one outer period (then holds), and references older than
 /// [`Self::REFERENCE_TIMEOUT_PERIODS`] outer periods switch the torque off (the main
 /// controller is gone; nothing can balance without it).
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotControllerConfig, MotorReferences, MotorSpeedLoop};
+/// use nalgebra::Vector3;
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut inner = MotorSpeedLoop::new(&config)?;
+/// let references = MotorReferences {
+///     enabled: true,
+///     speed_rad_per_s: Vector3::new(1.0, -0.5, -0.5),
+///     accel_rad_per_s2: Vector3::zeros(),
+///     feedforward_torque_nm: Vector3::new(2.0, -1.0, -1.0),
+/// };
+/// inner.set_references(&references);
+/// // On reference speed the drivers apply the feedforward torque.
+/// let out = inner.step(&references.speed_rad_per_s, 1.25e-4);
+/// approx::assert_relative_eq!(out.torque_nm, references.feedforward_torque_nm, epsilon = 1e-12);
+/// // The main controller goes silent: after 8 outer periods (20 ms) the torque is switched off.
+/// let mut steps_with_torque = 1;
+/// while !inner.step(&references.speed_rad_per_s, 1.25e-4).timed_out {
+///     steps_with_torque += 1;
+/// }
+/// assert_eq!(steps_with_torque, 160); // 160 inner steps of 125 us = 20 ms
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MotorSpeedLoop<T: RealField + Copy> {
     motors: [MotorSpeedPi<T>; 3],
@@ -661,10 +1145,26 @@ pub struct MotorSpeedLoop<T: RealField + Copy> {
 
 impl<T: RealField + Copy> MotorSpeedLoop<T> {
     /// How many outer periods a reference stays valid without an update.
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::MotorSpeedLoop;
+    /// assert_eq!(MotorSpeedLoop::<f64>::REFERENCE_TIMEOUT_PERIODS * 2.5, 20.0); // ms at 400 Hz
+    /// ```
     pub const REFERENCE_TIMEOUT_PERIODS: f64 = 8.0;
 
     /// Three PIs with `config.motor` gains and the robot's actuator limits; motors disabled
     /// until the first references.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotControllerConfig, MotorSpeedLoop};
+    /// use nalgebra::Vector3;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut inner = MotorSpeedLoop::new(&config)?;
+    /// // Disabled until the first references arrive.
+    /// assert_eq!(inner.step(&Vector3::zeros(), 1.25e-4).torque_nm, Vector3::zeros());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(config: &BallbotControllerConfig<T>) -> Result<Self, Error> {
         let motor = MotorSpeedPi::new(config.motor, &config.robot.drivetrain.actuator)?;
         positive(config.outer_dt_secs, "outer_dt_secs")?;
@@ -677,6 +1177,28 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
     }
 
     /// Clears the integrators.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotControllerConfig, MotorReferences, MotorSpeedLoop};
+    /// use nalgebra::Vector3;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut inner = MotorSpeedLoop::new(&config)?;
+    /// let references = MotorReferences {
+    ///     enabled: true,
+    ///     speed_rad_per_s: Vector3::new(1.0, 1.0, 1.0),
+    ///     accel_rad_per_s2: Vector3::zeros(),
+    ///     feedforward_torque_nm: Vector3::zeros(),
+    /// };
+    /// inner.set_references(&references);
+    /// let slow = Vector3::new(0.5, 0.5, 0.5);
+    /// let first = inner.step(&slow, 1.25e-4).torque_nm; // P only
+    /// let later = inner.step(&slow, 1.25e-4).torque_nm; // P plus the integral built up
+    /// assert!(later[0] > first[0]);
+    /// inner.reset();
+    /// assert_eq!(inner.step(&slow, 1.25e-4).torque_nm, first);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         for motor in &mut self.motors {
             motor.reset();
@@ -685,6 +1207,23 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
 
     /// Takes the outer loop's new references (the ramp restarts). References with a
     /// non-finite number disable the motors.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotControllerConfig, MotorReferences, MotorSpeedLoop};
+    /// use nalgebra::Vector3;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut inner = MotorSpeedLoop::new(&config)?;
+    /// // References with a NaN (a corrupted message) disable the motors.
+    /// inner.set_references(&MotorReferences {
+    ///     enabled: true,
+    ///     speed_rad_per_s: Vector3::new(f64::NAN, 0.0, 0.0),
+    ///     accel_rad_per_s2: Vector3::zeros(),
+    ///     feedforward_torque_nm: Vector3::new(5.0, 5.0, 5.0),
+    /// });
+    /// assert_eq!(inner.step(&Vector3::zeros(), 1.25e-4).torque_nm, Vector3::zeros());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn set_references(&mut self, references: &MotorReferences<T>) {
         let finite = |v: &Vector3<T>| v.iter().all(|x| x.is_finite());
         self.references = if finite(&references.speed_rad_per_s)
@@ -700,6 +1239,26 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
 
     /// One inner step of `dt_secs` with the measured omniwheel speeds (rad/s). Disabled or
     /// timed-out references give zero torque and clear the integrators.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotControllerConfig, MotorReferences, MotorSpeedLoop};
+    /// use nalgebra::Vector3;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut inner = MotorSpeedLoop::new(&config)?;
+    /// inner.set_references(&MotorReferences {
+    ///     enabled: true,
+    ///     speed_rad_per_s: Vector3::new(3.0, 3.0, 3.0),
+    ///     accel_rad_per_s2: Vector3::zeros(),
+    ///     feedforward_torque_nm: Vector3::zeros(),
+    /// });
+    /// // Every wheel 1 rad/s slow: each driver pushes with kp * 1 rad/s (the integral starts
+    /// // at 0).
+    /// let out = inner.step(&Vector3::new(2.0, 2.0, 2.0), 1.25e-4);
+    /// let kp = config.motor.proportional_nm_s_per_rad;
+    /// assert!(out.torque_nm.iter().all(|t| (t - kp).abs() < 1e-12));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(&mut self, wheel_speeds_rad_per_s: &Vector3<T>, dt_secs: T) -> InnerOutput<T> {
         let mut out = InnerOutput {
             torque_nm: Vector3::zeros(),
@@ -743,6 +1302,19 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
 /// One motor driver's speed PI: a [`SpeedPi`] within the actuator's torque-speed limits at the
 /// measured speed (the same limits as [`ActuatorParams::torque_bounds_nm`], with the slope
 /// `peak / no_load_speed` precomputed: this runs at 8 kHz).
+///
+/// ```
+/// use ballbot_core::ActuatorParams;
+/// use ballbot_core::ballbot::MotorSpeedPi;
+/// use ballbot_core::control::SpeedPiGains;
+/// let gains = SpeedPiGains::from_bandwidth(5.0, 30.0, 43.2)?;
+/// let mut motor = MotorSpeedPi::new(gains, &ActuatorParams::miapure())?;
+/// // Far too slow at 31 rad/s (half the no-load speed): only 21.6 N m forward are available.
+/// let (torque_nm, saturation_nm) = motor.step(60.0, 0.0, 31.0, 1.25e-4);
+/// approx::assert_relative_eq!(torque_nm, 21.6, epsilon = 1e-9);
+/// assert!(saturation_nm < 0.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MotorSpeedPi<T: RealField + Copy> {
     pi: SpeedPi<T>,
@@ -753,6 +1325,17 @@ pub struct MotorSpeedPi<T: RealField + Copy> {
 
 impl<T: RealField + Copy> MotorSpeedPi<T> {
     /// Validates the gains and the actuator.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::ballbot::MotorSpeedPi;
+    /// use ballbot_core::control::SpeedPiGains;
+    /// let gains = SpeedPiGains::from_bandwidth(5.0, 30.0, 43.2)?;
+    /// assert!(MotorSpeedPi::new(gains, &ActuatorParams::miapure()).is_ok());
+    /// let no_speed = ActuatorParams { no_load_speed_rad_per_s: 0.0, ..ActuatorParams::miapure() };
+    /// assert!(MotorSpeedPi::new(gains, &no_speed).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn new(gains: SpeedPiGains<T>, actuator: &ActuatorParams<T>) -> Result<Self, Error> {
         actuator.validate()?;
         Ok(Self {
@@ -763,12 +1346,44 @@ impl<T: RealField + Copy> MotorSpeedPi<T> {
     }
 
     /// Clears the integrator.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::ballbot::MotorSpeedPi;
+    /// use ballbot_core::control::SpeedPiGains;
+    /// let gains = SpeedPiGains::from_bandwidth(5.0, 30.0, 43.2)?;
+    /// let mut motor = MotorSpeedPi::new(gains, &ActuatorParams::miapure())?;
+    /// let first = motor.step(1.0, 0.0, 0.0, 1.25e-4).0;
+    /// motor.step(1.0, 0.0, 0.0, 1.25e-4);
+    /// motor.reset();
+    /// assert_eq!(motor.step(1.0, 0.0, 0.0, 1.25e-4).0, first); // the integral starts again at 0
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         self.pi.reset();
     }
 
     /// The torque range `(min, max)` (N m) at `speed_rad_per_s`: the peak against the motion,
-    /// the torque-speed line along it. A non-finite speed gives `(0, 0)`.
+    /// the torque-speed line along it. A NaN speed gives `(0, 0)`; an infinite one allows
+    /// braking only.
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::ballbot::MotorSpeedPi;
+    /// use ballbot_core::control::SpeedPiGains;
+    /// let actuator = ActuatorParams::<f64>::miapure();
+    /// let motor = MotorSpeedPi::new(SpeedPiGains::from_bandwidth(5.0, 30.0, 43.2)?, &actuator)?;
+    /// // The same limits as the actuator's: full peak to brake, the torque-speed line to drive.
+    /// for speed in [-70.0, -31.0, 0.0, 10.0, 61.0] {
+    ///     let (lower, upper) = motor.torque_bounds_nm(speed);
+    ///     let (lower_ref, upper_ref) = actuator.torque_bounds_nm(speed);
+    ///     approx::assert_relative_eq!(lower, lower_ref, epsilon = 1e-12);
+    ///     approx::assert_relative_eq!(upper, upper_ref, epsilon = 1e-12);
+    /// }
+    /// assert_eq!(motor.torque_bounds_nm(f64::NAN), (0.0, 0.0));
+    /// assert_eq!(motor.torque_bounds_nm(f64::INFINITY), (-43.2, 0.0)); // braking only
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     #[inline]
     pub fn torque_bounds_nm(&self, speed_rad_per_s: T) -> (T, T) {
         // Plain comparisons instead of `max`/`min` (NaN-aware, several instructions each):
@@ -787,6 +1402,19 @@ impl<T: RealField + Copy> MotorSpeedPi<T> {
 
     /// One step: returns `(torque_nm, saturation_nm)`, the torque finite and within
     /// [`Self::torque_bounds_nm`] at the measured speed (0 for any non-finite input).
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::ballbot::MotorSpeedPi;
+    /// use ballbot_core::control::SpeedPiGains;
+    /// let gains = SpeedPiGains::from_bandwidth(5.0, 30.0, 43.2)?;
+    /// let mut motor = MotorSpeedPi::new(gains, &ActuatorParams::miapure())?;
+    /// // On reference: the feedforward passes through.
+    /// assert_eq!(motor.step(3.0, 7.5, 3.0, 1.25e-4), (7.5, 0.0));
+    /// // A NaN encoder reading: no torque.
+    /// assert_eq!(motor.step(3.0, 7.5, f64::NAN, 1.25e-4), (0.0, 0.0));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     #[inline]
     pub fn step(
         &mut self,

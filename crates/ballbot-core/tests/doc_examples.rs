@@ -42,6 +42,7 @@ const CHECKED: &[&str] = &[
     "safety.rs",
     "estimation.rs",
     "command.rs",
+    "ballbot.rs",
 ];
 
 /// Files whose examples are still being written (issue 8); they move to [`CHECKED`] when done
