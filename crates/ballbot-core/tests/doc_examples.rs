@@ -54,16 +54,6 @@ const PENDING: &[&str] = &[
     "kinematics/limits.rs",
     "lqr/design.rs",
     "lqr/riccati.rs",
-    "control/mod.rs",
-    "control/feedforward.rs",
-    "control/lqr.rs",
-    "control/lqr_pi.rs",
-    "control/motor_pi.rs",
-    "control/pi_pd.rs",
-    "command.rs",
-    "estimation.rs",
-    "safety.rs",
-    "ballbot.rs",
 ];
 
 fn src_dir() -> PathBuf {
