@@ -42,6 +42,24 @@ use crate::{WHEEL_COUNT, Wip, WipParams, WipState};
 use nalgebra::{Matrix3, RealField, UnitQuaternion, Vector2, Vector3};
 
 /// The forces at one omniwheel contact. See the [module docs](self) for signs.
+///
+/// ```
+/// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+/// use nalgebra::Vector4;
+/// let params = BallbotParams::<f64>::miapure_60kg();
+/// let (kin, wip) = (
+///     OmniKinematics::from_ballbot(&params)?,
+///     Wip::new(params.sagittal)?,
+/// );
+/// // 10 N m forward from upright at rest: wheel 1 idles, wheels 2 and 3 push the ball
+/// // with opposite tractions, all in compression and inside their friction cones.
+/// let c = kin.wip_contact_forces(&wip, 0.0, &Vector4::zeros(), 10.0);
+/// let [w1, w2, w3] = c.wheels;
+/// approx::assert_abs_diff_eq!(w1.traction_n, 0.0, epsilon = 1e-9);
+/// approx::assert_relative_eq!(w2.traction_n, -w3.traction_n, epsilon = 1e-9);
+/// assert!(!w2.lifted_off && w2.friction_utilisation < 1.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WheelContact<T> {
     /// Normal force `N_i` (N), positive in compression. The ball pushes the body with
@@ -60,12 +78,43 @@ pub struct WheelContact<T> {
 impl<T: RealField + Copy> WheelContact<T> {
     /// Whether the contact holds: in compression and inside its friction cone
     /// (`utilisation <= 1`).
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+    /// use nalgebra::Vector4;
+    /// let params = BallbotParams::<f64>::miapure_60kg();
+    /// let (kin, wip) = (
+    ///     OmniKinematics::from_ballbot(&params)?,
+    ///     Wip::new(params.sagittal)?,
+    /// );
+    /// // From rest, the contacts carry up to 17.1 N m forward (heading 0) before a wheel slips.
+    /// let holds = |tau| {
+    ///     kin.wip_contact_forces(&wip, 0.0, &Vector4::zeros(), tau)
+    ///         .wheels[1]
+    ///         .holds()
+    /// };
+    /// assert!(holds(17.0));
+    /// assert!(!holds(17.2));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn holds(&self) -> bool {
         !self.lifted_off && self.friction_utilisation <= T::one()
     }
 }
 
 /// The forces at all three omniwheel contacts.
+///
+/// ```
+/// use ballbot_core::{BallbotParams, OmniKinematics};
+/// use nalgebra::Vector3;
+/// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+/// // Standing still, 74.3 kg rest on the three wheels: 343.6 N each, no traction.
+/// let c = kin.contact_forces(&Vector3::new(0.0, 0.0, 74.3 * 9.81), &Vector3::zeros());
+/// approx::assert_relative_eq!(c.normal_forces_n(), Vector3::repeat(343.6), epsilon = 0.05);
+/// assert_eq!(c.max_friction_utilisation(), 0.0);
+/// assert!(c.all_hold() && !c.any_lifted_off());
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactForces<T> {
     /// Per wheel, in wheel order.
@@ -74,11 +123,45 @@ pub struct ContactForces<T> {
 
 impl<T: RealField + Copy> ContactForces<T> {
     /// The normal forces `[N_1, N_2, N_3]` (N).
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let weight = Vector3::new(0.0, 0.0, 74.3 * 9.81);
+    /// // The normals carry the weight: sum_i N_i n_i = F_s without wheel torque.
+    /// let n = kin
+    ///     .contact_forces(&weight, &Vector3::zeros())
+    ///     .normal_forces_n();
+    /// let carried = kin
+    ///     .wheels()
+    ///     .iter()
+    ///     .zip(n.iter())
+    ///     .fold(Vector3::zeros(), |acc, (w, f)| acc + w.contact_normal * *f);
+    /// approx::assert_relative_eq!(carried, weight, epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn normal_forces_n(&self) -> Vector3<T> {
         Vector3::from_fn(|i, _| self.wheels[i].normal_force_n)
     }
 
     /// The largest friction-cone utilisation over the wheels (infinite if one lifts off).
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let weight = Vector3::new(0.0, 0.0, 74.3 * 9.81);
+    /// // Yaw torque loads all wheels alike: the utilisation grows linearly with it.
+    /// let use_at = |tau_z| {
+    ///     let wheels = kin.wheel_torques_nm(&Vector3::new(0.0, 0.0, tau_z));
+    ///     kin.contact_forces(&weight, &wheels)
+    ///         .max_friction_utilisation()
+    /// };
+    /// approx::assert_relative_eq!(use_at(20.0), 2.0 * use_at(10.0), max_relative = 1e-9);
+    /// assert!(use_at(10.0) > 0.0 && use_at(10.0) < 1.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn max_friction_utilisation(&self) -> T {
         self.wheels
             .iter()
@@ -86,11 +169,42 @@ impl<T: RealField + Copy> ContactForces<T> {
     }
 
     /// Whether any wheel lifts off.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+    /// use nalgebra::Vector4;
+    /// let params = BallbotParams::<f64>::miapure_60kg();
+    /// let (kin, wip) = (
+    ///     OmniKinematics::from_ballbot(&params)?,
+    ///     Wip::new(params.sagittal)?,
+    /// );
+    /// // 50 N m forward from rest is far beyond the contacts: wheels 2 and 3 would need tension.
+    /// let c = kin.wip_contact_forces(&wip, 0.0, &Vector4::zeros(), 50.0);
+    /// assert!(c.any_lifted_off());
+    /// assert_eq!(c.max_friction_utilisation(), f64::INFINITY);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn any_lifted_off(&self) -> bool {
         self.wheels.iter().any(|w| w.lifted_off)
     }
 
     /// Whether every contact holds (no lift-off, no slip).
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+    /// use nalgebra::Vector4;
+    /// let params = BallbotParams::<f64>::miapure_60kg();
+    /// let (kin, wip) = (
+    ///     OmniKinematics::from_ballbot(&params)?,
+    ///     Wip::new(params.sagittal)?,
+    /// );
+    /// let upright = Vector4::zeros();
+    /// assert!(kin.wip_contact_forces(&wip, 0.0, &upright, 10.0).all_hold());
+    /// // 25 N m does not lift a wheel off but makes one slip.
+    /// let c = kin.wip_contact_forces(&wip, 0.0, &upright, 25.0);
+    /// assert!(!c.all_hold() && !c.any_lifted_off());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn all_hold(&self) -> bool {
         self.wheels.iter().all(WheelContact::holds)
     }
@@ -137,6 +251,24 @@ pub fn support_force_in_body_n<T: RealField + Copy>(
 /// (the COM moves by `r phi + l sin(theta)` along `e` and `l cos(theta)` up). The body's
 /// rotational equation of the WIP is `I_U theta_ddot = -tau_c - l F_s . e_b`, `tau_c` the
 /// torque transmitted through the contacts.
+///
+/// ```
+/// use ballbot_core::kinematics::planar_support_force_n;
+/// use ballbot_core::{Wip, WipParams};
+/// use nalgebra::{Vector2, Vector4};
+/// let params = WipParams::<f64>::miapure_60kg();
+/// let weight_n = params.body_mass_kg * params.gravity_m_per_s2;
+/// // Held still at 0.1 rad (no acceleration): the ball carries the weight, tilted into body axes.
+/// let s = Vector4::new(0.1, 0.0, 0.0, 0.0);
+/// let still = planar_support_force_n(&params, 0.0, &s, &Vector2::zeros());
+/// approx::assert_relative_eq!(still.norm(), weight_n, epsilon = 1e-9);
+/// approx::assert_relative_eq!(still.x, -weight_n * 0.1f64.sin(), epsilon = 1e-9);
+/// // Falling freely from there (no torque), the body presses less on the ball.
+/// let falling =
+///     planar_support_force_n(&params, 0.0, &s, &Wip::new(params)?.accelerations(&s, 0.0));
+/// assert!(falling.z < still.z);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 pub fn planar_support_force_n<T: RealField + Copy>(
     params: &WipParams<T>,
     heading_rad: T,
@@ -166,6 +298,25 @@ pub fn planar_support_force_n<T: RealField + Copy>(
 /// [`planar_support_force_n`] (exact when either plane is upright and still, first order
 /// otherwise, like the decoupled model itself). The yaw motion adds nothing: the COM is on the
 /// spin axis. Mass and gravity of the gravity term are the sagittal plane's.
+///
+/// ```
+/// use ballbot_core::kinematics::{decoupled_support_force_n, planar_support_force_n};
+/// use ballbot_core::{Wip, WipParams};
+/// use nalgebra::{Vector2, Vector4};
+/// let params = WipParams::<f64>::miapure_60kg();
+/// let wip = Wip::new(params)?;
+/// // With the frontal plane upright and still, the sagittal WIP alone: heading 0.
+/// let s = Vector4::new(0.05, 0.0, 0.2, 3.0);
+/// let acc = wip.accelerations(&s, 8.0);
+/// let (upright, still) = (Vector4::zeros(), Vector2::zeros());
+/// let both = decoupled_support_force_n((&params, &s, &acc), (&params, &upright, &still));
+/// approx::assert_relative_eq!(
+///     both,
+///     planar_support_force_n(&params, 0.0, &s, &acc),
+///     epsilon = 1e-9
+/// );
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 pub fn decoupled_support_force_n<T: RealField + Copy>(
     sagittal: (&WipParams<T>, &WipState<T>, &Vector2<T>),
     frontal: (&WipParams<T>, &WipState<T>, &Vector2<T>),
@@ -196,6 +347,23 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// `support_force_n` (N, body coordinates: the net force of the ball on the upper body) and
     /// the omniwheel torques `wheel_torques_nm` (N m, at the omniwheel): the solution of
     /// `sum_i N_i n_i = F_s + sum_i (tau_i / r_W) d_i`.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let weight = Vector3::new(0.0, 0.0, 74.3 * 9.81);
+    /// // Static load m_U g / (3 cos 45 deg) = 343.6 N per wheel.
+    /// approx::assert_relative_eq!(
+    ///     kin.normal_forces_n(&weight, &Vector3::zeros()),
+    ///     Vector3::repeat(343.6),
+    ///     epsilon = 0.05
+    /// );
+    /// // Driving torque moves load between the wheels: wheel 2 pushing along +d_2 unloads it.
+    /// let n = kin.normal_forces_n(&weight, &Vector3::new(0.0, 10.0, 0.0));
+    /// assert!(n[1] < 343.6);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn normal_forces_n(
         &self,
         support_force_n: &Vector3<T>,
@@ -206,6 +374,26 @@ impl<T: RealField + Copy> OmniKinematics<T> {
 
     /// The matrices `(P, Q)` of `N = P F_s + Q tau_wheel` ([`Self::normal_forces_n`]):
     /// `P = [n_1 n_2 n_3]^-1`, `Q = P [d_1 d_2 d_3] / r_W`.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector3;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let (p, q) = kin.normal_force_matrices();
+    /// // N = P F_s + Q tau_wheel, for use as linear constraints in an optimiser.
+    /// let (f_s, tau) = (
+    ///     Vector3::new(30.0, -10.0, 729.0),
+    ///     Vector3::new(5.0, -12.0, 7.0),
+    /// );
+    /// approx::assert_relative_eq!(
+    ///     p * f_s + q * tau,
+    ///     kin.normal_forces_n(&f_s, &tau),
+    ///     epsilon = 1e-9
+    /// );
+    /// // Equal wheel torques (pure yaw) leave the normal forces unchanged.
+    /// approx::assert_abs_diff_eq!(q * Vector3::repeat(10.0), Vector3::zeros(), epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn normal_force_matrices(&self) -> (&Matrix3<T>, &Matrix3<T>) {
         (&self.normal_from_force, &self.normal_from_wheel_torque)
     }
@@ -298,6 +486,41 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// [`Self::wip_contact_forces`]; the support force is [`decoupled_support_force_n`]. With
     /// one plane upright and still and no yaw torque this equals [`Self::wip_contact_forces`]
     /// of the other (heading 0 for the sagittal plane, -90 deg for the frontal one).
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+    /// use nalgebra::{Vector3, Vector4};
+    /// let params = BallbotParams::<f64>::miapure_60kg();
+    /// let kin = OmniKinematics::from_ballbot(&params)?;
+    /// let (sagittal, frontal) = (Wip::new(params.sagittal)?, Wip::new(params.frontal)?);
+    /// // Sagittal motion only: the same as the planar WIP at heading 0.
+    /// let s = Vector4::new(0.02, 0.0, 0.1, 4.0);
+    /// let upright = Vector4::zeros();
+    /// let both = kin.decoupled_contact_forces(
+    ///     (&sagittal, &s),
+    ///     (&frontal, &upright),
+    ///     &Vector3::new(0.0, 6.0, 0.0),
+    /// );
+    /// let planar = kin.wip_contact_forces(&sagittal, 0.0, &s, 6.0);
+    /// approx::assert_relative_eq!(
+    ///     both.normal_forces_n(),
+    ///     planar.normal_forces_n(),
+    ///     epsilon = 1e-9
+    /// );
+    /// // Adding yaw torque adds traction but no normal force.
+    /// let turning = kin.decoupled_contact_forces(
+    ///     (&sagittal, &s),
+    ///     (&frontal, &upright),
+    ///     &Vector3::new(0.0, 6.0, 5.0),
+    /// );
+    /// approx::assert_relative_eq!(
+    ///     turning.normal_forces_n(),
+    ///     planar.normal_forces_n(),
+    ///     epsilon = 1e-9
+    /// );
+    /// assert!(turning.max_friction_utilisation() != planar.max_friction_utilisation());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn decoupled_contact_forces(
         &self,
         sagittal: (&Wip<T>, &WipState<T>),

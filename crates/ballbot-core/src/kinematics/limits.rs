@@ -15,7 +15,9 @@
 //! let wip = Wip::new(params.sagittal)?;
 //! let upright = Vector4::zeros();
 //! // Towards OW1 (heading 0) the contacts allow less forward torque than backward torque.
-//! let range = kin.wip_contact_torque_interval_nm(&wip, 0.0, &upright).unwrap();
+//! let range = kin
+//!     .wip_contact_torque_interval_nm(&wip, 0.0, &upright)
+//!     .unwrap();
 //! assert!(range.max_nm < -range.min_nm);
 //! # Ok::<(), ballbot_core::Error>(())
 //! ```
@@ -26,6 +28,16 @@ use crate::{Wip, WipState};
 use nalgebra::RealField;
 
 /// A closed interval `[min_nm, max_nm]` of WIP torques (N m); the ends may be infinite.
+///
+/// ```
+/// use ballbot_core::TorqueInterval;
+/// let range = TorqueInterval {
+///     min_nm: -20.9,
+///     max_nm: 17.1,
+/// };
+/// assert!(range.contains(0.0) && !range.contains(18.0));
+/// assert_eq!(range.clamp(30.0), 17.1);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorqueInterval<T> {
     /// Lower end (N m).
@@ -36,6 +48,18 @@ pub struct TorqueInterval<T> {
 
 impl<T: RealField + Copy> TorqueInterval<T> {
     /// The whole real line.
+    ///
+    /// ```
+    /// use ballbot_core::TorqueInterval;
+    /// let all = TorqueInterval::<f64>::unbounded();
+    /// assert!(all.contains(1e300) && all.contains(-1e300));
+    /// // The neutral element of intersection.
+    /// let range = TorqueInterval {
+    ///     min_nm: -1.0,
+    ///     max_nm: 2.0,
+    /// };
+    /// assert_eq!(all.intersect(&range), Some(range));
+    /// ```
     pub fn unbounded() -> Self {
         let infinity: T = nalgebra::convert(f64::INFINITY);
         Self {
@@ -45,12 +69,45 @@ impl<T: RealField + Copy> TorqueInterval<T> {
     }
 
     /// Whether `torque_nm` lies in the interval.
+    ///
+    /// ```
+    /// use ballbot_core::TorqueInterval;
+    /// let range = TorqueInterval {
+    ///     min_nm: -5.0,
+    ///     max_nm: 5.0,
+    /// };
+    /// // Closed at both ends; NaN is never inside.
+    /// assert!(range.contains(5.0) && range.contains(-5.0));
+    /// assert!(!range.contains(f64::NAN));
+    /// ```
     pub fn contains(&self, torque_nm: T) -> bool {
         self.min_nm <= torque_nm && torque_nm <= self.max_nm
     }
 
     /// `torque_nm` clamped into the interval; a non-finite request gives the point of the
     /// interval closest to zero.
+    ///
+    /// ```
+    /// use ballbot_core::TorqueInterval;
+    /// let range = TorqueInterval {
+    ///     min_nm: -5.0,
+    ///     max_nm: 8.0,
+    /// };
+    /// assert_eq!(
+    ///     (range.clamp(10.0), range.clamp(-7.0), range.clamp(3.0)),
+    ///     (8.0, -5.0, 3.0)
+    /// );
+    /// // A non-finite request gives the torque closest to zero: 0 here, 2 for [2, 8].
+    /// assert_eq!(range.clamp(f64::NAN), 0.0);
+    /// assert_eq!(
+    ///     TorqueInterval {
+    ///         min_nm: 2.0,
+    ///         max_nm: 8.0
+    ///     }
+    ///     .clamp(f64::INFINITY),
+    ///     2.0
+    /// );
+    /// ```
     pub fn clamp(&self, torque_nm: T) -> T {
         let t = if torque_nm.is_finite() {
             torque_nm
@@ -61,6 +118,25 @@ impl<T: RealField + Copy> TorqueInterval<T> {
     }
 
     /// The intersection with `other`, `None` if it is empty.
+    ///
+    /// ```
+    /// use ballbot_core::TorqueInterval;
+    /// let actuator = TorqueInterval {
+    ///     min_nm: -96.9,
+    ///     max_nm: 79.4,
+    /// };
+    /// let contact = TorqueInterval {
+    ///     min_nm: -20.9,
+    ///     max_nm: 17.1,
+    /// };
+    /// assert_eq!(actuator.intersect(&contact), Some(contact));
+    /// // Disjoint intervals: no torque satisfies both.
+    /// let high = TorqueInterval {
+    ///     min_nm: 30.0,
+    ///     max_nm: 40.0,
+    /// };
+    /// assert_eq!(contact.intersect(&high), None);
+    /// ```
     pub fn intersect(&self, other: &Self) -> Option<Self> {
         Self::new(self.min_nm.max(other.min_nm), self.max_nm.min(other.max_nm))
     }
@@ -91,6 +167,21 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// ([`ActuatorParams::torque_bounds_nm`](crate::ActuatorParams::torque_bounds_nm) at its
     /// current speed) for a planar motion at heading `heading_rad` in WIP state `s`. It always
     /// contains 0. Non-finite inputs give `[0, 0]`.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics};
+    /// use nalgebra::Vector4;
+    /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
+    /// // At rest, towards omniwheel 1 (heading 0): the sagittal capacity, +-96.9 N m.
+    /// let at_rest = kin.wip_actuator_torque_interval_nm(0.0, &Vector4::zeros());
+    /// approx::assert_relative_eq!(at_rest.max_nm, 96.93, epsilon = 0.01);
+    /// approx::assert_relative_eq!(at_rest.min_nm, -96.93, epsilon = 0.01);
+    /// // Rolling forward at 10 rad/s (1.1 m/s), less is left to accelerate, all of it to brake.
+    /// let rolling = kin.wip_actuator_torque_interval_nm(0.0, &Vector4::new(0.0, 0.0, 0.0, 10.0));
+    /// approx::assert_relative_eq!(rolling.max_nm, 79.39, epsilon = 0.01);
+    /// assert_eq!(rolling.min_nm, at_rest.min_nm);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn wip_actuator_torque_interval_nm(
         &self,
         heading_rad: T,
@@ -131,6 +222,37 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// or spin so large that a wheel lifts off whatever the torque).
     ///
     /// At an end of the interval one contact is exactly at its friction limit.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, OmniKinematics, TorqueInterval, Wip};
+    /// use nalgebra::Vector4;
+    /// let params = BallbotParams::<f64>::miapure_60kg();
+    /// let (kin, wip) = (
+    ///     OmniKinematics::from_ballbot(&params)?,
+    ///     Wip::new(params.sagittal)?,
+    /// );
+    /// let upright = Vector4::zeros();
+    /// let deg = |d: f64| d.to_radians();
+    /// // From rest, the contacts allow [-20.9, 17.1] N m at heading 0 and the mirror image at
+    /// // 180 deg; about +-16.3 N m at 90 deg. Far below the actuators' 97 N m.
+    /// let h0 = kin
+    ///     .wip_contact_torque_interval_nm(&wip, deg(0.0), &upright)
+    ///     .unwrap_or(TorqueInterval::unbounded());
+    /// let h180 = kin
+    ///     .wip_contact_torque_interval_nm(&wip, deg(180.0), &upright)
+    ///     .unwrap_or(TorqueInterval::unbounded());
+    /// let h90 = kin
+    ///     .wip_contact_torque_interval_nm(&wip, deg(90.0), &upright)
+    ///     .unwrap_or(TorqueInterval::unbounded());
+    /// approx::assert_relative_eq!(h0.min_nm, -20.92, epsilon = 0.01);
+    /// approx::assert_relative_eq!(h0.max_nm, 17.10, epsilon = 0.01);
+    /// approx::assert_relative_eq!(h180.max_nm, -h0.min_nm, epsilon = 1e-9);
+    /// approx::assert_relative_eq!(h90.max_nm, 16.30, epsilon = 0.01);
+    /// // At an end, one contact is exactly at its friction limit.
+    /// let edge = kin.wip_contact_forces(&wip, 0.0, &upright, h0.max_nm);
+    /// approx::assert_relative_eq!(edge.max_friction_utilisation(), 1.0, epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn wip_contact_torque_interval_nm(
         &self,
         wip: &Wip<T>,
