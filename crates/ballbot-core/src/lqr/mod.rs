@@ -11,12 +11,15 @@
 //! Zero-order-hold discretisation and the matrix exponential live in [`crate::linalg`].
 //!
 //! ```
-//! use ballbot_core::lqr::{wip_lqr, WipLqrWeights};
+//! use ballbot_core::lqr::{WipLqrWeights, wip_lqr};
 //! use ballbot_core::{Wip, WipParams};
 //! let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
 //! let lqr = wip_lqr(&wip, &WipLqrWeights::model_default())?;
 //! // Leaning forward by 0.01 rad (reference upright) asks for a forward ball torque.
-//! let tau_nm = lqr.control(&nalgebra::Vector3::zeros(), &nalgebra::Vector3::new(0.01, 0.0, 0.0));
+//! let tau_nm = lqr.control(
+//!     &nalgebra::Vector3::zeros(),
+//!     &nalgebra::Vector3::new(0.01, 0.0, 0.0),
+//! );
 //! assert!(tau_nm > 0.0);
 //! # Ok::<(), ballbot_core::Error>(())
 //! ```

@@ -63,6 +63,31 @@ use core::fmt;
 use nalgebra::{Cholesky, RealField, SMatrix};
 
 /// The numerical outcome of a Riccati solve.
+///
+/// ```
+/// use ballbot_core::lqr::{RiccatiSettings, RiccatiStatus, solve_care};
+/// use nalgebra::{Matrix1, Matrix2, Vector2};
+/// let (q, r, settings) = (
+///     Matrix2::identity(),
+///     Matrix1::new(1.0),
+///     RiccatiSettings::default(),
+/// );
+/// // A double integrator is stabilisable ...
+/// let a = Matrix2::new(0.0, 1.0, 0.0, 0.0);
+/// assert_eq!(
+///     solve_care(&a, &Vector2::new(0.0, 1.0), &q, &r, &settings)?.status,
+///     RiccatiStatus::Converged
+/// );
+/// // ... a second, unstable mode that the input cannot reach is not: a status, not an Err.
+/// let a = Matrix2::new(0.0, 0.0, 0.0, 1.0);
+/// let sol = solve_care(&a, &Vector2::new(1.0, 0.0), &q, &r, &settings)?;
+/// assert_eq!(sol.status, RiccatiStatus::NotStabilizable);
+/// assert_eq!(
+///     sol.status.to_string(),
+///     "no stabilising solution (unstabilisable or undetectable)"
+/// );
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RiccatiStatus {
     /// Converged to the tolerance, and the closed loop `A - B K` is certified asymptotically
@@ -81,6 +106,12 @@ pub enum RiccatiStatus {
 
 impl RiccatiStatus {
     /// `true` for [`RiccatiStatus::Converged`].
+    ///
+    /// ```
+    /// use ballbot_core::lqr::RiccatiStatus;
+    /// assert!(RiccatiStatus::Converged.is_converged());
+    /// assert!(!RiccatiStatus::MaxIterations.is_converged());
+    /// ```
     pub fn is_converged(self) -> bool {
         self == Self::Converged
     }
@@ -98,6 +129,27 @@ impl fmt::Display for RiccatiStatus {
 }
 
 /// Stopping rules of the Riccati solvers.
+///
+/// ```
+/// use ballbot_core::lqr::{RiccatiSettings, RiccatiStatus, solve_dare};
+/// use nalgebra::{Matrix1, Matrix2, Vector2};
+/// assert_eq!(RiccatiSettings::<f64>::default().max_iterations, 64);
+/// // The doubling converges quadratically: a sampled double integrator needs a handful of
+/// // steps, and one step alone stops short of the tolerance.
+/// let (a, b) = (Matrix2::new(1.0, 0.1, 0.0, 1.0), Vector2::new(0.005, 0.1));
+/// let (q, r) = (Matrix2::identity(), Matrix1::new(1.0));
+/// let full = solve_dare(&a, &b, &q, &r, &RiccatiSettings::default())?;
+/// assert!(full.is_converged() && full.iterations < 12);
+/// let one_step = RiccatiSettings {
+///     max_iterations: 1,
+///     ..RiccatiSettings::default()
+/// };
+/// assert_ne!(
+///     solve_dare(&a, &b, &q, &r, &one_step)?.status,
+///     RiccatiStatus::Converged
+/// );
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RiccatiSettings<T> {
     /// Stop when the 1-norm of the last increment of `X` is at most this times `||X||_1`
@@ -121,6 +173,20 @@ impl<T: RealField + Copy> Default for RiccatiSettings<T> {
 
 impl<T: RealField + Copy> RiccatiSettings<T> {
     /// Checks the settings; the error names the field.
+    ///
+    /// ```
+    /// use ballbot_core::Error;
+    /// use ballbot_core::lqr::RiccatiSettings;
+    /// assert_eq!(RiccatiSettings::<f32>::default().validate(), Ok(()));
+    /// let never = RiccatiSettings {
+    ///     max_iterations: 0,
+    ///     ..RiccatiSettings::<f64>::default()
+    /// };
+    /// assert_eq!(
+    ///     never.validate(),
+    ///     Err(Error::invalid("max_iterations", "must be > 0"))
+    /// );
+    /// ```
     pub fn validate(&self) -> Result<(), Error> {
         if !(self.tolerance.is_finite() && self.tolerance > T::zero()) {
             return Err(Error::invalid("tolerance", "must be finite and > 0"));
@@ -133,6 +199,27 @@ impl<T: RealField + Copy> RiccatiSettings<T> {
 }
 
 /// The result of a Riccati solve: the solution, the optimal gain and how the solve went.
+///
+/// ```
+/// use ballbot_core::lqr::{RiccatiSettings, solve_dare};
+/// use nalgebra::{Matrix1, Vector1};
+/// // Scalar DARE x = a^2 x - (a b x)^2 / (r + b^2 x) + q with a = 2, b = q = r = 1:
+/// // x^2 - 4 x - 1 = 0, so x = 2 + sqrt(5), gain k = 2 x / (1 + x).
+/// let sol = solve_dare(
+///     &Matrix1::new(2.0),
+///     &Vector1::new(1.0),
+///     &Matrix1::new(1.0),
+///     &Matrix1::new(1.0),
+///     &RiccatiSettings::default(),
+/// )?;
+/// assert!(sol.is_converged());
+/// let x = 2.0 + 5f64.sqrt();
+/// approx::assert_relative_eq!(sol.x[(0, 0)], x, epsilon = 1e-10);
+/// approx::assert_relative_eq!(sol.gain[(0, 0)], 2.0 * x / (1.0 + x), epsilon = 1e-10);
+/// // The closed loop 2 - k is stable.
+/// assert!((2.0 - sol.gain[(0, 0)]).abs() < 1.0);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[must_use = "check `status` before using the gain"]
 pub struct RiccatiSolution<T: RealField + Copy, const N: usize, const M: usize> {
@@ -151,6 +238,22 @@ pub struct RiccatiSolution<T: RealField + Copy, const N: usize, const M: usize> 
 
 impl<T: RealField + Copy, const N: usize, const M: usize> RiccatiSolution<T, N, M> {
     /// `true` when the status is [`RiccatiStatus::Converged`].
+    ///
+    /// ```
+    /// use ballbot_core::lqr::{RiccatiSettings, solve_care};
+    /// use nalgebra::{Matrix1, Vector1};
+    /// // x_dot = x + u: one CARE solve, converged, gain 1 + sqrt(2).
+    /// let sol = solve_care(
+    ///     &Matrix1::new(1.0),
+    ///     &Vector1::new(1.0),
+    ///     &Matrix1::new(1.0),
+    ///     &Matrix1::new(1.0),
+    ///     &RiccatiSettings::default(),
+    /// )?;
+    /// assert!(sol.is_converged());
+    /// approx::assert_relative_eq!(sol.gain[(0, 0)], 1.0 + 2f64.sqrt(), epsilon = 1e-10);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn is_converged(&self) -> bool {
         self.status.is_converged()
     }
@@ -168,6 +271,26 @@ impl<T: RealField + Copy, const N: usize, const M: usize> RiccatiSolution<T, N, 
 
 /// Checks that `q` is finite, symmetric and positive semidefinite (to round-off), and that
 /// `r` is symmetric positive definite. Errors name `q` or `r`.
+///
+/// ```
+/// use ballbot_core::Error;
+/// use ballbot_core::lqr::validate_weights;
+/// use nalgebra::{Matrix1, Matrix2};
+/// let r = Matrix1::new(0.1);
+/// assert_eq!(
+///     validate_weights(&Matrix2::new(1.0, 0.5, 0.5, 1.0), &r),
+///     Ok(())
+/// );
+/// // Positive diagonal but indefinite (eigenvalues 3 and -1).
+/// assert_eq!(
+///     validate_weights(&Matrix2::new(1.0, 2.0, 2.0, 1.0), &r),
+///     Err(Error::invalid("q", "must be positive semidefinite"))
+/// );
+/// assert_eq!(
+///     validate_weights(&Matrix2::identity(), &Matrix1::new(0.0)),
+///     Err(Error::invalid("r", "must be positive definite"))
+/// );
+/// ```
 pub fn validate_weights<T: RealField + Copy, const N: usize, const M: usize>(
     q: &SMatrix<T, N, N>,
     r: &SMatrix<T, M, M>,
@@ -294,12 +417,18 @@ fn doubling<T: RealField + Copy, const N: usize>(
 /// `settings.max_iterations` steps of a few `N x N` products and one `N x N` inverse.
 ///
 /// ```
-/// use ballbot_core::lqr::{solve_dare, RiccatiSettings, RiccatiStatus};
+/// use ballbot_core::lqr::{RiccatiSettings, RiccatiStatus, solve_dare};
 /// use nalgebra::{Matrix1, Matrix2, Vector2};
 /// // Double integrator sampled at 0.1 s.
 /// let a = Matrix2::new(1.0, 0.1, 0.0, 1.0);
 /// let b = Vector2::new(0.005, 0.1);
-/// let sol = solve_dare(&a, &b, &Matrix2::identity(), &Matrix1::new(1.0), &RiccatiSettings::default())?;
+/// let sol = solve_dare(
+///     &a,
+///     &b,
+///     &Matrix2::identity(),
+///     &Matrix1::new(1.0),
+///     &RiccatiSettings::default(),
+/// )?;
 /// assert_eq!(sol.status, RiccatiStatus::Converged);
 /// assert!(sol.residual < 1e-12);
 /// # Ok::<(), ballbot_core::Error>(())
@@ -417,12 +546,18 @@ fn finish<T: RealField + Copy, const N: usize, const M: usize>(
 /// the numerical outcome is the solution's [`RiccatiStatus`]. Never panics; bounded time.
 ///
 /// ```
-/// use ballbot_core::lqr::{solve_care, RiccatiSettings, RiccatiStatus};
+/// use ballbot_core::lqr::{RiccatiSettings, RiccatiStatus, solve_care};
 /// use nalgebra::{Matrix1, Matrix2, Vector2};
 /// // Double integrator, Q = I, R = 1: K = [1, sqrt(3)].
 /// let a = Matrix2::new(0.0, 1.0, 0.0, 0.0);
 /// let b = Vector2::new(0.0, 1.0);
-/// let sol = solve_care(&a, &b, &Matrix2::identity(), &Matrix1::new(1.0), &RiccatiSettings::default())?;
+/// let sol = solve_care(
+///     &a,
+///     &b,
+///     &Matrix2::identity(),
+///     &Matrix1::new(1.0),
+///     &RiccatiSettings::default(),
+/// )?;
 /// assert_eq!(sol.status, RiccatiStatus::Converged);
 /// approx::assert_relative_eq!(sol.gain[0], 1.0, epsilon = 1e-12);
 /// approx::assert_relative_eq!(sol.gain[1], 3.0_f64.sqrt(), epsilon = 1e-12);
