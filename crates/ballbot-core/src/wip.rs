@@ -365,7 +365,8 @@ impl<T: RealField + Copy> Wip<T> {
     /// let lin = wip.linearize(&s, tau);
     /// for j in 0..4 {
     ///     let e = Vector4::ith(j, h);
-    ///     let column = (wip.derivative(&(s + e), tau) - wip.derivative(&(s - e), tau)) / (2.0 * h);
+    ///     let diff = wip.derivative(&(s + e), tau) - wip.derivative(&(s - e), tau);
+    ///     let column = diff / (2.0 * h);
     ///     approx::assert_relative_eq!(lin.A.column(j).into_owned(), column, epsilon = 1e-5);
     /// }
     /// let column_b = (wip.derivative(&s, tau + h) - wip.derivative(&s, tau - h)) / (2.0 * h);

@@ -5,10 +5,12 @@
 //! `static` and `union` (inherent methods included), a fenced code block that rustdoc runs or at
 //! least compiles: ```` ``` ````, ```` ```rust ````, ```` ```no_run ```` or
 //! ```` ```should_panic ```` (not ```` ```text ````, ```` ```ignore ````, ```` ```compile_fail ````
-//! or another language). Skipped: `pub(crate)`/`pub(super)`/`pub(in ..)` items, trait-impl
-//! methods (they have no `pub`), items of trait definitions, struct fields, enum variants, items
-//! inside function bodies, `#[cfg(test)]`/`#[cfg(doctest)]` items and modules, and the items of
-//! a private module that its parent does not re-export (`pub use`).
+//! or another language) with at least one line rustdoc shows (not only hidden `# ` lines).
+//!
+//! Skipped: `pub(crate)`/`pub(super)`/`pub(in ..)` items, trait-impl methods (they have no
+//! `pub`), items of trait definitions, struct fields, enum variants, items inside function
+//! bodies, `#[cfg(test)]`/`#[cfg(doctest)]` items and modules, and the items of a private module
+//! that its parent does not re-export (`pub use`).
 //!
 //! Every source file of the core (but `#[cfg(test)]` modules) must be listed in [`CHECKED`], so
 //! a new file cannot escape the check. A failure names each item without an example as
@@ -250,24 +252,26 @@ fn runnable_fence(info: &str) -> bool {
         .all(|t| matches!(t, "rust" | "no_run" | "should_panic") || t.starts_with("edition"))
 }
 
-/// Whether doc lines (without their `///`) contain a runnable fenced example.
+/// Whether doc lines (without their `///`) contain a runnable fenced example with at least one
+/// line rustdoc shows (a block of hidden `# ` lines only shows nothing).
 fn has_runnable_example(doc: &[String]) -> bool {
-    let mut open: Option<usize> = None;
+    // (fence length, runnable, a visible code line seen)
+    let mut open: Option<(usize, bool, bool)> = None;
     for line in doc {
         let t = line.trim();
         let ticks = t.chars().take_while(|&c| c == '`').count();
-        if ticks < 3 {
-            continue;
-        }
         match open {
-            None => {
-                if runnable_fence(&t[ticks..]) {
+            None if ticks >= 3 => open = Some((ticks, runnable_fence(&t[ticks..]), false)),
+            None => {}
+            Some((k, runnable, visible)) if ticks >= k && t[ticks..].trim().is_empty() => {
+                if runnable && visible {
                     return true;
                 }
-                open = Some(ticks);
+                open = None;
             }
-            Some(k) if ticks >= k && t[ticks..].trim().is_empty() => open = None,
-            Some(_) => {}
+            Some((_, _, ref mut visible)) => {
+                *visible |= !(t.is_empty() || t == "#" || t.starts_with("# "));
+            }
         }
     }
     false
@@ -859,6 +863,17 @@ mod tests {
 #[cfg(test)]
 mod more_tests;
 mod private_file;
+
+/// ```
+/// # let hidden_only = 1;
+/// ```
+pub fn hidden_example() {}
+
+/// ```
+/// #[derive(Debug)]
+/// struct Shown;
+/// ```
+pub struct ShownAttribute;
 "####;
     let scan = scan(fixture);
     let found: Vec<(String, String, bool, usize)> = scan
@@ -884,6 +899,8 @@ mod private_file;
         ("type", "Alias", false, 64),
         ("fn", "body", false, 66),
         ("static", "COUNT", false, 75),
+        ("fn", "hidden_example", false, 96),
+        ("struct", "ShownAttribute", true, 102),
     ]
     .into_iter()
     .map(|(k, n, e, l)| (k.to_string(), n.to_string(), e, l))

@@ -623,7 +623,8 @@ impl<T: RealField + Copy> OmniKinematics<T> {
     /// use nalgebra::Vector3;
     /// let kin = OmniKinematics::from_ballbot(&BallbotParams::<f64>::miapure_60kg())?;
     /// // The sagittal torque capacity (96.9 N m) takes a rotor to its 43.2 / 7.5 = 5.76 N m peak.
-    /// let rotor = kin.motor_torques_nm(&Vector3::new(0.0, kin.planar_torque_capacity_nm()[1], 0.0));
+    /// let capacity_y = kin.planar_torque_capacity_nm()[1];
+    /// let rotor = kin.motor_torques_nm(&Vector3::new(0.0, capacity_y, 0.0));
     /// approx::assert_relative_eq!(rotor.amax(), 5.76, epsilon = 1e-9);
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
