@@ -634,8 +634,8 @@ impl BallbotScene {
 
     /// The robot described by a parameter set: the ball radius of the sagittal plane, the
     /// omniwheels at their azimuths and contact angle with their radius (each wheel's centre on
-    /// the line from the ball centre through its contact, axle horizontal and tangent to the
-    /// ball), and a body cylinder of 0.25 m radius from just above the wheels, centred on the
+    /// the line from the ball centre through its contact, axle `a_i = d_i x n_i` so that it
+    /// rolls along the horizontal tangent `d_i`), and a body cylinder of 0.25 m radius from just above the wheels, centred on the
     /// COM height (at least 0.2 m tall). Change the public fields for another look.
     pub fn from_params(robot: &BallbotParams<f64>) -> Self {
         let ball_radius_m = robot.sagittal.ball_radius_m;
@@ -653,8 +653,11 @@ impl BallbotScene {
                     zenith_rad.cos(),
                 );
                 let centre = direction * (ball_radius_m + wheel_radius_m);
-                // The wheel rolls on the ball: its axle is horizontal and tangent to the ball.
-                let axle = nalgebra::Vector3::new(-azimuth_rad.sin(), azimuth_rad.cos(), 0.0);
+                // The wheel drives the ball along the horizontal tangent d_i (MODEL.md section
+                // 1): its axle is a_i = d_i x n_i, perpendicular to d_i and to the contact
+                // normal, as in the world (`crate::world::contact`).
+                let rolling = nalgebra::Vector3::new(-azimuth_rad.sin(), azimuth_rad.cos(), 0.0);
+                let axle = rolling.cross(&direction);
                 let rotation = UnitQuaternion::rotation_between(&nalgebra::Vector3::z(), &axle)
                     .unwrap_or_else(UnitQuaternion::identity);
                 Isometry3::from_parts(centre.into(), rotation)
@@ -899,7 +902,7 @@ mod tests {
     }
 
     #[test]
-    fn miapure_wheels_touch_the_ball_with_horizontal_axles() {
+    fn miapure_wheels_touch_the_ball_and_roll_along_the_horizontal_tangent() {
         let robot = BallbotScene::miapure_like();
         let params = BallbotParams::<f64>::miapure_60kg();
         assert_eq!(robot.ball_radius_m, params.sagittal.ball_radius_m);
@@ -913,8 +916,16 @@ mod tests {
             let centre_distance_m = wheel.translation.vector.norm();
             assert!((centre_distance_m - robot.ball_radius_m - robot.wheel_radius_m).abs() < 1e-12);
             let axle = wheel.rotation * nalgebra::Vector3::z();
-            assert!(axle.z.abs() < 1e-12);
             assert!(axle.dot(&wheel.translation.vector).abs() < 1e-12);
+            // Rolling direction at the contact: axle x inward normal, horizontal (d_i).
+            let inward = -wheel.translation.vector.normalize();
+            let rolling = axle.cross(&inward);
+            assert!(rolling.z.abs() < 1e-12, "{rolling}");
+            assert!((rolling.norm() - 1.0).abs() < 1e-12);
         }
+        // OW1 at azimuth 0 drives the ball along +y (d_1 = [0, 1, 0]).
+        let axle = robot.body_from_wheels[0].rotation * nalgebra::Vector3::z();
+        let inward = -robot.body_from_wheels[0].translation.vector.normalize();
+        assert!((axle.cross(&inward) - nalgebra::Vector3::y()).norm() < 1e-12);
     }
 }
