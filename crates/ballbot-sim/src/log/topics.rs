@@ -6,6 +6,7 @@
 //! | [`TRANSFORMS`] | `foxglove.FrameTransforms` | `world -> ball`, `world -> body` ([`BallbotScene::frames`](super::foxglove::BallbotScene::frames)) |
 //! | [`SCENE`] | `foxglove.SceneUpdate` | ball, body, wheels ([`BallbotScene::scene`](super::foxglove::BallbotScene::scene)) |
 //! | [`WORLD_TELEMETRY`] | the 3D world's per-step telemetry | `wheels[i].normal_force_n`, `wheels[i].traction_n`, `wheels[i].cone_utilisation`, `wheels[i].slip_speed_m_per_s`, `tilt_rad[0..2]`, ... |
+//! | [`WORLD_CONTROLLER`] | the 3D controller's outer loop | `reference_torque_nm[0..3]`, `estimate.sagittal.tilt_rad`, `mode`, ... |
 //! | [`WORLD_COMMAND`] | the 3D world's command | `speed_m_per_s`, `heading_deg`, ... |
 //! | [`PLANAR_STATE`] | the planar simulator's state | `tilt_rad`, `ball_rate_rad_per_s`, ... |
 //! | [`PLANAR_COMMAND`] | the planar simulator's command | `ball_rate_rad_per_s`, ... |
@@ -18,6 +19,8 @@ pub const TRANSFORMS: &str = "/tf";
 pub const SCENE: &str = "/scene";
 /// Per-step telemetry of the 3D world.
 pub const WORLD_TELEMETRY: &str = "/world/telemetry";
+/// The 3D controller's outer-loop output (references, estimates, safety mode).
+pub const WORLD_CONTROLLER: &str = "/world/controller";
 /// Commands given to the 3D robot.
 pub const WORLD_COMMAND: &str = "/world/command";
 /// State of the planar simulator.
@@ -30,10 +33,11 @@ pub const PLANAR_CONTROL: &str = "/planar/control";
 pub const FAULTS: &str = "/faults";
 
 /// Every topic above.
-pub const ALL: [&str; 8] = [
+pub const ALL: [&str; 9] = [
     TRANSFORMS,
     SCENE,
     WORLD_TELEMETRY,
+    WORLD_CONTROLLER,
     WORLD_COMMAND,
     PLANAR_STATE,
     PLANAR_COMMAND,

@@ -9,6 +9,7 @@
 //!   records.
 //! * [`closed_loop`]: the core's 3D cascaded LQR-PI controller in the loop ([`CoreLoop`]),
 //!   outer loop at 400 Hz, motor speed PIs at 8 kHz.
+//! * [`log`]: MCAP telemetry and a Foxglove 3D scene of a run ([`WorldLogger`]).
 //! * [`balance`]: a minimal balancing loop from the core's planar model (for tests/benches).
 //!
 //! Why `rapier3d-f64`: the contact deflections are a fraction of a millimetre (0.17 mm under the
@@ -21,6 +22,7 @@ pub mod closed_loop;
 pub mod contact;
 pub mod experiments;
 pub mod failure;
+pub mod log;
 pub mod params;
 pub mod sensors;
 pub mod sim;
@@ -29,6 +31,7 @@ pub mod telemetry;
 pub use balance::{PlanarBalancer, PlanarBalancerParams};
 pub use closed_loop::CoreLoop;
 pub use failure::{Failure, FailureKind};
+pub use log::{WorldLogOptions, WorldLogger};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
 pub use sensors::Measurement;
 pub use sim::BallbotWorld;
