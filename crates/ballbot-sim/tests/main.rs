@@ -11,3 +11,4 @@ mod planar_sim;
 mod plot;
 mod trajopt;
 mod world;
+mod world_log;

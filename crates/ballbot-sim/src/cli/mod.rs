@@ -5,10 +5,13 @@
 //! - `ballbot reproduce --out DIR [--quick]`: every paper experiment that exists so far;
 //!   prints a comparison table and writes plots, MCAP logs and `DIR/summary.json`.
 //! - `ballbot brake [--preset miapure|piptb] [--json]`: a minimum-effort braking trajectory.
+//! - `ballbot world [--heading-deg D --accel-m-per-s2 A ...] --out FILE.mcap`: one 3D world run
+//!   with the core's controller; prints the outcome and writes an MCAP log for Foxglove.
 
 pub mod brake;
 pub mod reproduce;
 pub mod simulate;
+pub mod world;
 
 use clap::{Parser, Subcommand};
 
@@ -31,6 +34,9 @@ pub enum Command {
     Reproduce(reproduce::ReproduceArgs),
     /// Compute a minimum-effort braking trajectory (direct collocation, SQP with clarabel).
     Brake(brake::BrakeArgs),
+    /// Run the 3D world (rapier3d) with the core's controller: a velocity ramp and an optional
+    /// push; print the outcome and write an MCAP log (telemetry, Foxglove 3D scene).
+    World(world::WorldArgs),
 }
 
 /// Runs a parsed command line.
@@ -39,5 +45,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(args) => simulate::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Brake(args) => brake::run(&args),
+        Command::World(args) => world::run(&args),
     }
 }

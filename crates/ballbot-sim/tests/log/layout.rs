@@ -6,6 +6,7 @@ use std::collections::BTreeSet;
 use ballbot_sim::{
     log::{foxglove::BallbotScene, schema_for, topics},
     planar::{PlanarCommandMsg, PlanarControlMsg, PlanarStateMsg},
+    world::log::{WorldCommandMsg, WorldTelemetryMsg},
 };
 use serde_json::Value;
 
@@ -67,6 +68,8 @@ fn logged_schema(topic: &str) -> Option<Value> {
         topics::PLANAR_STATE => Some(schema_for::<PlanarStateMsg>()),
         topics::PLANAR_COMMAND => Some(schema_for::<PlanarCommandMsg>()),
         topics::PLANAR_CONTROL => Some(schema_for::<PlanarControlMsg>()),
+        topics::WORLD_TELEMETRY => Some(schema_for::<WorldTelemetryMsg>()),
+        topics::WORLD_COMMAND => Some(schema_for::<WorldCommandMsg>()),
         _ => None,
     }
 }
