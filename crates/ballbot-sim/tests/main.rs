@@ -12,3 +12,4 @@ mod plot;
 mod trajopt;
 mod world;
 mod world_log;
+mod world_max_speed;

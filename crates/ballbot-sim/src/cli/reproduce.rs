@@ -26,7 +26,7 @@ pub struct ReproduceArgs {
     pub no_plots: bool,
 }
 
-fn progress_bar(len: u64, what: &str) -> ProgressBar {
+pub(crate) fn progress_bar(len: u64, what: &str) -> ProgressBar {
     let bar = ProgressBar::new(len);
     if let Ok(style) =
         ProgressStyle::with_template("{prefix:>8} [{bar:30}] {pos}/{len} {msg} ({elapsed})")
@@ -78,6 +78,9 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
         "brake".to_owned(),
         super::brake::reproduce(&args.out, args.no_plots, args.quick)?,
     );
+
+    // MiaPURE maximum speed per heading in the 3D world (paper Sec. V).
+    super::world_reproduce::max_speed(&args.out, args.no_plots, args.quick, &mut summary)?;
 
     let path = args.out.join("summary.json");
     let text = serde_json::to_string_pretty(&serde_json::Value::Object(summary))?;

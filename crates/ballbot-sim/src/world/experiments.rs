@@ -24,6 +24,8 @@ pub struct RampSample {
     pub normal_force_n: [f64; 3],
     /// Largest friction-cone utilisation of the three wheels.
     pub max_cone_utilisation: f64,
+    /// Friction-cone utilisation `|F_i| / (mu N_i)` of each omniwheel.
+    pub cone_utilisation: [f64; 3],
 }
 
 /// A velocity ramp at a fixed heading until failure (or the end of the ramp).
@@ -132,6 +134,7 @@ pub fn max_speed_ramp_with_config(
                     .iter()
                     .map(|w| w.cone_utilisation)
                     .fold(0.0, f64::max),
+                cone_utilisation: tel.wheels.map(|w| w.cone_utilisation),
             });
         }
     }

@@ -23,6 +23,7 @@ pub mod contact;
 pub mod experiments;
 pub mod failure;
 pub mod log;
+pub mod max_speed;
 pub mod params;
 pub mod sensors;
 pub mod sim;
