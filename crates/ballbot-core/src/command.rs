@@ -1314,10 +1314,18 @@ pub(crate) fn clamp_sym<T: RealField + Copy>(x: T, limit: T) -> T {
     }
 }
 
-/// The smaller of `a` and `b` (plain comparison; `b` if either is NaN).
+/// The smaller of `a` and `b` (plain comparison; `b` if either is NaN or they are equal): one
+/// `minsd` on x86_64, where `RealField::min` is NaN-aware and several instructions.
 #[inline]
-fn min<T: RealField + Copy>(a: T, b: T) -> T {
+pub(crate) fn min<T: RealField + Copy>(a: T, b: T) -> T {
     if a < b { a } else { b }
+}
+
+/// The larger of `a` and `b` (plain comparison; `b` if either is NaN or they are equal): one
+/// `maxsd` on x86_64.
+#[inline]
+pub(crate) fn max<T: RealField + Copy>(a: T, b: T) -> T {
+    if a > b { a } else { b }
 }
 
 /// Scales `(x, y)` down to length `max` if longer.

@@ -20,6 +20,7 @@
 
 use super::{StepStatus, check_limit, dt_is_valid};
 use crate::check::{non_negative, positive};
+use crate::command::{max, min};
 use crate::wip::BALL_RATE;
 use crate::{Error, Wip};
 use nalgebra::RealField;
@@ -330,8 +331,8 @@ impl<T: RealField + Copy> SpeedPi<T> {
         command: &SpeedCommand<T>,
         dt_secs: T,
     ) -> SpeedPiOutput<T> {
-        let max = self.gains.max_torque_nm;
-        self.update(measured_speed_rad_per_s, command, dt_secs, -max, max)
+        let max_nm = self.gains.max_torque_nm;
+        self.step_in_range(measured_speed_rad_per_s, command, dt_secs, -max_nm, max_nm)
     }
 
     /// One PI step with the torque range `[lower_nm, upper_nm]` intersected with the symmetric
@@ -362,26 +363,30 @@ impl<T: RealField + Copy> SpeedPi<T> {
         lower_nm: T,
         upper_nm: T,
     ) -> SpeedPiOutput<T> {
-        let max = self.gains.max_torque_nm;
-        let lower = if lower_nm.is_finite() {
-            lower_nm.max(-max)
+        // Plain comparisons (`max`/`min` are NaN-aware and cost several instructions each): a
+        // NaN or infinite bound fails `is_finite`, one beyond the limit the comparison.
+        let max_nm = self.gains.max_torque_nm;
+        let lower = if lower_nm.is_finite() && lower_nm > -max_nm {
+            lower_nm
         } else {
-            -max
+            -max_nm
         };
-        let upper = if upper_nm.is_finite() {
-            upper_nm.min(max)
+        let upper = if upper_nm.is_finite() && upper_nm < max_nm {
+            upper_nm
         } else {
-            max
+            max_nm
         };
         if lower > T::zero() || upper < T::zero() {
             return SpeedPiOutput::rejected();
         }
-        self.update(measured_speed_rad_per_s, command, dt_secs, lower, upper)
+        self.step_in_range(measured_speed_rad_per_s, command, dt_secs, lower, upper)
     }
 
-    /// The PI law with a range `lower <= 0 <= upper` already checked.
+    /// The PI law within `[lower, upper]`, a range the caller guarantees to satisfy
+    /// `-max_torque_nm <= lower <= 0 <= upper <= max_torque_nm` (no intersection, no check:
+    /// the motor drivers' hot path, whose torque-speed bounds are prepared against the limit).
     #[inline(always)]
-    fn update(
+    pub(crate) fn step_in_range(
         &mut self,
         measured_speed_rad_per_s: T,
         command: &SpeedCommand<T>,
@@ -394,26 +399,28 @@ impl<T: RealField + Copy> SpeedPi<T> {
         let proportional = g.proportional_nm_s_per_rad * error;
         let integral = self.integral_nm;
         let requested = command.feedforward_torque_nm + proportional + integral;
-        // A non-finite speed or reference makes `error` non-finite, a non-finite feedforward
-        // (or an overflow) makes `requested` non-finite.
-        if !(error.is_finite() && requested.is_finite() && dt_is_valid(dt_secs)) {
+        // A non-finite speed or reference makes `error` non-finite and with it `requested`
+        // (`kp e` is infinite, or NaN for `kp = 0`); so does a non-finite feedforward or an
+        // overflow. One check covers them all.
+        if !(requested.is_finite() && dt_is_valid(dt_secs)) {
             return SpeedPiOutput::rejected();
         }
-        let (torque, status) = if requested > upper {
-            (upper, StepStatus::Saturated)
-        } else if requested < lower {
-            (lower, StepStatus::Saturated)
+        // `requested` is finite and `lower <= upper`: a plain clamp (ties keep `requested`).
+        let torque = min(upper, max(lower, requested));
+        let status = if torque == requested {
+            StepStatus::Nominal
         } else {
-            (requested, StepStatus::Nominal)
+            StepStatus::Saturated
         };
         let saturation = torque - requested;
-        // Back-calculation, the correction capped at the full excess.
-        let aw_step = (g.anti_windup_per_s * dt_secs).min(T::one());
+        // Back-calculation, the correction capped at the full excess (plain comparisons: both
+        // operands are finite here).
+        let aw_step = min(g.anti_windup_per_s * dt_secs, T::one());
         let next =
             self.integral_nm + g.integral_nm_per_rad * error * dt_secs + aw_step * saturation;
         if next.is_finite() {
-            let max = g.max_torque_nm;
-            self.integral_nm = next.max(-max).min(max);
+            let max_nm = g.max_torque_nm;
+            self.integral_nm = min(max_nm, max(-max_nm, next));
         }
         SpeedPiOutput {
             torque_nm: torque,
