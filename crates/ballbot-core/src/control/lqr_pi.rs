@@ -43,8 +43,8 @@
 //! reference between outer updates).
 
 use super::{LqrGains, SpeedPiGains, StepStatus, dt_is_valid, saturate};
-use crate::command::{max, min};
 use crate::check::positive;
+use crate::command::{max, min};
 use crate::wip::{BALL_ANGLE, BALL_RATE};
 use crate::{Error, Wip, WipState};
 use nalgebra::RealField;
