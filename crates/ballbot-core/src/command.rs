@@ -275,7 +275,10 @@ impl<T: RealField + Copy> JerkLimiter<T> {
     }
 
     /// [`Self::step_tracking`] for a `dt_secs` known to be finite and positive.
-    #[inline]
+    ///
+    /// Settled on a still target (the usual case, e.g. cruising): nothing to do, checked
+    /// inline at the caller; the motion itself is [`Self::advance_moving`], out of line.
+    #[inline(always)]
     fn advance(
         &mut self,
         target: T,
@@ -283,13 +286,23 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         limits: &AxisLimits<T>,
         dt_secs: T,
     ) -> T {
-        // Settled on a still target (the usual case): nothing to do. The value is always
-        // within its bounds, so the target is too.
+        // The value is always within its bounds, so a target equal to it is too.
         let zero = T::zero();
         if target == self.value && self.rate_per_s == zero && target_rate_per_s == zero {
             self.jerk_per_s2 = zero;
             return self.value;
         }
+        self.advance_moving(target, target_rate_per_s, limits, dt_secs)
+    }
+
+    /// [`Self::advance`] when not settled.
+    fn advance_moving(
+        &mut self,
+        target: T,
+        target_rate_per_s: T,
+        limits: &AxisLimits<T>,
+        dt_secs: T,
+    ) -> T {
         if !(self.value.is_finite() && self.rate_per_s.is_finite()) {
             *self = Self::at(T::zero());
         }
