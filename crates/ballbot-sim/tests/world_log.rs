@@ -170,6 +170,62 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
 }
 
 #[test]
+fn a_failure_is_logged_once_and_the_run_stops_after_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("slip.mcap");
+    // mu = 0.05: the wheels cannot carry the traction of the first acceleration.
+    let a = WorldArgs {
+        mu: Some(0.05),
+        push_ns: 0.0,
+        duration_s: 1.5,
+        ..args(&path)
+    };
+    let outcome = simulate(&a).unwrap();
+    assert_eq!(outcome.failure.as_deref(), Some("sustained_slip"));
+    let failure_s = outcome.failure_time_s.unwrap();
+    let wheel = outcome.failure_wheel.unwrap();
+    assert!((1..=3).contains(&wheel));
+    assert!((outcome.end_time_s - failure_s - a.after_failure_s).abs() < 2e-4);
+
+    let log = McapLog::open(&path).unwrap();
+    let events = log.decode::<WorldEventMsg>(topics::FAULTS).unwrap();
+    let failures: Vec<_> = events.iter().filter(|(_, e)| e.kind != "mode").collect();
+    assert_eq!(failures.len(), 1, "{events:?}");
+    let (time_s, event) = failures[0];
+    assert_eq!(event.kind, "sustained_slip");
+    assert_eq!(event.wheel_index, u8::try_from(wheel - 1).ok());
+    assert!((time_s - failure_s).abs() < 1e-9);
+    assert!(event.description.contains(&format!("OW{wheel}")));
+
+    let telemetry = log
+        .decode::<WorldTelemetryMsg>(topics::WORLD_TELEMETRY)
+        .unwrap();
+    for (t, msg) in &telemetry {
+        assert_eq!(msg.failed, *t >= failure_s - 1e-9, "at {t}");
+    }
+    // While a wheel slips, its contact-force arrow is red.
+    let by_time: BTreeMap<u64, &WorldTelemetryMsg> = telemetry
+        .iter()
+        .map(|(t, m)| ((t * 1e9).round() as u64, m))
+        .collect();
+    let mut red = 0;
+    for (time_secs, update) in log.decode::<SceneUpdate>(topics::SCENE).unwrap() {
+        let t = by_time[&((time_secs * 1e9).round() as u64)];
+        let forces = update
+            .entities
+            .iter()
+            .find(|e| e.id == "contact_forces")
+            .unwrap();
+        for (arrow, w) in forces.arrows.iter().zip(&t.wheels) {
+            let is_red = arrow.color.r > 0.8 && arrow.color.g < 0.1;
+            assert_eq!(is_red, w.slipping, "at {time_secs}");
+            red += usize::from(is_red);
+        }
+    }
+    assert!(red > 0, "no slipping wheel drawn");
+}
+
+#[test]
 fn same_seed_gives_a_bit_identical_log_and_another_seed_does_not() {
     let dir = tempfile::tempdir().unwrap();
     let run = |name: &str, seed: u64| {
