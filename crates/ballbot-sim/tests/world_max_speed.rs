@@ -96,6 +96,15 @@ fn censored_and_failed_trials_are_reported_as_such() {
     assert!(json["trials"][0]["trials"][0]["failure"].is_null());
     assert_eq!(json["trials"][0]["censored_trials"], 1);
     assert_eq!(json["trials"][0]["mean_is_lower_bound"], true);
+    // The shaped command (jerk limit 2 m/s^3) lags the 1 m/s^2 ramp, then reaches its top.
+    let samples = &ok.trials[0].first_run.samples;
+    let last = samples.last().unwrap();
+    assert!((last.shaped_command_m_per_s - 1.0).abs() < 0.02, "{last:?}");
+    let mid = samples.iter().find(|x| x.command_m_per_s >= 0.5).unwrap();
+    assert!(
+        mid.shaped_command_m_per_s > 0.1 && mid.shaped_command_m_per_s < 0.45,
+        "{mid:?}"
+    );
 }
 
 #[test]

@@ -6,10 +6,14 @@
 //! acceleration by heading, the 15 deg map, sensitivity to mu and COM height, the paper's
 //! values). Figures: `max_speed_polar`, `failing_accel_polar`, `acc_h{0,90,180}` (slow ramp,
 //! first seed) and `acc_fail_h{0,90,180}` (the ramp at the smallest failing acceleration).
+//! Logs: `logs/max_speed_h{0,90,180}.mcap`, the first trial per heading with
+//! [`WorldLogger`] (telemetry at 1 kHz, 100 Hz with `--quick`; Foxglove scene; open with
+//! `foxglove/world-layout.json`).
 
 use super::reproduce::progress_bar;
-use crate::world::WorldParams;
-use crate::world::max_speed::{self, MaxSpeedStudySettings, acc_figure};
+use crate::world::experiments::{RampResult, max_speed_ramp_observed};
+use crate::world::max_speed::{self, MaxSpeedProtocol, MaxSpeedStudySettings, acc_figure};
+use crate::world::{WorldLogOptions, WorldLogger, WorldParams};
 use anyhow::Context;
 use serde_json::{Map, Value};
 use std::path::Path;
@@ -37,6 +41,28 @@ pub fn max_speed(
     .context("maximum-speed study")?;
     bar.finish_and_clear();
     println!("{}", study.table());
+    for h in &study.trials {
+        let Some(first) = h.trials.first() else {
+            continue;
+        };
+        let path = out
+            .join("logs")
+            .join(format!("max_speed_h{:.0}.mcap", h.heading_deg));
+        let every = if quick { 80 } else { 8 };
+        let logged = log_slow_ramp(
+            params,
+            &settings.protocol,
+            h.heading_deg,
+            first.seed,
+            &path,
+            every,
+        )?;
+        anyhow::ensure!(
+            logged == h.first_run,
+            "the logged run at {} deg differs from the study's trial with the same seed",
+            h.heading_deg
+        );
+    }
     if !no_plots {
         let [speed, accel] = study.capability_figures();
         speed.save_svg_and_png(&out.join("max_speed_polar"))?;
@@ -69,4 +95,51 @@ pub fn max_speed(
     );
     summary.insert("max_speed_study".to_owned(), study.detail_json());
     Ok(())
+}
+
+/// Runs one slow-ramp trial again (it is deterministic in its seed) and writes it to `path`
+/// with [`WorldLogger`]: telemetry every `telemetry_every_steps`-th physics step, the
+/// controller, the command, the scene and the failure event.
+fn log_slow_ramp(
+    params: WorldParams,
+    protocol: &MaxSpeedProtocol,
+    heading_deg: f64,
+    seed: u64,
+    path: &Path,
+    telemetry_every_steps: u32,
+) -> anyhow::Result<RampResult> {
+    let mut p = params;
+    p.sensors.seed = seed;
+    let config = max_speed::controller(&p, protocol)?;
+    let options = WorldLogOptions {
+        telemetry_every_steps,
+        ..WorldLogOptions::default()
+    };
+    let mut log = WorldLogger::with_options(path, &p, options)
+        .with_context(|| format!("cannot create {}", path.display()))?;
+    let mut error = None;
+    let run = max_speed_ramp_observed(
+        p,
+        config,
+        heading_deg,
+        &protocol.slow_ramp,
+        &mut |sim, cmd| {
+            if error.is_some() {
+                return;
+            }
+            let time_s = sim.world().time_s();
+            if let Err(e) = log
+                .record_core(sim)
+                .and_then(|()| log.record_command(time_s, cmd))
+            {
+                error = Some(e);
+            }
+        },
+    )?;
+    if let Some(e) = error {
+        return Err(e).with_context(|| format!("cannot write {}", path.display()));
+    }
+    log.finish()
+        .with_context(|| format!("cannot finish {}", path.display()))?;
+    Ok(run)
 }

@@ -7,6 +7,7 @@ use super::failure::{Failure, tilt_from_vertical_rad};
 use super::params::WorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
+use ballbot_core::wip::BALL_RATE;
 use nalgebra::Vector3;
 
 /// One sample of a ramp run, decimated for plots.
@@ -14,8 +15,11 @@ use nalgebra::Vector3;
 pub struct RampSample {
     /// Time (s).
     pub time_s: f64,
-    /// Commanded speed along the heading (m/s).
+    /// Commanded speed along the heading (m/s): the ramp given to the controller.
     pub command_m_per_s: f64,
+    /// The command after the core's shaper (speed, acceleration and jerk limits) along the
+    /// heading (m/s): `r` times the planar commanded ball rates (0 before the first outer step).
+    pub shaped_command_m_per_s: f64,
     /// Ball speed along the heading (m/s).
     pub speed_m_per_s: f64,
     /// Body tilt from the vertical (rad).
@@ -88,6 +92,19 @@ pub fn max_speed_ramp_with_config(
     heading_deg: f64,
     ramp: &RampParams,
 ) -> Result<RampResult, WorldError> {
+    max_speed_ramp_observed(params, config, heading_deg, ramp, &mut |_, _| {})
+}
+
+/// [`max_speed_ramp_with_config`] calling `observe` after every physics step with the loop and
+/// the velocity command of that step (e.g. to write an MCAP log with
+/// [`crate::world::WorldLogger`]). The run is the same with or without an observer.
+pub fn max_speed_ramp_observed(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    heading_deg: f64,
+    ramp: &RampParams,
+    observe: &mut dyn FnMut(&CoreLoop, &VelocityCommand<f64>),
+) -> Result<RampResult, WorldError> {
     if !(ramp.accel_m_per_s2 > 0.0 && ramp.max_command_m_per_s > 0.0 && ramp.sample_every_s > 0.0) {
         return Err(WorldError::InvalidParameter {
             field: "ramp",
@@ -113,6 +130,7 @@ pub fn max_speed_ramp_with_config(
             yaw_rate_rad_per_s: 0.0,
         };
         let tel = *sim.step(Command::Velocity(cmd));
+        observe(&sim, &cmd);
         // Ball velocity expressed in the body's yaw frame, along the heading.
         let (_, _, yaw) = tel.body_orientation.euler_angles();
         let v_body = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw)
@@ -123,7 +141,15 @@ pub fn max_speed_ramp_with_config(
         }
         max_speed = max_speed.max(speed);
         if k.is_multiple_of(every) {
+            // x = r phi_y (sagittal), y = -r phi_x (frontal), see ballbot_core::command.
+            let radius_m = params.robot.ball_radius_m();
+            let shaped = sim.last_outer().map_or(0.0, |out| {
+                let vx = radius_m * out.commands.sagittal[BALL_RATE];
+                let vy = -radius_m * out.commands.frontal[BALL_RATE];
+                vx * c + vy * s
+            });
             samples.push(RampSample {
+                shaped_command_m_per_s: shaped,
                 time_s: tel.time_s,
                 command_m_per_s: v,
                 speed_m_per_s: speed,

@@ -637,8 +637,9 @@ fn normalise(variant: Variant, params: &WorldParams) -> Variant {
     }
 }
 
-/// The controller the study runs: designed from the (varied) robot, shaper caps lifted.
-fn controller(
+/// The controller the study runs: designed from the (varied) robot, shaper caps lifted
+/// ([`MaxSpeedProtocol::shaper`]).
+pub fn controller(
     params: &WorldParams,
     protocol: &MaxSpeedProtocol,
 ) -> Result<BallbotControllerConfig<f64>, WorldError> {
@@ -1216,7 +1217,11 @@ pub fn acc_figure(run: &RampResult, title: &str) -> TimeSeriesFigure {
         .with(
             Subplot::new("speed (m/s)")
                 .with(
-                    Series::new("command", &t, &col(&|x| x.command_m_per_s))
+                    Series::new("ramp command", &t, &col(&|x| x.command_m_per_s))
+                        .with_style(LineStyle::Dashed),
+                )
+                .with(
+                    Series::new("shaped command", &t, &col(&|x| x.shaped_command_m_per_s))
                         .with_style(LineStyle::Dashed),
                 )
                 .with(Series::new("ball", &t, &col(&|x| x.speed_m_per_s))),
