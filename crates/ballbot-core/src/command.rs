@@ -1316,15 +1316,13 @@ impl<T: RealField + Copy> CommandShaper<T> {
 /// `x` limited to `[-limit, limit]` (`limit >= 0`) with plain comparisons: a NaN passes
 /// through (callers check finiteness where it matters). `max`/`min` of `RealField` are
 /// NaN-aware and cost several instructions each; these run every outer step.
+///
+/// Written as `min(limit, max(-limit, x))` with the plain [`min`] and [`max`] (one `maxsd` and
+/// one `minsd` on x86_64, no branch): their NaN operand comes second, so a NaN `x` passes
+/// through both, and ties keep `x`.
 #[inline]
 pub(crate) fn clamp_sym<T: RealField + Copy>(x: T, limit: T) -> T {
-    if x > limit {
-        limit
-    } else if x < -limit {
-        -limit
-    } else {
-        x
-    }
+    min(limit, max(-limit, x))
 }
 
 /// The smaller of `a` and `b` (plain comparison; `b` if either is NaN or they are equal): one
