@@ -321,12 +321,23 @@ fn decimation_thins_the_telemetry_only() {
 fn a_killed_world_run_leaves_a_readable_log() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("killed.mcap");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ballbot"))
-        .args(["world", "--duration-s", "3600", "--out"])
-        .arg(&path)
-        .stdout(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
+    /// Kills the child if the test fails before it does.
+    struct KillOnDrop(std::process::Child);
+    impl Drop for KillOnDrop {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let mut guard = KillOnDrop(
+        Command::new(env!("CARGO_BIN_EXE_ballbot"))
+            .args(["world", "--duration-s", "600", "--out"])
+            .arg(&path)
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let child = &mut guard.0;
     // A few closed chunks (256 KiB uncompressed each, about 25 ms of telemetry) on disk.
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
     while std::fs::metadata(&path).map_or(0, |m| m.len()) < 300_000 {

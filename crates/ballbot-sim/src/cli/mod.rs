@@ -37,6 +37,7 @@ pub enum Command {
     Brake(brake::BrakeArgs),
     /// Run the 3D world (rapier3d) with the core's controller: a velocity ramp and an optional
     /// push; print the outcome and write an MCAP log (telemetry, Foxglove 3D scene).
+    #[command(after_help = world::AFTER_HELP)]
     World(world::WorldArgs),
 }
 

@@ -406,6 +406,21 @@ impl Default for WorldLogOptions {
 }
 
 impl WorldLogOptions {
+    /// The defaults with the telemetry at 1 kHz (every 8th step at 8 kHz): about a sixth of
+    /// the file size (0.84 instead of 4.9 MB per simulated second), for experiments that write
+    /// many logs.
+    ///
+    /// ```
+    /// use ballbot_sim::world::WorldLogOptions;
+    /// assert_eq!(WorldLogOptions::compact().telemetry_every_steps, 8);
+    /// ```
+    pub fn compact() -> Self {
+        Self {
+            telemetry_every_steps: 8,
+            ..Self::default()
+        }
+    }
+
     /// Checks every field against the physics step `dt_secs`; `path` only names the file in
     /// the error.
     pub fn validate(&self, path: &Path, dt_secs: f64) -> Result<(), LogError> {
