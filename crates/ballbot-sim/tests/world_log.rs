@@ -150,6 +150,7 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
         "ow2",
         "ow3",
         "contact_forces",
+        "labels",
     ]
     .into();
     assert_eq!(ids, expected);

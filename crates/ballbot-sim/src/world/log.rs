@@ -10,7 +10,7 @@
 //! | [`topics::WORLD_CONTROLLER`] `/world/controller` | [`WorldControllerMsg`]: the outer loop's references, estimates, shaped commands, safety mode and faults | once per outer step (400 Hz) |
 //! | [`topics::WORLD_COMMAND`] `/world/command` | [`WorldCommandMsg`]: the velocity command given ([`WorldLogger::record_command`]) | at most 400 Hz |
 //! | [`topics::TRANSFORMS`] `/tf` | `foxglove.FrameTransforms`: `world -> ball` (with the ball's rotation), `world -> body`, `body -> ow1..ow3` (with each wheel's spin angle) | 100 Hz |
-//! | [`topics::SCENE`] `/scene` | `foxglove.SceneUpdate`: floor, ball, body, the three omniwheels, contact-force arrows coloured by cone utilisation (red when slipping) | 50 Hz |
+//! | [`topics::SCENE`] `/scene` | `foxglove.SceneUpdate`: floor, ball, body, the three omniwheels, contact-force arrows coloured by cone utilisation (red when slipping), wheel labels | 50 Hz |
 //! | [`topics::FAULTS`] `/faults` | [`WorldEventMsg`]: the world's failure (tilt, body on the floor, sustained slip, lift-off), safety-mode changes, user events such as a push | on events |
 //!
 //! `foxglove/world-layout.json` (in the repository) opens such a log with the 3D panel and plots
@@ -64,7 +64,7 @@ use super::telemetry::{StepTelemetry, WheelTelemetry};
 use crate::log::foxglove::{
     ArrowPrimitive, BallbotScene, Color, CubePrimitive, CylinderPrimitive, FrameTransform,
     FrameTransforms, LinePrimitive, LineType, Point3, Pose, Quaternion, SceneEntity, SceneUpdate,
-    Vector3 as FoxVector3,
+    TextPrimitive, Vector3 as FoxVector3,
 };
 use crate::log::{Channel, ChannelInfo, LogError, LoggerOptions, McapLogger, topics};
 
@@ -540,7 +540,8 @@ impl WorldScene {
         frames
     }
 
-    /// The entities of one step: `floor`, `ball`, `body`, `ow1`..`ow3` and `contact_forces`.
+    /// The entities of one step: `floor`, `ball`, `body`, `ow1`..`ow3`, `contact_forces` and
+    /// `labels` (the wheel names).
     pub fn scene(&self, t: &StepTelemetry) -> SceneUpdate {
         let time_secs = t.time_s;
         let mut update = self.robot.scene(time_secs);
@@ -553,7 +554,30 @@ impl WorldScene {
         update
             .entities
             .push(self.contact_forces(time_secs, &t.wheels));
+        update.entities.push(self.labels(time_secs));
         update
+    }
+
+    /// The wheel names `OW1`..`OW3` just outside each wheel, in the body frame, facing the
+    /// camera.
+    fn labels(&self, time_secs: f64) -> SceneEntity {
+        let mut labels = SceneEntity::new(time_secs, &self.robot.body_frame, "labels");
+        for (i, body_from_wheel) in self.robot.body_from_wheels.iter().enumerate() {
+            let centre = body_from_wheel.translation.vector;
+            let outward = Vector3::new(centre.x, centre.y, 0.0)
+                .try_normalize(1e-12)
+                .unwrap_or_else(Vector3::x);
+            let at = centre + outward * (2.0 * self.robot.wheel_radius_m);
+            labels.texts.push(TextPrimitive {
+                pose: Pose::at(at.x, at.y, at.z),
+                billboard: true,
+                font_size: 14.0,
+                scale_invariant: true,
+                color: Color::rgba(1.0, 1.0, 1.0, 1.0),
+                text: format!("OW{}", i + 1),
+            });
+        }
+        labels
     }
 
     /// A grey floor slab just below z = 0 with lines every metre, in the world frame.
