@@ -282,6 +282,19 @@ impl<T: RealField + Copy> Wip<T> {
         // One sin_cos serves both the forces and the coupling inertia (hot path: the LQR-PI
         // reference model and every simulator step).
         let (sin, cos) = s[TILT].sin_cos();
+        self.accelerations_with_sin_cos(s, sin, cos, torque_nm)
+    }
+
+    /// [`Self::accelerations`] with `sin(theta)`, `cos(theta)` of the state's tilt already
+    /// computed (the 3D controller needs them for its wheel mapping too).
+    #[inline]
+    pub(crate) fn accelerations_with_sin_cos(
+        &self,
+        s: &WipState<T>,
+        sin: T,
+        cos: T,
+        torque_nm: T,
+    ) -> Vector2<T> {
         let (g1, g2) = self.forces_with_sin(s, sin, torque_nm);
         let c = self.mrl * cos - self.params.wheel_inertia_kg_m2;
         let delta = self.a * self.b - c * c;

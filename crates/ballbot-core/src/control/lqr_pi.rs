@@ -45,7 +45,7 @@
 use super::{LqrGains, SpeedPiGains, StepStatus, dt_is_valid, saturate};
 use crate::check::positive;
 use crate::command::{max, min};
-use crate::wip::{BALL_ANGLE, BALL_RATE};
+use crate::wip::{BALL_ANGLE, BALL_RATE, TILT};
 use crate::{Error, Wip, WipState};
 use nalgebra::RealField;
 
@@ -353,6 +353,10 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
     /// approx::assert_relative_eq!(inner.integral_nm(), -friction_nm, epsilon = 1e-6);
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
+    // Always inlined: the 3D controller calls it twice per outer step, and inlined its output
+    // struct no longer goes through memory (callgrind: one plane 249 -> 171 instructions, the
+    // 3D outer step 1565 -> 1519).
+    #[inline(always)]
     pub fn step(
         &mut self,
         measured: &WipState<T>,
@@ -373,7 +377,10 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
             return self.rejected();
         }
         let (torque, status) = saturate(requested, self.config.lqr.max_torque_nm);
-        let accel = self.model.accelerations(measured, torque)[1];
+        let (sin, cos) = measured[TILT].sin_cos();
+        let accel = self
+            .model
+            .accelerations_with_sin_cos(measured, sin, cos, torque)[1];
 
         let measured_rate = measured[BALL_RATE];
         let band = self.config.max_speed_error_rad_per_s;
