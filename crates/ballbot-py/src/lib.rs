@@ -16,6 +16,7 @@ mod models;
 mod params;
 mod sim;
 mod trajopt;
+mod world;
 
 use pyo3::prelude::*;
 
@@ -31,5 +32,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     log::register(m)?;
     trajopt::register(m)?;
     sim::register(m)?;
+    world::register(m)?;
     Ok(())
 }

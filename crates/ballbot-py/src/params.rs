@@ -9,9 +9,11 @@
 //! serde representation as `load`/`save`, so the dict, keyword and file forms cannot drift.
 
 use crate::errors::{Kind, core_error, error};
+use crate::world::world_error;
 use ballbot_core::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WipParams,
 };
+use ballbot_sim::world::{ContactParams, FailureParams, SensorParams, WorldParams};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList};
@@ -19,20 +21,20 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use toml::{Table, Value};
 
-/// A core parameter struct, as the generic helpers below see it.
+/// A parameter struct (the core's or the world's), as the generic helpers below see it.
 pub trait CoreParams: Copy + Serialize + DeserializeOwned {
     /// The Python class name.
     const NAME: &'static str;
-    /// The core's validation.
-    fn check(&self) -> Result<(), ballbot_core::Error>;
+    /// The struct's own validation, as the Python exception it raises.
+    fn check(&self, py: Python<'_>) -> PyResult<()>;
 }
 
 macro_rules! core_params {
     ($($core:ident => $name:literal),* $(,)?) => {$(
         impl CoreParams for $core<f64> {
             const NAME: &'static str = $name;
-            fn check(&self) -> Result<(), ballbot_core::Error> {
-                self.validate()
+            fn check(&self, py: Python<'_>) -> PyResult<()> {
+                self.validate().map_err(|e| core_error(py, e))
             }
         }
     )*};
@@ -104,6 +106,24 @@ fn number(py: Python<'_>, value: &Bound<'_, PyAny>, path: &str) -> PyResult<f64>
     })
 }
 
+/// A non-negative integer that is not a bool.
+fn integer(py: Python<'_>, value: &Bound<'_, PyAny>, path: &str) -> PyResult<i64> {
+    let bad = || {
+        error(
+            py,
+            Kind::Parameter,
+            format!("`{path}` must be an integer in [0, 2^63)"),
+        )
+    };
+    if value.is_instance_of::<PyBool>() {
+        return Err(bad());
+    }
+    match value.extract::<i64>() {
+        Ok(i) if i >= 0 => Ok(i),
+        _ => Err(bad()),
+    }
+}
+
 /// Overlays the Python `fields` (a dict) onto `base`, checking names and kinds against it.
 /// `owner` names the class (or nested field) for the messages.
 fn overlay(
@@ -135,6 +155,7 @@ fn overlay(
         };
         match slot {
             Value::Float(x) => *x = number(py, &value, &path)?,
+            Value::Integer(i) => *i = integer(py, &value, &path)?,
             Value::Array(items) => {
                 let n = items.len();
                 let bad = || {
@@ -211,7 +232,7 @@ pub fn with_fields<P: CoreParams>(
     fields: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<P> {
     let Some(fields) = fields else {
-        base.check().map_err(|e| core_error(py, e))?;
+        base.check(py)?;
         return Ok(*base);
     };
     let mut table = to_table(py, base)?;
@@ -219,7 +240,7 @@ pub fn with_fields<P: CoreParams>(
     let params: P = table
         .try_into()
         .map_err(|e| error(py, Kind::Parameter, format!("{}: {e}", P::NAME)))?;
-    params.check().map_err(|e| core_error(py, e))?;
+    params.check(py)?;
     Ok(params)
 }
 
@@ -242,21 +263,24 @@ pub fn load<P: CoreParams>(py: Python<'_>, path: &std::path::Path) -> PyResult<P
         .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))?;
     let params: P = toml::from_str(&text)
         .map_err(|e| error(py, Kind::File, format!("{}: {e}", path.display())))?;
-    params
-        .check()
-        .map_err(|e| error(py, Kind::Parameter, format!("{}: {e}", path.display())))?;
+    params.check(py).map_err(|e| {
+        let reason = e.value(py).to_string();
+        error(py, Kind::Parameter, format!("{}: {reason}", path.display()))
+    })?;
     Ok(params)
 }
 
 /// Defines a frozen Python class mirroring a core parameter struct: keyword construction
 /// (defaults from a preset), validation, getters, `replace`, `to_dict`/`from_dict`, TOML
 /// `load`/`save`, and named presets. Fields come in three kinds: `floats`, `arrays` (fixed
-/// length, returned as numpy arrays) and `nested` (another parameter class).
+/// length, returned as numpy arrays), `nested` (another parameter class) and, optionally,
+/// `ints` (unsigned integers such as a seed). `$core` is the struct's type (`WipParams<f64>`).
 macro_rules! py_params {
     (
         $(#[$meta:meta])*
-        $py_ty:ident($core:ident, $name:literal, default = $default:path) {
+        $py_ty:ident($core:ty, $name:literal, default = $default:path) {
             floats { $($field:ident),* $(,)? }
+            $(ints { $($ifield:ident: $ity:ty),* $(,)? })?
             arrays { $($afield:ident),* $(,)? }
             nested { $($nfield:ident: $nty:ident),* $(,)? }
         }
@@ -268,7 +292,7 @@ macro_rules! py_params {
         #[derive(Clone, Debug, PartialEq)]
         pub struct $py_ty {
             /// The validated core struct.
-            pub inner: $core<f64>,
+            pub inner: $core,
         }
 
         impl $py_ty {
@@ -278,6 +302,7 @@ macro_rules! py_params {
             pub fn repr(&self) -> String {
                 let fields: Vec<String> = vec![
                     $(format!("{}={:?}", stringify!($field), self.inner.$field),)*
+                    $($(format!("{}={:?}", stringify!($ifield), self.inner.$ifield),)*)?
                     $(format!("{}={:?}", stringify!($afield), self.inner.$afield),)*
                     $(format!("{}={}", stringify!($nfield), $nty { inner: self.inner.$nfield }.repr()),)*
                 ];
@@ -358,6 +383,13 @@ macro_rules! py_params {
                 }
             )*
 
+            $($(
+                #[getter]
+                fn $ifield(&self) -> $ity {
+                    self.inner.$ifield
+                }
+            )*)?
+
             $(
                 #[getter]
                 fn $afield<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -379,7 +411,7 @@ macro_rules! py_params {
 
 py_params! {
     /// One plane of the wheeled inverted pendulum (`ballbot_core::WipParams`).
-    PyWipParams(WipParams, "WipParams", default = WipParams::miapure_60kg) {
+    PyWipParams(WipParams<f64>, "WipParams", default = WipParams::miapure_60kg) {
         floats {
             ball_radius_m, ball_mass_kg, ball_inertia_kg_m2, body_mass_kg, com_height_m,
             body_inertia_kg_m2, wheel_inertia_kg_m2, ball_damping_nm_s_per_rad,
@@ -397,7 +429,7 @@ py_params! {
 
 py_params! {
     /// The spin model (`ballbot_core::SpinParams`).
-    PySpinParams(SpinParams, "SpinParams", default = SpinParams::miapure_60kg) {
+    PySpinParams(SpinParams<f64>, "SpinParams", default = SpinParams::miapure_60kg) {
         floats { inertia_kg_m2, damping_nm_s_per_rad }
         arrays {}
         nested {}
@@ -410,7 +442,7 @@ py_params! {
 
 py_params! {
     /// One actuator, limits at the output (`ballbot_core::ActuatorParams`).
-    PyActuatorParams(ActuatorParams, "ActuatorParams", default = ActuatorParams::miapure) {
+    PyActuatorParams(ActuatorParams<f64>, "ActuatorParams", default = ActuatorParams::miapure) {
         floats { gear_ratio, peak_torque_nm, no_load_speed_rad_per_s }
         arrays {}
         nested {}
@@ -434,7 +466,7 @@ py_params! {
 
 py_params! {
     /// The omniwheel drivetrain (`ballbot_core::DrivetrainParams`).
-    PyDrivetrainParams(DrivetrainParams, "DrivetrainParams", default = DrivetrainParams::miapure) {
+    PyDrivetrainParams(DrivetrainParams<f64>, "DrivetrainParams", default = DrivetrainParams::miapure) {
         floats { contact_angle_rad, wheel_radius_m, wheel_ball_friction, ball_floor_friction }
         arrays { wheel_azimuths_rad }
         nested { actuator: PyActuatorParams }
@@ -446,7 +478,7 @@ py_params! {
 
 py_params! {
     /// A complete 3D ballbot (`ballbot_core::BallbotParams`).
-    PyBallbotParams(BallbotParams, "BallbotParams", default = BallbotParams::miapure_60kg) {
+    PyBallbotParams(BallbotParams<f64>, "BallbotParams", default = BallbotParams::miapure_60kg) {
         floats {}
         arrays {}
         nested {
@@ -471,13 +503,139 @@ py_params! {
 
 py_params! {
     /// A planar robot, one WIP plane and its actuator (`ballbot_core::PlanarRobotParams`).
-    PyPlanarRobotParams(PlanarRobotParams, "PlanarRobotParams", default = PlanarRobotParams::piptb) {
+    PyPlanarRobotParams(PlanarRobotParams<f64>, "PlanarRobotParams", default = PlanarRobotParams::piptb) {
         floats {}
         arrays {}
         nested { plane: PyWipParams, actuator: PyActuatorParams }
     }
     presets {
         "piptb" => PlanarRobotParams::piptb,
+    }
+}
+
+/// Validates a part of the world's parameters inside the MiaPURE world, so that the error names
+/// it as `WorldParams.validate` does (`contact.kinetic_friction_ratio`).
+fn check_world_part(py: Python<'_>, set: impl FnOnce(&mut WorldParams)) -> PyResult<()> {
+    let mut world = WorldParams::miapure_60kg();
+    set(&mut world);
+    world.validate().map_err(|e| world_error(py, e))
+}
+
+impl CoreParams for ContactParams {
+    const NAME: &'static str = "ContactParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.contact = *self)
+    }
+}
+
+impl CoreParams for SensorParams {
+    const NAME: &'static str = "SensorParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.sensors = *self)
+    }
+}
+
+impl CoreParams for FailureParams {
+    const NAME: &'static str = "FailureParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.failure = *self)
+    }
+}
+
+impl CoreParams for WorldParams {
+    const NAME: &'static str = "WorldParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        self.validate().map_err(|e| world_error(py, e))
+    }
+}
+
+/// MiaPURE without payload in the default world.
+fn world_miapure_unloaded() -> WorldParams {
+    WorldParams::with_robot(BallbotParams::miapure_unloaded())
+}
+
+py_params! {
+    /// The compliant omniwheel-ball contact of the 3D world
+    /// (`ballbot_sim::world::ContactParams`): normal spring-damper, tangential stick
+    /// spring-damper along the rolling direction, kinetic over static friction while slipping.
+    PyContactParams(ContactParams, "ContactParams", default = ContactParams::default) {
+        floats {
+            normal_stiffness_n_per_m, normal_damping_n_s_per_m, traction_stiffness_n_per_m,
+            traction_damping_n_s_per_m, kinetic_friction_ratio,
+        }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "default" => ContactParams::default,
+    }
+}
+
+py_params! {
+    /// Sensor noise and resolution of the 3D world (`ballbot_sim::world::SensorParams`):
+    /// Gaussian IMU noise from a generator seeded with `seed`, quantised encoders.
+    PySensorParams(SensorParams, "SensorParams", default = SensorParams::default) {
+        floats { tilt_noise_rad, gyro_noise_rad_per_s }
+        ints { seed: u64, encoder_counts_per_rev: u32 }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "default" => SensorParams::default,
+    }
+}
+
+py_params! {
+    /// When a 3D world run counts as failed (`ballbot_sim::world::FailureParams`): tilt,
+    /// sustained slip, lift-off.
+    PyFailureParams(FailureParams, "FailureParams", default = FailureParams::default) {
+        floats {
+            max_tilt_rad, slip_speed_threshold_m_per_s, max_slip_duration_s, lift_off_force_n,
+            max_lift_off_duration_s,
+        }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "default" => FailureParams::default,
+    }
+}
+
+py_params! {
+    /// Everything the 3D world needs (`ballbot_sim::world::WorldParams`): the robot
+    /// (`BallbotParams`) plus the contact, wheel and rotor inertia, floor friction, chassis,
+    /// physics step, sensors and failure limits. Errors name the field
+    /// (`contact.kinetic_friction_ratio`).
+    PyWorldParams(WorldParams, "WorldParams", default = WorldParams::miapure_60kg) {
+        floats {
+            wheel_inertia_kg_m2, rotor_inertia_kg_m2, wheel_damping_nm_s_per_rad,
+            rolling_resistance, spin_friction_m, chassis_half_width_m, chassis_height_m, dt_secs,
+        }
+        arrays {}
+        nested {
+            robot: PyBallbotParams,
+            contact: PyContactParams,
+            sensors: PySensorParams,
+            failure: PyFailureParams,
+        }
+    }
+    presets {
+        "miapure_60kg" => WorldParams::miapure_60kg,
+        "miapure_unloaded" => world_miapure_unloaded,
+    }
+    methods {
+        /// The given robot with the default world parameters.
+        #[staticmethod]
+        fn with_robot(py: Python<'_>, robot: PyBallbotParams) -> PyResult<Self> {
+            let inner = WorldParams::with_robot(robot.inner);
+            inner.check(py)?;
+            Ok(Self { inner })
+        }
+
+        /// Reflected inertia of one wheel: wheel plus rotor times gear ratio squared (kg m^2).
+        fn reflected_wheel_inertia_kg_m2(&self) -> f64 {
+            self.inner.reflected_wheel_inertia_kg_m2()
+        }
     }
 }
 
@@ -488,5 +646,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyDrivetrainParams>()?;
     m.add_class::<PyBallbotParams>()?;
     m.add_class::<PyPlanarRobotParams>()?;
+    m.add_class::<PyContactParams>()?;
+    m.add_class::<PySensorParams>()?;
+    m.add_class::<PyFailureParams>()?;
+    m.add_class::<PyWorldParams>()?;
     Ok(())
 }

@@ -16,6 +16,7 @@ EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "python"
         ("braking_trajectory.py", [], "J = 113.56 N^2 m^2 s"),
         ("heading_sweep.py", ["--step-deg", "90"], "steepest ramp"),
         ("piptb_comparison.py", ["--quick"], "LQR-PI"),
+        ("world_heading_sweep.py", ["--step-deg", "120", "--top", "1.0"], "3 headings in"),
     ],
 )
 def test_example_runs(script: str, args: list[str], expect: str, tmp_path: Path) -> None:

@@ -7,7 +7,8 @@ use super::WorldError;
 use ballbot_core::BallbotParams;
 
 /// The compliant omniwheel-ball contact (see [`crate::world::contact`] for the model).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ContactParams {
     /// Normal stiffness of one omniwheel contact (N/m). Default 2e6: the static 344 N load
     /// compresses it by 0.17 mm.
@@ -38,7 +39,8 @@ impl Default for ContactParams {
 }
 
 /// Sensor noise and resolution. Noise is Gaussian, drawn from a seeded generator.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SensorParams {
     /// Seed of the noise generator.
     pub seed: u64,
@@ -63,7 +65,8 @@ impl Default for SensorParams {
 }
 
 /// When a run counts as failed.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FailureParams {
     /// Body tilt (angle between body axis and vertical) beyond which the robot has fallen
     /// (rad). Default 25 deg.
@@ -91,7 +94,8 @@ impl Default for FailureParams {
 }
 
 /// Everything the world needs: the core's robot parameters plus the world's own.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct WorldParams {
     /// The robot (masses, inertias, COM height, drivetrain, friction coefficients).
     ///
