@@ -1049,6 +1049,10 @@ fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyDict>
         PyArray1::from_vec(py, column(|s| s.command_m_per_s)),
     )?;
     d.set_item(
+        "shaped_command_m_per_s",
+        PyArray1::from_vec(py, column(|s| s.shaped_command_m_per_s)),
+    )?;
+    d.set_item(
         "speed_m_per_s",
         PyArray1::from_vec(py, column(|s| s.speed_m_per_s)),
     )?;
@@ -1059,6 +1063,8 @@ fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyDict>
     )?;
     let normal: Vec<[f64; 3]> = r.samples.iter().map(|s| s.normal_force_n).collect();
     d.set_item("normal_force_n", table(py, normal)?)?;
+    let cone: Vec<[f64; 3]> = r.samples.iter().map(|s| s.cone_utilisation).collect();
+    d.set_item("cone_utilisation", table(py, cone)?)?;
     Ok(d)
 }
 
@@ -1072,8 +1078,9 @@ fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyDict>
 ///
 /// Returns a dict: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
 /// before failure), `failure` (`Failure` or `None` if the ramp ended first), and samples every
-/// `sample_every_s`: `time_s`, `command_m_per_s`, `speed_m_per_s`, `tilt_rad` (from the
-/// vertical), `max_cone_utilisation` (n,), `normal_force_n` (n, 3).
+/// `sample_every_s`: `time_s`, `command_m_per_s` (the ramp), `shaped_command_m_per_s` (after
+/// the controller's command shaper), `speed_m_per_s`, `tilt_rad` (from the vertical),
+/// `max_cone_utilisation` (n,); `normal_force_n`, `cone_utilisation` (n, 3).
 #[pyfunction]
 #[pyo3(signature = (
     params = None, *, heading_deg = 0.0, accel_m_per_s2 = 0.25, max_command_m_per_s = 3.5,

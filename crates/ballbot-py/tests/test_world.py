@@ -177,6 +177,8 @@ def test_ramp_unloads_driving_wheels_more_towards_ow1() -> None:
         assert r["heading_deg"] == heading_deg
         n = r["time_s"].size
         assert r["normal_force_n"].shape == (n, 3) and r["speed_m_per_s"].shape == (n,)
+        assert np.array_equal(r["max_cone_utilisation"], r["cone_utilisation"].max(axis=1))
+        assert np.all(r["shaped_command_m_per_s"] <= r["command_m_per_s"] + 1e-12)
         return float(np.min(r["normal_force_n"][:, 1:]))
 
     assert min_driving_normal_n(0.0) < min_driving_normal_n(180.0) - 5.0

@@ -1371,10 +1371,12 @@ class _Ramp(TypedDict):
     failure: Optional[Failure]
     time_s: _F64
     command_m_per_s: _F64
+    shaped_command_m_per_s: _F64
     speed_m_per_s: _F64
     tilt_rad: _F64
     max_cone_utilisation: _F64
     normal_force_n: _F64
+    cone_utilisation: _F64
 
 def max_speed_ramp(
     params: Optional[WorldParams] = None,
