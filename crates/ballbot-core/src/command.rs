@@ -1395,6 +1395,55 @@ mod tests {
     }
 
     #[test]
+    fn branch_free_clamp_matches_the_branchy_one_bit_for_bit() {
+        // clamp_sym and min/max replaced comparisons chains: NaN passes, ties keep x, and the
+        // sign of zero survives.
+        let reference = |x: f64, limit: f64| {
+            if x > limit {
+                limit
+            } else if x < -limit {
+                -limit
+            } else {
+                x
+            }
+        };
+        let specials = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            2.0,
+            -2.0,
+            2.5,
+            -2.5,
+            1e300,
+            f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for limit in [0.0, 2.0, 1e300, f64::INFINITY] {
+            for x in specials {
+                let (got, want) = (clamp_sym(x, limit), reference(x, limit));
+                assert!(
+                    got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                    "clamp_sym({x}, {limit}) = {got}, want {want}"
+                );
+            }
+        }
+        for (a, b) in [
+            (1.0, 2.0),
+            (2.0, 1.0),
+            (f64::NAN, 1.0),
+            (1.0, f64::NAN),
+            (0.0, -0.0),
+        ] {
+            assert_eq!(min(a, b).to_bits(), (if a < b { a } else { b }).to_bits());
+            assert_eq!(max(a, b).to_bits(), (if a > b { a } else { b }).to_bits());
+        }
+    }
+
+    #[test]
     fn jerk_limiter_reaches_a_step_target_in_near_minimum_time_within_limits() {
         let mut limiter = JerkLimiter::at(0.0);
         let arrival = run_checked(&mut limiter, 1.0, 2000).unwrap();

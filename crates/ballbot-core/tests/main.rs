@@ -3,6 +3,7 @@
 mod ballbot3d;
 mod controllers;
 mod doc_examples;
+mod fast_paths;
 mod kinematics;
 mod lqr;
 mod safety;
