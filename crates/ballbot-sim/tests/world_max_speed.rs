@@ -59,6 +59,11 @@ fn failing_acceleration_is_lower_towards_ow1_than_away_from_it() {
     );
     assert!(fwd.failing.unwrap().max_speed_m_per_s < 1.5);
     assert!(fwd.failing_run.as_ref().unwrap().failure.is_some());
+    assert_eq!(
+        fwd.failed_during_ramp(protocol.fast_top_m_per_s),
+        Some(true)
+    );
+    assert_eq!(back.failed_during_ramp(protocol.fast_top_m_per_s), None);
     // Away from OW1 the bracket's top survives: censored, reported as a lower bound.
     assert_eq!(back.smallest_failing_m_per_s2, None);
     assert!((a_back - 2.4).abs() < 1e-9);

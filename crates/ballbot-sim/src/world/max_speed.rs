@@ -355,6 +355,15 @@ pub struct FailingAccel {
 }
 
 impl FailingAccel {
+    /// Whether the failing run failed while its shaped command was still rising (below 98 % of
+    /// the ramp's top `top_m_per_s`): a failure of acceleration; `Some(false)` is a failure at
+    /// cruise (during the hold), `None` if no run failed.
+    pub fn failed_during_ramp(&self, top_m_per_s: f64) -> Option<bool> {
+        let run = self.failing_run.as_ref()?;
+        let last = run.samples.last()?;
+        Some(last.shaped_command_m_per_s < 0.98 * top_m_per_s)
+    }
+
     /// The limit as text: `1.75` (largest surviving), `>= 4.00` if the bracket's top survived,
     /// `< 0.50` if its bottom failed.
     pub fn text(&self) -> String {
@@ -369,9 +378,10 @@ impl FailingAccel {
         }
     }
 
-    fn to_json(&self) -> Value {
+    fn to_json(&self, top_m_per_s: f64) -> Value {
         json!({
             "heading_deg": self.heading_deg,
+            "failed_during_ramp": self.failed_during_ramp(top_m_per_s),
             "largest_surviving_m_per_s2": self.largest_surviving_m_per_s2,
             "smallest_failing_m_per_s2": self.smallest_failing_m_per_s2,
             "censored": self.smallest_failing_m_per_s2.is_none(),
@@ -997,7 +1007,7 @@ impl MaxSpeedStudy {
         let mut failing = serde_json::Map::new();
         for h in &self.trials {
             if let Some(f) = self.failing_at(h.heading_deg) {
-                failing.insert(heading_key(h.heading_deg), f.to_json());
+                failing.insert(heading_key(h.heading_deg), f.to_json(p.fast_top_m_per_s));
             }
         }
         let map: Vec<Value> = self
@@ -1007,7 +1017,7 @@ impl MaxSpeedStudy {
                 json!({
                     "heading_deg": m.heading_deg,
                     "slow_ramp": m.slow.to_json(),
-                    "failing_accel": m.failing.to_json(),
+                    "failing_accel": m.failing.to_json(p.fast_top_m_per_s),
                 })
             })
             .collect();
@@ -1020,7 +1030,7 @@ impl MaxSpeedStudy {
                     "value": r.value,
                     "heading_deg": r.heading_deg,
                     "slow_ramp": r.slow.to_json(),
-                    "failing_accel": r.failing.to_json(),
+                    "failing_accel": r.failing.to_json(p.fast_top_m_per_s),
                 })
             })
             .collect();
@@ -1122,9 +1132,13 @@ impl MaxSpeedStudy {
                 f.map_or("-".to_owned(), |f| f.failing.map_or(
                     "-".to_owned(),
                     |o| format!(
-                        "{} ({:.2} m/s)",
+                        "{} ({:.2} m/s, {})",
                         failure_text(o.failure),
-                        o.max_speed_m_per_s
+                        o.max_speed_m_per_s,
+                        match f.failed_during_ramp(p.fast_top_m_per_s) {
+                            Some(false) => "at cruise",
+                            _ => "accelerating",
+                        }
                     )
                 )),
             ));
@@ -1194,6 +1208,30 @@ impl MaxSpeedStudy {
             "acceleration (m/s²)",
         )
         .with(line(PolarSeries::new("simulated", &h, &accel)));
+        let top = self.settings.protocol.fast_top_m_per_s;
+        let (cruise_h, cruise_a): (Vec<f64>, Vec<f64>) = self
+            .map
+            .iter()
+            .filter(|m| m.failing.failed_during_ramp(top) == Some(false))
+            .map(|m| {
+                (
+                    m.heading_deg,
+                    m.failing.largest_surviving_m_per_s2.unwrap_or(0.0),
+                )
+            })
+            .unzip();
+        let accel_fig = if cruise_h.is_empty() {
+            accel_fig
+        } else {
+            accel_fig.with(
+                PolarSeries::new(
+                    "next step failed at cruise, not accelerating",
+                    &cruise_h,
+                    &cruise_a,
+                )
+                .with_style(LineStyle::Points),
+            )
+        };
         [speed_fig, accel_fig]
     }
 }
