@@ -195,3 +195,19 @@ fn sensitivity_values_equal_to_the_robot_share_its_runs() {
         24 + 8 + 9 + 21 + 8
     );
 }
+
+#[test]
+fn quasi_static_prediction_orders_the_headings_and_grows_with_mu() {
+    // The core's steady-lean contact model (crates/ballbot-core/tests/kinematics.rs):
+    // 2.25, 2.48, 4.07 m/s^2 at 0, 90, 180 deg with mu 0.6.
+    use ballbot_sim::world::max_speed::{Variant, quasi_static_failing_accel_m_per_s2};
+    let robot = WorldParams::miapure_60kg().robot;
+    let at = |h| quasi_static_failing_accel_m_per_s2(&robot, h).unwrap();
+    assert!((at(0.0) - 2.25).abs() < 0.01, "{}", at(0.0));
+    assert!((at(90.0) - 2.48).abs() < 0.01, "{}", at(90.0));
+    assert!((at(180.0) - 4.07).abs() < 0.01, "{}", at(180.0));
+    let slippery = Variant::WheelBallFriction(0.4)
+        .apply(WorldParams::miapure_60kg())
+        .robot;
+    assert!(quasi_static_failing_accel_m_per_s2(&slippery, 0.0).unwrap() < at(0.0) - 0.3);
+}

@@ -28,6 +28,8 @@ use super::failure::{Failure, FailureKind};
 use super::params::WorldParams;
 use crate::plot::{LineStyle, PolarFigure, PolarSeries, Series, Subplot, TimeSeriesFigure};
 use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+use nalgebra::Vector4;
 use serde_json::{Value, json};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -438,6 +440,8 @@ pub struct SensitivityRow {
     pub parameter: &'static str,
     /// Its value (mu dimensionless, COM height in m).
     pub value: f64,
+    /// The robot variant this row ran.
+    pub variant: Variant,
     /// Heading (deg).
     pub heading_deg: f64,
     /// The slow ramp with the first seed.
@@ -645,6 +649,30 @@ fn normalise(variant: Variant, params: &WorldParams) -> Variant {
         }
         v => v,
     }
+}
+
+/// The core's quasi-static prediction of the failing acceleration (m/s^2) at `heading_deg`:
+/// the ball acceleration of the steady lean (tilt held by the WIP torque, upright speed zero)
+/// at which the first omniwheel contact of the core's contact model
+/// ([`ballbot_core::OmniKinematics::wip_contact_forces`]) fails (slip or lift-off), scanning the
+/// lean in 0.05 deg steps up to 30 deg; `None` if no contact fails up to 30 deg or the robot
+/// is invalid. MiaPURE 60 kg, mu 0.6: 2.25 (0 deg), 2.48 (90 deg), 4.07 (180 deg) m/s^2.
+pub fn quasi_static_failing_accel_m_per_s2(
+    robot: &BallbotParams<f64>,
+    heading_deg: f64,
+) -> Option<f64> {
+    let kin = OmniKinematics::from_ballbot(robot).ok()?;
+    let wip = Wip::new(robot.sagittal).ok()?;
+    let r = robot.sagittal.ball_radius_m;
+    (0..=600).find_map(|k| {
+        let s = Vector4::new((f64::from(k) * 0.05).to_radians(), 0.0, 0.0, 0.0);
+        // The torque that holds the lean: theta_ddot(tau) is affine in tau.
+        let at_zero = wip.accelerations(&s, 0.0)[0];
+        let slope = wip.accelerations(&s, 1.0)[0] - at_zero;
+        let torque_nm = -at_zero / slope;
+        let contacts = kin.wip_contact_forces(&wip, heading_deg.to_radians(), &s, torque_nm);
+        (!contacts.all_hold()).then(|| wip.accelerations(&s, torque_nm)[1] * r)
+    })
 }
 
 /// The controller the study runs: designed from the (varied) robot, shaper caps lifted
@@ -936,6 +964,7 @@ fn assemble(
             sensitivity.push(SensitivityRow {
                 parameter,
                 value,
+                variant,
                 heading_deg: h,
                 slow: slow(variant, h, first_seed).ok_or_else(missing)?.1,
                 failing: search(variant, h).ok_or_else(missing)?,
@@ -954,6 +983,11 @@ fn assemble(
         sensitivity,
         jerk_limit_m_per_s3,
     })
+}
+
+/// `{:.2}` of a value, `-` for none.
+fn optional(value: Option<f64>) -> String {
+    value.map_or("-".to_owned(), |v| format!("{v:.2}"))
 }
 
 /// `{:.0}` of a heading, as the summary's object key.
@@ -1016,6 +1050,8 @@ impl MaxSpeedStudy {
             .map(|m| {
                 json!({
                     "heading_deg": m.heading_deg,
+                    "quasi_static_failing_accel_m_per_s2":
+                        quasi_static_failing_accel_m_per_s2(robot, m.heading_deg),
                     "slow_ramp": m.slow.to_json(),
                     "failing_accel": m.failing.to_json(p.fast_top_m_per_s),
                 })
@@ -1029,6 +1065,10 @@ impl MaxSpeedStudy {
                     "parameter": r.parameter,
                     "value": r.value,
                     "heading_deg": r.heading_deg,
+                    "quasi_static_failing_accel_m_per_s2": quasi_static_failing_accel_m_per_s2(
+                        &r.variant.apply(self.params).robot,
+                        r.heading_deg,
+                    ),
                     "slow_ramp": r.slow.to_json(),
                     "failing_accel": r.failing.to_json(p.fast_top_m_per_s),
                 })
@@ -1096,13 +1136,14 @@ impl MaxSpeedStudy {
             self.command_accel_ceiling_m_per_s2(),
         ));
         out.push_str(&format!(
-            "{:>8} | {:>30} | {:>12} | {:>10} | {:>16} | {}\n",
+            "{:>8} | {:>30} | {:>12} | {:>10} | {:>16} | {:>12} | {}\n",
             "heading",
             "trials max speed (m/s)",
             "mean (m/s)",
             "paper",
             "fail accel m/s^2",
-            "failure at the failing accel"
+            "quasi-static",
+            "failure at the next grid step"
         ));
         for h in &self.trials {
             let speeds: Vec<String> = h.trials.iter().map(TrialOutcome::speed_text).collect();
@@ -1123,12 +1164,16 @@ impl MaxSpeedStudy {
                 });
             let f = self.failing_at(h.heading_deg);
             out.push_str(&format!(
-                "{:>8} | {:>30} | {:>12} | {:>10} | {:>16} | {}\n",
+                "{:>8} | {:>30} | {:>12} | {:>10} | {:>16} | {:>12} | {}\n",
                 format!("{:.0} deg", h.heading_deg),
                 speeds.join(", "),
                 mean,
                 paper,
                 f.map_or("-".to_owned(), FailingAccel::text),
+                optional(quasi_static_failing_accel_m_per_s2(
+                    &self.params.robot,
+                    h.heading_deg
+                )),
                 f.map_or("-".to_owned(), |f| f.failing.map_or(
                     "-".to_owned(),
                     |o| format!(
@@ -1158,17 +1203,26 @@ impl MaxSpeedStudy {
         if !self.sensitivity.is_empty() {
             out.push_str("sensitivity (first seed):\n");
             out.push_str(&format!(
-                "{:>14} | {:>6} | {:>8} | {:>14} | {:>16}\n",
-                "parameter", "value", "heading", "max speed m/s", "fail accel m/s^2"
+                "{:>14} | {:>6} | {:>8} | {:>14} | {:>16} | {:>12}\n",
+                "parameter",
+                "value",
+                "heading",
+                "max speed m/s",
+                "fail accel m/s^2",
+                "quasi-static"
             ));
             for r in &self.sensitivity {
                 out.push_str(&format!(
-                    "{:>14} | {:>6} | {:>8} | {:>14} | {:>16}\n",
+                    "{:>14} | {:>6} | {:>8} | {:>14} | {:>16} | {:>12}\n",
                     r.parameter,
                     r.value,
                     format!("{:.0} deg", r.heading_deg),
                     r.slow.speed_text(),
-                    r.failing.text()
+                    r.failing.text(),
+                    optional(quasi_static_failing_accel_m_per_s2(
+                        &r.variant.apply(self.params).robot,
+                        r.heading_deg
+                    )),
                 ));
             }
         }
@@ -1207,7 +1261,20 @@ impl MaxSpeedStudy {
             "MiaPURE largest surviving ramp acceleration per heading",
             "acceleration (m/s²)",
         )
-        .with(line(PolarSeries::new("simulated", &h, &accel)));
+        .with(line(PolarSeries::new("simulated", &h, &accel)))
+        .with(line(
+            PolarSeries::new(
+                "quasi-static contact model (core)",
+                &h,
+                &h.iter()
+                    .map(|&d| {
+                        quasi_static_failing_accel_m_per_s2(&self.params.robot, d)
+                            .unwrap_or(f64::NAN)
+                    })
+                    .collect::<Vec<_>>(),
+            )
+            .with_style(LineStyle::Dashed),
+        ));
         let top = self.settings.protocol.fast_top_m_per_s;
         let (cruise_h, cruise_a): (Vec<f64>, Vec<f64>) = self
             .map
