@@ -15,7 +15,11 @@
 //!   5. the kinematics ([`OmniKinematics`]) maps them to per-omniwheel feedforward torques
 //!      `tau_r = J^-T S u_r` (scaled uniformly into the actuator limits) and reference
 //!      omniwheel speeds `psi_dot_r = J [phi_dot_rx - theta_dot_x, phi_dot_ry - theta_dot_y,
-//!      -theta_dot_rz]` (measured tilt rates: the motor driver controls the relative rate).
+//!      k . [phi_dot_rx, phi_dot_ry] - theta_dot_rz]` (measured tilt rates: the motor driver
+//!      controls the relative rate). `k` ([`ball_body_z_rate_per_ball_rate`], 0 upright) is
+//!      the rolling ball's rate about the leaning body's z axis when it does not spin about
+//!      the vertical; without it the wheels turn a sideways lean at speed into a yaw rate
+//!      (`-tan(roll) phi_dot_y`), which made the closed loop's yaw diverge above 2.6 m/s.
 //!
 //!   Its output is a small [`MotorReferences`] value: what the main controller sends to the
 //!   motor drivers.
@@ -68,7 +72,9 @@ use crate::command::{Command, CommandShaper, CommandShaperParams, PlanarCommands
 use crate::control::{
     LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi, SpeedPiGains, StepStatus,
 };
-use crate::estimation::{EncoderSample, Estimator, ImuSample, PlanarStates};
+use crate::estimation::{
+    EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate,
+};
 use crate::lqr::{
     SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
 };
@@ -988,17 +994,22 @@ impl<T: RealField + Copy> BallbotController<T> {
             sag.reference_ball_rate_rad_per_s,
             spin.reference_rate_rad_per_s,
         );
+        // The reference ball motion does not spin about the vertical: leaning, its rolling has
+        // a component about the body's z axis that the wheels see like a yaw rate (see
+        // `ball_body_z_rate_per_ball_rate`).
+        let k = ball_body_z_rate_per_ball_rate(states.frontal[TILT], states.sagittal[TILT]);
         let relative = Vector3::new(
             reference_rate[0] - states.frontal[TILT_RATE],
             reference_rate[1] - states.sagittal[TILT_RATE],
-            -reference_rate[2],
+            k[0] * reference_rate[0] + k[1] * reference_rate[1] - reference_rate[2],
         );
         // The planes report the mean reference rate over the period; the drivers ramp from the
         // start value with the reference models' accelerations (tilt rate held).
         let relative_accel = Vector3::new(
             fro.reference_ball_accel_rad_per_s2,
             sag.reference_ball_accel_rad_per_s2,
-            -spin.reference_accel_rad_per_s2,
+            k[0] * fro.reference_ball_accel_rad_per_s2 + k[1] * sag.reference_ball_accel_rad_per_s2
+                - spin.reference_accel_rad_per_s2,
         );
         let accel = self.kinematics.wheel_speeds_rad_per_s(&relative_accel);
         let limit = self
@@ -1518,6 +1529,72 @@ mod tests {
         let out = spin.step(&SpinState::new(f64::NAN, 0.0), &measured, 0.0025);
         assert_eq!(out.status, StepStatus::InvalidInput);
         assert_eq!(out.reference_torque_nm, 0.0);
+    }
+
+    #[test]
+    fn wheel_references_do_not_spin_the_ball_about_the_vertical() {
+        // Leaning sideways and pitched while the ball rolls: the wheel references (mid-period)
+        // must describe a ball rolling at the reference rates with no spin about the world's
+        // vertical, and the body yawing at the spin plane's reference rate. (The upright
+        // mapping `omega_rel_z = -theta_dot_rz` made the body yaw by `-tan(roll) phi_dot_y`
+        // instead: the high-speed yaw divergence of docs/world.md.)
+        use crate::command::VelocityCommand;
+        use crate::safety::ModeRequest;
+        let c = config();
+        let kin = OmniKinematics::from_ballbot(&c.robot).unwrap();
+        let mut outer = BallbotController::new(c).unwrap();
+        let (roll, pitch) = (0.03, -0.02);
+        // Body-frame ball rates of a ball rolling at 20 rad/s forward, -5 rad/s sideways,
+        // without vertical spin.
+        let k = ball_body_z_rate_per_ball_rate(roll, pitch);
+        let ball = Vector3::new(-5.0, 20.0, k[0] * -5.0 + k[1] * 20.0);
+        let command = Command::Velocity(VelocityCommand {
+            vx_m_per_s: 1.0,
+            vy_m_per_s: 0.5,
+            yaw_rate_rad_per_s: 0.2,
+        });
+        let mut last = None;
+        for step in 0..40u64 {
+            let now_us = step * 2500;
+            let imu = ImuSample {
+                timestamp_us: now_us,
+                roll_rad: roll + 1e-6 * (step % 3) as f64,
+                pitch_rad: pitch,
+                yaw_rad: 0.0,
+                angular_velocity_rad_per_s: Vector3::zeros(),
+            };
+            let encoders = EncoderSample {
+                timestamp_us: now_us,
+                wheel_speeds_rad_per_s: kin.wheel_speeds_rad_per_s(&ball),
+            };
+            let out = outer.step(&OuterInput {
+                now_us,
+                imu,
+                encoders,
+                command,
+                command_timestamp_us: Some(now_us),
+                request: if step == 0 {
+                    ModeRequest::Arm
+                } else {
+                    ModeRequest::None
+                },
+            });
+            assert!(out.motors.enabled, "{:?}", out.safety);
+            last = Some(out);
+        }
+        let out = last.unwrap();
+        let mid = out.motors.speed_rad_per_s + out.motors.accel_rad_per_s2 * 0.00125;
+        let relative = kin.relative_rate_rad_per_s(&mid);
+        // Ball = relative + body (measured tilt rates 0, yaw at the spin reference).
+        let reference = out.reference_rate_rad_per_s;
+        let implied = relative + Vector3::new(0.0, 0.0, reference[2]);
+        assert_relative_eq!(implied[0], reference[0], epsilon = 1e-9);
+        assert_relative_eq!(implied[1], reference[1], epsilon = 1e-9);
+        assert!(reference[1].abs() > 1.0, "{reference}");
+        let (sr, cr) = f64::sin_cos(roll);
+        let (sp, cp) = f64::sin_cos(pitch);
+        let vertical = Vector3::new(-sp, cp * sr, cp * cr);
+        assert!(vertical.dot(&implied).abs() < 1e-9, "{implied}");
     }
 
     #[test]

@@ -408,6 +408,38 @@ impl<T: RealField + Copy> Estimator<T> {
     }
 }
 
+/// The ball's angular velocity about the body's z axis per unit of its body-x and body-y
+/// rates, `k` with `omega_z = k[0] phi_dot_x + k[1] phi_dot_y` (body coordinates), for a ball
+/// that does not spin about the vertical (the floor's torsional friction; MODEL.md section 3),
+/// with the body at ZYX roll and pitch `roll_rad`, `pitch_rad`.
+///
+/// The vertical seen from the body is `g = [-sin(pitch), cos(pitch) sin(roll), cos(pitch)
+/// cos(roll)]`; no vertical spin means `g . omega = 0`, so
+/// `k = [tan(pitch) / cos(roll), -tan(roll)]`. Upright, `k = 0` and the relative rate of
+/// MODEL.md section 4 (`omega_rel_z = -theta_dot_z`) holds; leaning, the rolling ball turns
+/// about the body's z axis: at 3 m/s (26 rad/s) a 1 deg sideways lean gives 0.45 rad/s,
+/// which the omniwheels measure like a yaw rate. Tilts beyond 84 deg (fallen) give `k = 0`.
+///
+/// ```
+/// use ballbot_core::estimation::ball_body_z_rate_per_ball_rate;
+/// // Rolling forward (phi_dot_y > 0) with the body rolled by +1 deg (leaning towards -y).
+/// let k = ball_body_z_rate_per_ball_rate(1.0f64.to_radians(), 0.0);
+/// approx::assert_relative_eq!(k[1] * 26.0, -26.0 * 1.0f64.to_radians().tan(), epsilon = 1e-12);
+/// assert_eq!(k[0], 0.0);
+/// ```
+#[inline]
+pub fn ball_body_z_rate_per_ball_rate<T: RealField + Copy>(roll_rad: T, pitch_rad: T) -> [T; 2] {
+    let (sin_r, cos_r) = roll_rad.sin_cos();
+    let (sin_p, cos_p) = pitch_rad.sin_cos();
+    let g_z = cos_p * cos_r;
+    // Also false for NaN.
+    if g_z > lit(0.1) {
+        [sin_p / g_z, -sin_r / cos_r]
+    } else {
+        [T::zero(), T::zero()]
+    }
+}
+
 /// `angle` moved into (-pi, pi] by one turn at most (enough for the change between two
 /// samples; larger jumps are not a heading change a robot can make in one sample).
 #[inline]

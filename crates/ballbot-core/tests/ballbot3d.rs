@@ -9,7 +9,7 @@ use ballbot_core::ballbot::{
     BallbotController, BallbotControllerConfig, MotorSpeedLoop, OuterInput, OuterOutput,
 };
 use ballbot_core::command::{Command, VelocityCommand};
-use ballbot_core::estimation::{PlanarStates, synthesize_sensors};
+use ballbot_core::estimation::{PlanarStates, ball_body_z_rate_per_ball_rate, synthesize_sensors};
 use ballbot_core::kinematics::relative_rate_from_planar;
 use ballbot_core::safety::{Mode, ModeRequest};
 use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
@@ -43,13 +43,19 @@ impl Plant {
         }
     }
 
+    /// The wheel speeds of a ball that does not spin about the vertical: leaning, its rolling
+    /// turns about the body's z axis (`ball_body_z_rate_per_ball_rate`).
     pub fn wheel_speeds(&self) -> Vector3<f64> {
         let s = &self.states;
-        self.kin.wheel_speeds_rad_per_s(&relative_rate_from_planar(
-            [s.frontal[BALL_RATE], s.sagittal[BALL_RATE]],
+        let ball = [s.frontal[BALL_RATE], s.sagittal[BALL_RATE]];
+        let mut rel = relative_rate_from_planar(
+            ball,
             [s.frontal[TILT_RATE], s.sagittal[TILT_RATE]],
             s.spin[1],
-        ))
+        );
+        let k = ball_body_z_rate_per_ball_rate(s.frontal[TILT], s.sagittal[TILT]);
+        rel[2] += k[0] * ball[0] + k[1] * ball[1];
+        self.kin.wheel_speeds_rad_per_s(&rel)
     }
 
     pub fn step(&mut self, wheel_torques_nm: &Vector3<f64>, dt_secs: f64) {
@@ -113,8 +119,9 @@ impl Rig {
         command: Command<'a, f64>,
         request: ModeRequest,
     ) -> OuterInput<'a, f64> {
-        let (mut imu, encoders) =
+        let (mut imu, mut encoders) =
             synthesize_sensors(&self.plant.kin, &self.plant.states, self.now_us);
+        encoders.wheel_speeds_rad_per_s = self.plant.wheel_speeds();
         imu.roll_rad += self.noise();
         imu.angular_velocity_rad_per_s[1] += self.noise();
         OuterInput {

@@ -13,3 +13,4 @@ mod trajopt;
 mod world;
 mod world_log;
 mod world_max_speed;
+mod world_yaw;
