@@ -45,6 +45,7 @@
 //! ```
 
 use crate::check::{finite, lit, non_negative, positive};
+use crate::control::dt_is_valid;
 use crate::spin::SpinState;
 use crate::wip::{BALL_RATE, TILT, TILT_RATE, WipState};
 use crate::{BallbotParams, Error, WipParams};
@@ -268,7 +269,7 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         limits: &AxisLimits<T>,
         dt_secs: T,
     ) -> T {
-        if !(dt_secs.is_finite() && dt_secs > T::zero()) {
+        if !dt_is_valid(dt_secs) {
             return self.value;
         }
         self.advance(target, target_rate_per_s, limits, dt_secs)
@@ -295,7 +296,10 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         self.advance_moving(target, target_rate_per_s, limits, dt_secs)
     }
 
-    /// [`Self::advance`] when not settled.
+    /// [`Self::advance`] when not settled. Marked cold: most outer steps find every axis
+    /// settled (standing, cruising), and the hint keeps the register spills around this call
+    /// off that path (callgrind: the shaper's settled step 218 -> 208 instructions).
+    #[cold]
     fn advance_moving(
         &mut self,
         target: T,
@@ -1244,7 +1248,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
                 (vx, vy, trajectory.yaw_rate_rad_per_s())
             }
         };
-        let dt_ok = dt_secs.is_finite() && dt_secs > zero;
+        let dt_ok = dt_is_valid(dt_secs);
         let (vx, vy, wz) = if dt_ok {
             (
                 self.vx.advance(target_x, feed.0, &translation, dt_secs),

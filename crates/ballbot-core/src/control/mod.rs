@@ -75,7 +75,7 @@ pub use pi_pd::{
     PI_PD_DEFAULT_MAX_TILT_RAD, PI_PD_DEFAULT_POLES_PER_P0, PiPdController, PiPdGains, PiPdOutput,
 };
 
-use crate::check::positive;
+use crate::check::{lit, positive};
 use crate::{Error, WipState};
 use nalgebra::RealField;
 
@@ -128,8 +128,11 @@ pub(crate) fn state_is_finite<T: RealField + Copy>(s: &WipState<T>) -> bool {
 
 /// `true` when `dt_secs` is a usable step length: finite and strictly positive.
 #[inline]
+///
+/// Two float comparisons (`0 < dt < inf`; a NaN fails both) instead of the bit-level
+/// `is_finite` and a comparison: this runs in every controller step.
 pub(crate) fn dt_is_valid<T: RealField + Copy>(dt_secs: T) -> bool {
-    dt_secs.is_finite() && dt_secs > T::zero()
+    dt_secs > T::zero() && dt_secs < lit(f64::INFINITY)
 }
 
 /// Clamps a finite `value` to `[-limit, limit]` (`limit > 0`): `(clamped, status)`.
