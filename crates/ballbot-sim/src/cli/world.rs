@@ -33,8 +33,8 @@ Examples:
   ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-s 1 --duration-s 3
 
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
-normal force, cone utilisation, slip speed). Size: about 4.9 MB per simulated second with
-telemetry at every 8 kHz step, 0.84 MB with --decimate 8 (1 kHz).";
+normal force, cone utilisation, slip speed). Size: about 4.4 MB per simulated second with
+telemetry at every 8 kHz step, 0.77 MB with --decimate 8 (1 kHz).";
 
 /// Arguments of `ballbot world`.
 #[derive(Debug, Clone, clap::Args)]
