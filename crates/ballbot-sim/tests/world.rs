@@ -46,7 +46,9 @@ fn resting_normal_forces_match_static_load() {
     let expected = m_u * g / (3.0 * p.robot.drivetrain.contact_angle_rad.cos());
     assert_relative_eq!(expected, 343.6, epsilon = 0.1);
     let mut world = BallbotWorld::new(p).unwrap();
-    for _ in 0..1600 {
+    // 1 s: the ball first settles about 1.5 mm into rapier's soft floor (time constant about
+    // 0.1 s), which loads the wheels dynamically while it sinks.
+    for _ in 0..8000 {
         world.step([0.0; 3]);
     }
     for w in &world.telemetry().wheels {
@@ -60,6 +62,35 @@ fn resting_normal_forces_match_static_load() {
     // The floor carries ball and body.
     let total = (p.robot.sagittal.ball_mass_kg + m_u) * g;
     assert_relative_eq!(world.telemetry().floor_force_n, total, max_relative = 1e-2);
+}
+
+#[test]
+fn floor_contact_carries_the_robot_without_drift() {
+    // Rapier's ball-floor contact (one solver substep per 8 kHz step): at rest with the motors
+    // off the floor carries ball and body, the ball's sink into the soft floor converges, and
+    // the ball does not creep sideways.
+    let p = miapure();
+    let g = p.robot.sagittal.gravity_m_per_s2;
+    let weight_n = (p.robot.sagittal.ball_mass_kg + p.robot.sagittal.body_mass_kg) * g;
+    let mut world = BallbotWorld::new(p).unwrap();
+    let sink_at = |world: &mut BallbotWorld, steps: usize| {
+        for _ in 0..steps {
+            world.step([0.0; 3]);
+        }
+        let t = world.telemetry();
+        assert_relative_eq!(t.floor_force_n, weight_n, max_relative = 1e-3);
+        let c = t.ball_position_m;
+        assert!(
+            c.x.abs() < 1e-12 && c.y.abs() < 1e-12,
+            "ball drifted to {c}"
+        );
+        p.robot.ball_radius_m() - c.z
+    };
+    let sink_1s = sink_at(&mut world, 8000);
+    let sink_2s = sink_at(&mut world, 8000);
+    assert!(sink_1s > 0.0 && sink_1s < 2e-3, "{sink_1s}");
+    assert!((sink_2s - sink_1s).abs() < 1e-6, "{sink_1s} -> {sink_2s}");
+    assert!(world.telemetry().ball_velocity_m_per_s.norm() < 1e-6);
 }
 
 #[test]
@@ -393,4 +424,54 @@ fn accelerating_towards_ow1_slips_at_a_lower_acceleration_than_away_from_it() {
             .fold(0.0, f64::max)
     };
     assert!(peak_u(&back) < 0.8, "{}", peak_u(&back));
+}
+
+#[test]
+fn chassis_clearance_is_the_lowest_corner() {
+    // The closed form (lowest of the four corners (+-h, +-h, 0) of the body frame) against the
+    // corners transformed one by one, for tilts in every quadrant.
+    let p = miapure();
+    let h = p.chassis_half_width_m;
+    for tilt in [
+        [0.0, 0.0],
+        [0.1, 0.3],
+        [-0.4, 0.2],
+        [0.25, -0.5],
+        [-0.3, -0.1],
+    ] {
+        let mut world = BallbotWorld::new(p).unwrap();
+        world.tilt_body(tilt);
+        let t = world.telemetry();
+        let lowest = [(h, h), (h, -h), (-h, h), (-h, -h)]
+            .iter()
+            .map(|&(x, y)| (t.body_position_m + t.body_orientation * Vector3::new(x, y, 0.0)).z)
+            .fold(f64::INFINITY, f64::min);
+        assert_relative_eq!(world.chassis_clearance_m(), lowest, epsilon = 1e-12);
+    }
+}
+
+#[test]
+fn falling_body_fails_on_tilt_when_it_crosses_the_limit() {
+    // Motors off from a small lean: the body falls; the monitor must report a tilt failure at
+    // the first step beyond max_tilt_rad (25 deg), with the tilt it saw.
+    use ballbot_sim::world::FailureKind;
+    use ballbot_sim::world::failure::tilt_from_vertical_rad;
+    let p = miapure();
+    let mut world = BallbotWorld::new(p).unwrap();
+    world.tilt_body([0.0, 0.05]);
+    let mut last_tilt = 0.0;
+    for _ in 0..40_000 {
+        let t = *world.step([0.0; 3]);
+        if let Some(f) = world.failure() {
+            let FailureKind::Tilt { tilt_rad } = f.kind else {
+                panic!("expected a tilt failure, got {f:?}");
+            };
+            assert_eq!(tilt_rad, tilt_from_vertical_rad(&t));
+            assert!(tilt_rad > p.failure.max_tilt_rad, "{tilt_rad}");
+            assert!(last_tilt <= p.failure.max_tilt_rad, "{last_tilt}");
+            return;
+        }
+        last_tilt = tilt_from_vertical_rad(&t);
+    }
+    panic!("the body never fell past the tilt limit (last tilt {last_tilt})");
 }

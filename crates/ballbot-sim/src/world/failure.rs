@@ -38,6 +38,9 @@ pub struct Failure {
 #[derive(Clone, Debug)]
 pub struct FailureMonitor {
     params: FailureParams,
+    /// `cos(max_tilt_rad)`: the tilt check compares the body axis' z component with it, so
+    /// only a failing step pays for the arc cosine.
+    cos_max_tilt: f64,
     slip_secs: [f64; 3],
     lift_off_secs: [f64; 3],
     first: Option<Failure>,
@@ -48,6 +51,7 @@ impl FailureMonitor {
     pub fn new(params: FailureParams) -> Self {
         Self {
             params,
+            cos_max_tilt: params.max_tilt_rad.min(core::f64::consts::PI).cos(),
             slip_secs: [0.0; 3],
             lift_off_secs: [0.0; 3],
             first: None,
@@ -77,9 +81,11 @@ impl FailureMonitor {
         }
         let p = &self.params;
         let mut kind = None;
-        let tilt_rad = tilt_from_vertical_rad(t);
-        if tilt_rad > p.max_tilt_rad {
-            kind = Some(FailureKind::Tilt { tilt_rad });
+        // tilt > max_tilt  <=>  cos(tilt) < cos(max_tilt), for tilts in [0, pi].
+        if body_axis_z(t) < self.cos_max_tilt {
+            kind = Some(FailureKind::Tilt {
+                tilt_rad: tilt_from_vertical_rad(t),
+            });
         } else if chassis_lowest_z_m <= 0.0 {
             kind = Some(FailureKind::BodyTouchedFloor);
         }
@@ -113,6 +119,11 @@ impl FailureMonitor {
 
 /// Angle between the body axis and the vertical (rad).
 pub fn tilt_from_vertical_rad(t: &StepTelemetry) -> f64 {
+    body_axis_z(t).acos()
+}
+
+/// The world z component of the body's z axis, clamped to [-1, 1] (the cosine of the tilt).
+fn body_axis_z(t: &StepTelemetry) -> f64 {
     let z = t.body_orientation * nalgebra::Vector3::z();
-    z.z.clamp(-1.0, 1.0).acos()
+    z.z.clamp(-1.0, 1.0)
 }

@@ -1,0 +1,67 @@
+//! The world-step benchmark's scenario, shared by the criterion bench (`benches/world_step.rs`)
+//! and the instruction-count harness (`examples/icount_world.rs`): the MiaPURE world with the
+//! core's 3D controller in the loop (outer loop 400 Hz, motor PIs 8 kHz, seeded sensor noise),
+//! balancing while it drives a fixed cycle of velocity commands, so the measured steps include
+//! accelerating, cruising, turning and slowing down, not a robot at rest.
+
+use ballbot_core::command::{Command, VelocityCommand};
+use ballbot_sim::world::{CoreLoop, StepTelemetry, WorldError, WorldParams};
+
+/// Physics steps (8 kHz) run before measuring: 1 s, the robot armed and accelerating.
+pub const WARM_UP_STEPS: u64 = 8000;
+
+/// Physics steps each command of [`DRIVE_CYCLE`] is held (2 s at 8 kHz).
+pub const STEPS_PER_COMMAND: u64 = 16_000;
+
+/// The drive: body-frame velocity commands `(vx m/s, vy m/s, yaw rate rad/s)`, each held for
+/// [`STEPS_PER_COMMAND`] steps, then repeated.
+pub const DRIVE_CYCLE: [(f64, f64, f64); 4] = [
+    (0.8, -0.3, 0.2),
+    (-0.6, 0.5, -0.3),
+    (1.2, 0.0, 0.0),
+    (0.0, 0.0, 0.5),
+];
+
+/// The world driven through [`DRIVE_CYCLE`]; rebuilt (and counted) if the robot ever fails.
+pub struct WorldDrive {
+    sim: CoreLoop,
+    step_index: u64,
+    /// How often the world had to be rebuilt after a failure (0 in a healthy run).
+    pub restarts: u64,
+}
+
+impl WorldDrive {
+    /// A fresh world, warmed up for [`WARM_UP_STEPS`].
+    pub fn new() -> Result<Self, WorldError> {
+        let mut drive = Self {
+            sim: CoreLoop::new(WorldParams::miapure_60kg())?,
+            step_index: 0,
+            restarts: 0,
+        };
+        for _ in 0..WARM_UP_STEPS {
+            drive.step()?;
+        }
+        Ok(drive)
+    }
+
+    /// One physics step with the command of the current drive phase.
+    pub fn step(&mut self) -> Result<&StepTelemetry, WorldError> {
+        if self.sim.world().failure().is_some() {
+            self.sim = CoreLoop::new(WorldParams::miapure_60kg())?;
+            self.restarts += 1;
+        }
+        let phase = (self.step_index / STEPS_PER_COMMAND) as usize % DRIVE_CYCLE.len();
+        let (vx, vy, yaw_rate) = DRIVE_CYCLE[phase];
+        self.step_index += 1;
+        Ok(self.sim.step(Command::Velocity(VelocityCommand {
+            vx_m_per_s: vx,
+            vy_m_per_s: vy,
+            yaw_rate_rad_per_s: yaw_rate,
+        })))
+    }
+
+    /// The simulation.
+    pub fn sim(&self) -> &CoreLoop {
+        &self.sim
+    }
+}

@@ -1,0 +1,62 @@
+//! Instruction-count harness of the rapier3d world (see `scripts/icount.sh`), like
+//! `src/bin/icount.rs` for the core; the simulator is only a dev-dependency of this package
+//! (so the core's harness stays a small build), hence an example.
+//!
+//! Usage: `icount_world <operation> <iterations>`; `icount_world list` prints the operations.
+
+#[path = "../benches/common/world_drive.rs"]
+mod world_drive;
+use std::hint::black_box;
+use std::process::ExitCode;
+use world_drive::WorldDrive;
+
+/// One world step at 8 kHz with the core's controller in the loop (outer loop every 20th step),
+/// the robot balancing while driving (the criterion bench `world_step`'s scenario), after a
+/// warm-up of 1 s.
+fn world_step_with_controller(n: u64) -> Result<(), String> {
+    let mut drive = WorldDrive::new().map_err(|e| e.to_string())?;
+    for _ in 0..n {
+        black_box(drive.step().map_err(|e| e.to_string())?);
+    }
+    if drive.restarts > 0 || drive.sim().world().failure().is_some() {
+        return Err(format!("the robot failed ({} restarts)", drive.restarts));
+    }
+    Ok(())
+}
+
+type Run = fn(u64) -> Result<(), String>;
+
+const OPERATIONS: &[(&str, Run)] = &[("world_step_with_controller", world_step_with_controller)];
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().collect();
+    match args.as_slice() {
+        [_, cmd] if cmd == "list" => {
+            for (name, _) in OPERATIONS {
+                println!("{name}");
+            }
+            ExitCode::SUCCESS
+        }
+        [_, name, iterations] => {
+            let Ok(n) = iterations.parse::<u64>() else {
+                eprintln!("iterations must be a whole number, got `{iterations}`");
+                return ExitCode::from(2);
+            };
+            let Some((_, run)) = OPERATIONS.iter().find(|(op, _)| op == name) else {
+                eprintln!("unknown operation `{name}`; `icount_world list` prints them");
+                return ExitCode::from(2);
+            };
+            match run(n) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("{name}: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
+        _ => {
+            eprintln!("usage: icount_world <operation> <iterations> | icount_world list");
+            ExitCode::from(2)
+        }
+    }
+}
