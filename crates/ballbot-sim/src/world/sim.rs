@@ -51,9 +51,9 @@ struct WheelState {
 /// ```
 /// use ballbot_sim::world::{BallbotWorld, WorldParams};
 /// let mut world = BallbotWorld::new(WorldParams::miapure_60kg())?;
-/// // Motors off for 0.2 s: the perfectly upright body has not started to fall yet, and each
-/// // omniwheel carries m_U g / (3 cos alpha) = 343.6 N.
-/// for _ in 0..1600 {
+/// // Motors off for 1 s: the ball has settled into the floor, the perfectly upright body has
+/// // not started to fall, and each omniwheel carries m_U g / (3 cos alpha) = 343.6 N.
+/// for _ in 0..8000 {
 ///     world.step([0.0; 3]);
 /// }
 /// let n = world.telemetry().wheels[0].normal_force_n;
