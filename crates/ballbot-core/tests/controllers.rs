@@ -745,6 +745,55 @@ fn lqr_pi_does_not_overshoot_after_a_long_saturation() {
     assert!(raw_peak > 1.5 * lqr_peak, "without anti-windup {raw_peak}");
 }
 
+/// Back-calculation, checked by its fixed point (the unit test
+/// `back_calculation_bounds_the_integral_while_saturated` only checks `I <= max`, which the
+/// clamp alone guarantees: it passes with the anti-windup sign flipped). Held saturated at an
+/// upper bound `u` below the actuator peak with a constant error `e`, the update
+/// `I += ki e dt + k_aw dt (u - kp e - I)` settles at `I* = u - kp e + ki e / k_aw`, here
+/// 4 - 1 + 2 = 5 N m, inside the 10 N m clamp; the request then exceeds the output by exactly
+/// `ki e / k_aw` = 2 N m. A flipped or missing back-calculation term winds the integral up to
+/// the clamp (10 N m) instead.
+#[test]
+fn back_calculation_settles_the_integral_at_its_fixed_point() {
+    let gains = SpeedPiGains::<f64> {
+        proportional_nm_s_per_rad: 2.0,
+        integral_nm_per_rad: 20.0,
+        anti_windup_per_s: 5.0,
+        max_torque_nm: 10.0,
+    };
+    let (upper, error, dt) = (4.0, 0.5, 0.001);
+    let command = SpeedCommand {
+        speed_rad_per_s: error,
+        feedforward_torque_nm: 0.0,
+    };
+    let expected = upper - gains.proportional_nm_s_per_rad * error
+        + gains.integral_nm_per_rad * error / gains.anti_windup_per_s;
+    assert_eq!(expected, 5.0);
+    let mut pi = SpeedPi::new(gains).unwrap();
+    // The integral error shrinks by (1 - k_aw dt) = 0.995 per step: 0.995^8000 ~ 4e-18.
+    // (The first steps are unsaturated: the request kp e = 1 N m grows with the integral.)
+    for _ in 0..8000 {
+        pi.step_within(0.0, &command, dt, -10.0, upper);
+    }
+    let out = pi.step_within(0.0, &command, dt, -10.0, upper);
+    assert_eq!((out.torque_nm, out.status), (upper, StepStatus::Saturated));
+    assert!(
+        (pi.integral_nm() - expected).abs() < 1e-9,
+        "integral {} vs fixed point {expected}",
+        pi.integral_nm()
+    );
+    // Without back-calculation the same run winds the integral up to the clamp.
+    let mut raw = SpeedPi::new(SpeedPiGains {
+        anti_windup_per_s: 0.0,
+        ..gains
+    })
+    .unwrap();
+    for _ in 0..8000 {
+        raw.step_within(0.0, &command, dt, -10.0, upper);
+    }
+    assert_eq!(raw.integral_nm(), gains.max_torque_nm);
+}
+
 /// A speed step clips the PI-PD's reference tilt for a long time (the longer, the larger the
 /// step). With conditional integration the speed overshoot stays about the same small amount
 /// whatever the step; a winding-up integral would grow it with the clipped time.

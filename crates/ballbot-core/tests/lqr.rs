@@ -152,6 +152,20 @@ fn discrete_poles_map_to_continuous_poles() {
     }
 }
 
+/// docs/model.md section 6 prints the 400 Hz discrete gains `[-229.9, -44.51, -3.060]`; the
+/// convergence test above checks the trend, this one pins the printed numbers. Four
+/// significant digits are printed, so 5e-4 relative.
+#[test]
+fn discrete_gains_400hz_match_docs() {
+    let wip = Wip::new(WipParams::<f64>::miapure_60kg()).unwrap();
+    let lqr =
+        wip_lqr_discrete(&wip, &WipLqrWeights::model_default(), outer_loop_dt_secs()).unwrap();
+    let k = lqr.reduced_gains();
+    for (got, want) in k.iter().zip([-229.9, -44.51, -3.060]) {
+        assert_relative_eq!(*got, want, max_relative = 5e-4);
+    }
+}
+
 /// Relative gain error of the discrete design at `dt` against the continuous one.
 fn discrete_gain_error<T: RealField + Copy>(dt: f64) -> f64 {
     let wip = Wip::new(WipParams::<T>::miapure_60kg()).unwrap();
