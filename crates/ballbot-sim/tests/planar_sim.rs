@@ -221,6 +221,27 @@ fn measurements_carry_bias_and_quantisation() {
     assert!(
         (mean_err - sensors.tilt_bias_rad).abs() < 4.0 * sensors.tilt_noise_rad / (n as f64).sqrt()
     );
+    // Quantisation (the name's second half, not checked before): the encoder part of the
+    // measured ball angle, `phi - theta_imu`, is a whole number of counts at the wheel,
+    // 2 pi / (16384 counts x gear ratio). Rounding of the sum with theta_imu leaves a
+    // fraction of about 1e-16 / 5e-5 rad; an unquantised angle sits anywhere in [0, 1).
+    let gear_ratio: f64 = PlanarRobotParams::piptb().actuator.gear_ratio;
+    let count_rad =
+        std::f64::consts::TAU / (f64::from(sensors.encoder_counts_per_rev) * gear_ratio);
+    let mut moved = false;
+    for m in &trace.measured {
+        let counts = (m.ball_angle_rad - m.tilt_rad) / count_rad;
+        assert!(
+            (counts - counts.round()).abs() < 1e-6,
+            "{counts} counts at t = {}",
+            m.time_secs
+        );
+        moved |= counts.round().abs() > 10.0;
+    }
+    assert!(
+        moved,
+        "the encoder must have turned for this check to mean anything"
+    );
 }
 
 #[test]
