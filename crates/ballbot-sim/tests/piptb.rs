@@ -187,3 +187,38 @@ fn ablation_separates_friction_and_noise() {
     assert!(json["friction_only"]["lqr_pi"]["j_p"].is_number());
     assert!(piptb::ablation_table(&variants).contains("friction_and_noise"));
 }
+
+/// J_P recomputed independently from the logged 400 Hz series: `sum tau^2 / 400 Hz` over the
+/// ticks of the braking window `[t2, t3)`. The trial integrates over the 8 kHz plant steps;
+/// for the controllers whose torque is held for the whole 400 Hz period (LQR, PI-PD) the two
+/// sums differ only through the one-plant-step drive delay and the torque-speed clamp acting
+/// inside a period (measured: 3e-6 relative for the LQR, 3.5e-4 for the PI-PD), so 1e-3.
+/// A wrong window, a dt off by a rate, or a missing square breaks it by far more. (The
+/// LQR-PI's 8 kHz speed PI varies the torque inside a period: 17 % apart, not comparable.)
+#[test]
+fn braking_effort_is_the_integral_of_the_squared_torque_over_the_braking_phase() {
+    let settings = PiptbSettings::quick();
+    let profile = PiptbProfile::new(&settings, reference());
+    for kind in [ControllerKind::Lqr, ControllerKind::PiPd] {
+        let controller = ControllerSettings::new(kind);
+        let r = run_trial(&settings, &profile, &controller, 5, None).unwrap();
+        let (t2, t3) = (settings.brake_start_secs(), settings.brake_end_secs());
+        let s = &r.series;
+        let mut from_series = 0.0;
+        let mut ticks = 0;
+        for (t, tau) in s.time_secs.iter().zip(&s.torque_nm) {
+            if *t >= t2 - 1e-9 && *t < t3 - 1e-9 {
+                from_series += tau * tau / 400.0;
+                ticks += 1;
+            }
+        }
+        assert_eq!(ticks, ((t3 - t2) * 400.0).round() as usize);
+        assert!(from_series > 0.1, "{kind:?}: {from_series}");
+        assert!(
+            (r.j_p - from_series).abs() < 1e-3 * from_series,
+            "{kind:?}: j_p {} vs {from_series} from the series",
+            r.j_p
+        );
+        assert_eq!(r.j_p_n2mm2s, r.j_p * 1e6);
+    }
+}
