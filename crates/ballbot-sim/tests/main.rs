@@ -11,6 +11,7 @@ mod planar_sim;
 mod plot;
 mod trajopt;
 mod world;
+mod world_brake;
 mod world_log;
 mod world_max_speed;
 mod world_yaw;

@@ -12,6 +12,7 @@ pub mod brake;
 pub mod reproduce;
 pub mod simulate;
 pub mod world;
+pub mod world_brake;
 pub mod world_reproduce;
 
 use clap::{Parser, Subcommand};

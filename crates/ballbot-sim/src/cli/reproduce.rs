@@ -82,6 +82,9 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
     // MiaPURE maximum speed per heading in the 3D world (paper Sec. V).
     super::world_reproduce::max_speed(&args.out, args.no_plots, args.quick, &mut summary)?;
 
+    // 3D world: minimum braking time and push recovery (paper Sec. V, issue 6).
+    super::world_brake::reproduce(&args.out, args.no_plots, args.quick, &mut summary)?;
+
     let path = args.out.join("summary.json");
     let text = serde_json::to_string_pretty(&serde_json::Value::Object(summary))?;
     std::fs::write(&path, format!("{text}\n"))

@@ -18,6 +18,7 @@
 //! forces would become noisy. The core runs in `f64` too, so no conversions are needed.
 
 pub mod balance;
+pub mod braking;
 pub mod closed_loop;
 pub mod contact;
 pub mod experiments;
@@ -25,6 +26,7 @@ pub mod failure;
 pub mod log;
 pub mod max_speed;
 pub mod params;
+pub mod push;
 pub mod sensors;
 pub mod sim;
 pub mod telemetry;

@@ -1,0 +1,206 @@
+//! Minimum braking time and push recovery in the 3D world (`world::braking`, `world::push`).
+
+use ballbot_sim::trajopt::SolveStatus;
+use ballbot_sim::world::braking::{
+    BrakingOutcome, BrakingParams, BrakingStudyParams, TrajectoryFeedforward, braking_run,
+    braking_study,
+};
+use ballbot_sim::world::push::{
+    PushOutcome, PushParams, PushSearch, push_recovery_limit, push_trial,
+};
+use ballbot_sim::world::{FailureKind, WorldParams};
+
+/// The protocol with a shorter approach and cruise (the tests run in debug builds).
+fn fast_braking() -> BrakingParams {
+    BrakingParams {
+        approach_accel_m_per_s2: 1.0,
+        settle_s: 0.2,
+        cruise_s: 1.0,
+        ..BrakingParams::default()
+    }
+}
+
+fn fast_push() -> PushParams {
+    PushParams {
+        settle_s: 0.5,
+        observe_s: 3.0,
+        rest_within_s: 2.5,
+        ..PushParams::default()
+    }
+}
+
+#[test]
+fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bisects_between() {
+    let world = WorldParams::miapure_60kg();
+    let study = BrakingStudyParams {
+        durations_s: vec![3.0, 1.0, 0.5],
+        bisection_resolution_s: Some(1.0),
+    };
+    let mut seen = Vec::new();
+    let r = braking_study(world, &fast_braking(), &study, 180.0, &mut |run| {
+        seen.push(run.duration_s)
+    })
+    .unwrap();
+    // 3 s: stopped, at rest at the end, tracking the command closely.
+    let ok = &r.descent[0];
+    assert!(ok.outcome.is_success(), "{:?}", ok.outcome);
+    let last = ok.samples.last().unwrap();
+    assert!(last.speed_m_per_s.abs() < 0.05, "{last:?}");
+    assert!(last.command_m_per_s.abs() < 1e-9);
+    assert!(ok.peaks.speed_error_m_per_s < 0.15, "{:?}", ok.peaks);
+    assert!(ok.peaks.cone_utilisation.iter().all(|&u| u < 0.9));
+    // Cruising at 1.4 m/s before braking.
+    let cruise = ok
+        .samples
+        .iter()
+        .rev()
+        .find(|s| s.time_s < ok.brake_start_s - 0.05)
+        .unwrap();
+    assert!((cruise.speed_m_per_s - 1.4).abs() < 0.1, "{cruise:?}");
+    // 1 s: the world fails (the plan exists: the planar model brakes in ~0.8 s).
+    let bad = &r.descent[1];
+    assert!(
+        matches!(bad.outcome, BrakingOutcome::Failed(_)),
+        "{:?}",
+        bad.outcome
+    );
+    assert!(bad.plan_cost_n2m2s.is_some());
+    // The descent stopped at the first failure; the bisection tried 2 s once.
+    assert_eq!(r.descent.len(), 2);
+    assert_eq!(r.shortest_success_s, Some(3.0));
+    assert_eq!(r.first_failure_s, Some(1.0));
+    assert_eq!(r.bisection.len(), 1);
+    assert_eq!(r.bisection[0].duration_s, 2.0);
+    let limit = r.limit_s.unwrap();
+    let below = r.limit_failure_s.unwrap();
+    assert!((2.0..=3.0).contains(&limit) && (1.0..=2.0).contains(&below));
+    assert_eq!(limit - below, 1.0);
+    assert_eq!(seen, vec![3.0, 1.0, 2.0]);
+    assert_eq!(r.shortest_success().unwrap().duration_s, 3.0);
+    assert_eq!(r.first_failure().unwrap().duration_s, 1.0);
+}
+
+#[test]
+fn braking_faster_than_the_planner_allows_has_no_trajectory() {
+    let world = WorldParams::miapure_60kg();
+    let (run, plan) = braking_run(world, &fast_braking(), 180.0, 0.3, None).unwrap();
+    assert!(plan.is_none());
+    assert!(
+        matches!(run.outcome, BrakingOutcome::NoTrajectory { status } if status != SolveStatus::Solved),
+        "{:?}",
+        run.outcome
+    );
+    assert!(run.samples.is_empty());
+    assert!(!run.outcome.is_success());
+}
+
+/// Regression: the core's feedforward assumes an equilibrium lean; a braking trajectory
+/// tips the body back first, and without the `c theta_ddot*` term the controller kicks the
+/// ball so hard that OW1 lifts off at the onset of a 2 s braking at 180 deg.
+#[test]
+fn tilt_acceleration_feedforward_keeps_ow1_loaded_at_the_onset_of_braking() {
+    let world = WorldParams::miapure_60kg();
+    let full = fast_braking();
+    let core = BrakingParams {
+        feedforward: TrajectoryFeedforward::Core,
+        ..full
+    };
+    let (with, _) = braking_run(world, &full, 180.0, 2.0, None).unwrap();
+    assert!(with.outcome.is_success(), "{:?}", with.outcome);
+    assert!(with.peaks.min_normal_force_n[0] > 100.0, "{:?}", with.peaks);
+    let (without, _) = braking_run(world, &core, 180.0, 2.0, None).unwrap();
+    match without.outcome {
+        BrakingOutcome::Failed(f) => {
+            assert_eq!(f.kind, FailureKind::LiftOff { wheel: 0 });
+            assert!(f.time_s - without.brake_start_s < 0.1, "{f:?}");
+        }
+        o => panic!("expected lift-off of OW1, got {o:?}"),
+    }
+}
+
+#[test]
+fn push_recovery_small_push_recovered_huge_not_and_the_bisection_lies_between() {
+    let world = WorldParams::miapure_60kg();
+    let p = fast_push();
+    let small = push_trial(world, &p, 90.0, 5.0).unwrap();
+    assert_eq!(small.outcome, PushOutcome::Recovered);
+    assert!(small.peak_tilt_rad.to_degrees() < 3.0 && small.peak_tilt_rad > 0.0);
+    assert!(small.rest_speed_m_per_s < p.rest_speed_m_per_s);
+    let huge = push_trial(world, &p, 90.0, 150.0).unwrap();
+    assert!(!huge.recovered(), "{:?}", huge.outcome);
+    let search = PushSearch {
+        upper_ns: 80.0,
+        resolution_ns: 10.0,
+    };
+    let r = push_recovery_limit(world, &p, &search, 90.0, &mut |_| {}).unwrap();
+    let failing = r.smallest_failing_ns.unwrap();
+    assert!(r.largest_recovered_ns >= 5.0 && failing <= 150.0);
+    assert!(failing - r.largest_recovered_ns <= 10.0);
+    assert!(r.largest_recovered().unwrap().recovered());
+    assert!(!r.smallest_failing().unwrap().recovered());
+    // Every recovered impulse is below every failing one (monotone on this grid).
+    let max_ok = r
+        .trials
+        .iter()
+        .filter(|t| t.recovered())
+        .map(|t| t.impulse_ns)
+        .fold(0.0, f64::max);
+    let min_bad = r
+        .trials
+        .iter()
+        .filter(|t| !t.recovered())
+        .map(|t| t.impulse_ns)
+        .fold(f64::INFINITY, f64::min);
+    assert!(max_ok < min_bad);
+    assert_eq!(max_ok, r.largest_recovered_ns);
+    assert_eq!(min_bad, failing);
+}
+
+#[test]
+fn push_trials_are_bit_identical_for_a_seed_and_differ_across_seeds() {
+    let mut world = WorldParams::miapure_60kg();
+    world.sensors.seed = 3;
+    let p = PushParams {
+        settle_s: 0.3,
+        observe_s: 1.0,
+        rest_within_s: 0.5,
+        ..PushParams::default()
+    };
+    let a = push_trial(world, &p, 0.0, 20.0).unwrap();
+    let b = push_trial(world, &p, 0.0, 20.0).unwrap();
+    assert_eq!(a, b);
+    world.sensors.seed = 4;
+    let c = push_trial(world, &p, 0.0, 20.0).unwrap();
+    assert_ne!(a.telemetry_hash, c.telemetry_hash);
+    // The push direction is the body's: 0 deg moves the robot towards +x (OW1), 90 deg
+    // towards +y (the body starts with yaw 0).
+    let after = a.samples.iter().find(|s| s.time_s > 0.2).unwrap();
+    let [vx, vy] = after.ball_velocity_m_per_s;
+    assert!(vx > 0.05 && vy.abs() < 0.2 * vx, "{after:?}");
+    let side = push_trial(world, &p, 90.0, 20.0).unwrap();
+    let after = side.samples.iter().find(|s| s.time_s > 0.2).unwrap();
+    let [vx, vy] = after.ball_velocity_m_per_s;
+    assert!(vy > 0.05 && vx.abs() < 0.2 * vy, "{after:?}");
+}
+
+#[test]
+fn invalid_parameters_are_errors() {
+    let world = WorldParams::miapure_60kg();
+    let bad = BrakingParams {
+        rest_speed_m_per_s: 0.0,
+        ..BrakingParams::default()
+    };
+    assert!(braking_run(world, &bad, 180.0, 2.0, None).is_err());
+    assert!(braking_run(world, &BrakingParams::default(), 180.0, f64::NAN, None).is_err());
+    let empty = BrakingStudyParams {
+        durations_s: Vec::new(),
+        bisection_resolution_s: None,
+    };
+    assert!(braking_study(world, &BrakingParams::default(), &empty, 0.0, &mut |_| {}).is_err());
+    assert!(push_trial(world, &PushParams::default(), 0.0, -1.0).is_err());
+    let p = PushParams {
+        rest_within_s: 5.0,
+        ..PushParams::default()
+    };
+    assert!(p.validate().is_err());
+}
