@@ -3,7 +3,7 @@
 use ballbot_sim::trajopt::SolveStatus;
 use ballbot_sim::world::braking::{
     BrakingOutcome, BrakingParams, BrakingStudyParams, TrajectoryFeedforward, braking_run,
-    braking_study,
+    braking_study, fly_braking,
 };
 use ballbot_sim::world::push::{
     PushOutcome, PushParams, PushSearch, push_recovery_limit, push_trial,
@@ -83,8 +83,8 @@ fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bise
 #[test]
 fn braking_faster_than_the_planner_allows_has_no_trajectory() {
     let world = WorldParams::miapure_60kg();
-    let (run, plan) = braking_run(world, &fast_braking(), 180.0, 0.3, None).unwrap();
-    assert!(plan.is_none());
+    let run = braking_run(world, &fast_braking(), 180.0, 0.3, None).unwrap();
+    assert!(run.plan.is_none());
     assert!(
         matches!(run.outcome, BrakingOutcome::NoTrajectory { status } if status != SolveStatus::Solved),
         "{:?}",
@@ -105,10 +105,24 @@ fn tilt_acceleration_feedforward_keeps_ow1_loaded_at_the_onset_of_braking() {
         feedforward: TrajectoryFeedforward::Core,
         ..full
     };
-    let (with, _) = braking_run(world, &full, 180.0, 2.0, None).unwrap();
+    let with = braking_run(world, &full, 180.0, 2.0, None).unwrap();
     assert!(with.outcome.is_success(), "{:?}", with.outcome);
     assert!(with.peaks.min_normal_force_n[0] > 100.0, "{:?}", with.peaks);
-    let (without, _) = braking_run(world, &core, 180.0, 2.0, None).unwrap();
+    // Flying the same plan again is the same run, bit for bit, with or without an observer.
+    let mut steps = 0_u64;
+    let again = fly_braking(
+        world,
+        &full,
+        180.0,
+        with.plan.as_ref().unwrap(),
+        &mut |_, _| steps += 1,
+    )
+    .unwrap();
+    assert_eq!(again.telemetry_hash, with.telemetry_hash);
+    assert_eq!(again.samples, with.samples);
+    assert_eq!(again.outcome, with.outcome);
+    assert_eq!(steps.div_ceil(80) as usize, again.samples.len());
+    let without = braking_run(world, &core, 180.0, 2.0, None).unwrap();
     match without.outcome {
         BrakingOutcome::Failed(f) => {
             assert_eq!(f.kind, FailureKind::LiftOff { wheel: 0 });
@@ -129,13 +143,13 @@ fn push_recovery_small_push_recovered_huge_not_and_the_bisection_lies_between() 
     let huge = push_trial(world, &p, 90.0, 150.0).unwrap();
     assert!(!huge.recovered(), "{:?}", huge.outcome);
     let search = PushSearch {
-        upper_ns: 80.0,
-        resolution_ns: 10.0,
+        upper_ns: 160.0,
+        resolution_ns: 20.0,
     };
     let r = push_recovery_limit(world, &p, &search, 90.0, &mut |_| {}).unwrap();
     let failing = r.smallest_failing_ns.unwrap();
-    assert!(r.largest_recovered_ns >= 5.0 && failing <= 150.0);
-    assert!(failing - r.largest_recovered_ns <= 10.0);
+    assert!(r.largest_recovered_ns >= 5.0 && failing <= 160.0);
+    assert!(failing - r.largest_recovered_ns <= 20.0);
     assert!(r.largest_recovered().unwrap().recovered());
     assert!(!r.smallest_failing().unwrap().recovered());
     // Every recovered impulse is below every failing one (monotone on this grid).

@@ -14,12 +14,16 @@
 
 use crate::plot::{LegendPosition, LineStyle, Series, Subplot, TimeSeriesFigure};
 use crate::trajopt::{MinTimeOptions, SolveOptions, min_braking_time};
+use crate::world::braking::fly_braking;
 use crate::world::braking::{
     BrakingOutcome, BrakingParams, BrakingRun, BrakingStudy, BrakingStudyParams,
     TrajectoryFeedforward, braking_problem, braking_study,
 };
-use crate::world::push::{PushParams, PushRecovery, PushSearch, PushTrial, push_recovery_limit};
-use crate::world::{Failure, FailureKind, WorldParams};
+use crate::world::push::{
+    PushParams, PushRecovery, PushSearch, PushTrial, push_recovery_limit, push_trial_observed,
+};
+use crate::world::{Failure, FailureKind, WorldLogOptions, WorldLogger, WorldParams};
+use anyhow::Context;
 use indicatif::ProgressBar;
 use serde_json::{Map, Value, json};
 use std::path::Path;
@@ -346,7 +350,12 @@ fn key(heading_deg: f64) -> String {
 }
 
 fn braking_figure(run: &BrakingRun, title: &str) -> TimeSeriesFigure {
-    let from = run.brake_start_s - 1.0;
+    let failure = match run.outcome {
+        BrakingOutcome::Failed(f) => Some(f),
+        _ => None,
+    };
+    // A failure comes within tens of ms of the onset: zoom in on it.
+    let from = run.brake_start_s - if failure.is_some() { 0.25 } else { 1.0 };
     let samples: Vec<_> = run.samples.iter().filter(|s| s.time_s >= from).collect();
     let t: Vec<f64> = samples
         .iter()
@@ -364,7 +373,7 @@ fn braking_figure(run: &BrakingRun, title: &str) -> TimeSeriesFigure {
             &col(&|s| s.cone_utilisation[i]),
         ));
     }
-    TimeSeriesFigure::new(title)
+    let fig = TimeSeriesFigure::new(title)
         .with(
             Subplot::new("speed along heading (m/s)")
                 .with(
@@ -383,8 +392,17 @@ fn braking_figure(run: &BrakingRun, title: &str) -> TimeSeriesFigure {
                 .with(Series::new("body", &t, &col(&|s| s.tilt_rad.to_degrees())))
                 .with_legend(LegendPosition::UpperRight),
         )
-        .with(cone)
-        .shade(0.0, run.duration_s, "braking")
+        .with(cone);
+    let end = t
+        .last()
+        .copied()
+        .unwrap_or(run.duration_s)
+        .min(run.duration_s);
+    let fig = fig.shade(0.0, end, "braking");
+    match failure {
+        Some(f) => fig.marker(f.time_s - run.brake_start_s, &failure_label(&f)),
+        None => fig,
+    }
 }
 
 fn push_figure(push: &[&PushRecovery]) -> TimeSeriesFigure {
@@ -418,12 +436,126 @@ fn push_figure(push: &[&PushRecovery]) -> TimeSeriesFigure {
     fig.marker(0.0, "push")
 }
 
+/// Flies a braking run again with its own trajectory (deterministic in the seed) and writes
+/// it to `path` with [`WorldLogger`] (telemetry every `every` physics steps, controller,
+/// commands, scene, failure, and an event when braking starts); checks that the replay is the
+/// run.
+fn log_braking(
+    world: WorldParams,
+    params: &BrakingParams,
+    run: &BrakingRun,
+    path: &Path,
+    every: u32,
+) -> anyhow::Result<()> {
+    let Some(plan) = &run.plan else {
+        return Ok(());
+    };
+    let options = WorldLogOptions {
+        telemetry_every_steps: every,
+        ..WorldLogOptions::default()
+    };
+    let mut log = WorldLogger::with_options(path, &world, options)
+        .with_context(|| format!("cannot create {}", path.display()))?;
+    let mut error = None;
+    let mut braking = false;
+    let replay = fly_braking(world, params, run.heading_deg, plan, &mut |sim, cmd| {
+        if error.is_some() {
+            return;
+        }
+        let time_s = sim.world().time_s();
+        let mut result = log.record_core(sim);
+        if let (Ok(()), Some(v)) = (&result, cmd) {
+            result = log.record_command(time_s, v);
+        }
+        if result.is_ok() && !braking && cmd.is_none() {
+            braking = true;
+            let what = format!(
+                "optimal braking from {:.2} m/s to rest in {:.3} s at {:.0} deg",
+                params.cruise_speed_m_per_s, run.duration_s, run.heading_deg
+            );
+            let tilt = crate::world::failure::tilt_from_vertical_rad(sim.world().telemetry());
+            result = log.record_event(time_s, "brake", &what, tilt);
+        }
+        if let Err(e) = result {
+            error = Some(e);
+        }
+    })?;
+    if let Some(e) = error {
+        return Err(e).with_context(|| format!("cannot write {}", path.display()));
+    }
+    log.finish()
+        .with_context(|| format!("cannot finish {}", path.display()))?;
+    anyhow::ensure!(
+        replay.telemetry_hash == run.telemetry_hash,
+        "the logged braking run at T = {} s differs from the study's",
+        run.duration_s
+    );
+    Ok(())
+}
+
+/// Runs a push trial again and writes it to `path` (see [`log_braking`]).
+fn log_push(
+    world: WorldParams,
+    params: &PushParams,
+    trial: &PushTrial,
+    path: &Path,
+    every: u32,
+) -> anyhow::Result<()> {
+    let options = WorldLogOptions {
+        telemetry_every_steps: every,
+        ..WorldLogOptions::default()
+    };
+    let mut log = WorldLogger::with_options(path, &world, options)
+        .with_context(|| format!("cannot create {}", path.display()))?;
+    let mut error = None;
+    let mut pushed = false;
+    let replay = push_trial_observed(
+        world,
+        params,
+        trial.heading_deg,
+        trial.impulse_ns,
+        &mut |sim| {
+            if error.is_some() {
+                return;
+            }
+            let time_s = sim.world().time_s();
+            let mut result = log.record_core(sim);
+            if result.is_ok() && !pushed && time_s >= params.settle_s {
+                pushed = true;
+                let what = format!(
+                    "push {:.2} N s at the body's COM towards {:.0} deg over {} s",
+                    trial.impulse_ns, trial.heading_deg, params.push_duration_s
+                );
+                let tilt = crate::world::failure::tilt_from_vertical_rad(sim.world().telemetry());
+                result = log.record_event(time_s, "push", &what, tilt);
+            }
+            if let Err(e) = result {
+                error = Some(e);
+            }
+        },
+    )?;
+    if let Some(e) = error {
+        return Err(e).with_context(|| format!("cannot write {}", path.display()));
+    }
+    log.finish()
+        .with_context(|| format!("cannot finish {}", path.display()))?;
+    anyhow::ensure!(
+        replay.telemetry_hash == trial.telemetry_hash,
+        "the logged push of {} N s differs from the study's",
+        trial.impulse_ns
+    );
+    Ok(())
+}
+
 fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or_else(|| "-".to_owned(), |x| format!("{x:.digits$}"))
 }
 
 /// The world braking and push experiments of `ballbot reproduce`: runs them, prints the
-/// comparison tables, writes the figures to `out` (unless `no_plots`) and adds
+/// comparison tables, writes the figures to `out` (unless `no_plots`) and the MCAP logs
+/// `out/logs/world_braking_success_h180.mcap`, `world_braking_failure_h180.mcap` (the
+/// shortest success and the first failure of the descent at 180 deg) and
+/// `world_push_h180.mcap` (the largest push recovered at 180 deg), and adds
 /// `min_braking_time_3d_s`, `push_recovery_ns`, `world_braking` and `world_push` to
 /// `summary`.
 pub fn reproduce(
@@ -591,6 +723,39 @@ pub fn reproduce(
             push_figure(&pushes).save_svg_and_png(&out.join("world_push"))?;
         }
     }
+
+    // One MCAP log per experiment (telemetry at 1 kHz; 100 Hz with --quick).
+    let logs = out.join("logs");
+    std::fs::create_dir_all(&logs).with_context(|| format!("cannot create {}", logs.display()))?;
+    let every = if quick { 80 } else { 8 };
+    let success = paper_heading.and_then(|st| st.shortest_success());
+    let failure = paper_heading.and_then(|st| st.first_failure());
+    let push_180 = pushes
+        .iter()
+        .find(|p| p.heading_deg == 180.0)
+        .and_then(|p| p.largest_recovered());
+    // The replays are independent: one thread each.
+    std::thread::scope(|scope| -> anyhow::Result<()> {
+        let mut handles = Vec::new();
+        for (run, name) in [
+            (success, "world_braking_success_h180.mcap"),
+            (failure, "world_braking_failure_h180.mcap"),
+        ] {
+            if let Some(run) = run {
+                let (path, braking) = (logs.join(name), &s.braking);
+                handles.push(scope.spawn(move || log_braking(world, braking, run, &path, every)));
+            }
+        }
+        if let Some(trial) = push_180 {
+            let (path, push) = (logs.join("world_push_h180.mcap"), &s.push);
+            handles.push(scope.spawn(move || log_push(world, push, trial, &path, every)));
+        }
+        for h in handles {
+            h.join()
+                .map_err(|_| anyhow::anyhow!("a log replay thread panicked"))??;
+        }
+        Ok(())
+    })?;
 
     let b = &s.braking;
     summary.insert(

@@ -251,6 +251,10 @@ pub fn braking_problem(
     }
 }
 
+/// A failed run goes on for this long after the failure (s): its samples show what followed;
+/// its peaks and outcome are those at the failure.
+pub const AFTER_FAILURE_S: f64 = 0.25;
+
 /// One sample of a braking run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BrakingSample {
@@ -345,10 +349,12 @@ pub struct BrakingRun {
     pub outcome: BrakingOutcome,
     /// Time braking started, since the start of the run (s).
     pub brake_start_s: f64,
-    /// The planned trajectory's peak tilt (rad) and cost `integral tau^2 dt` (N^2 m^2 s);
-    /// `None` without a trajectory.
+    /// The braking trajectory flown (`None` if none was found).
+    pub plan: Option<Trajectory>,
+    /// The planned trajectory's peak tilt (rad); `None` without a trajectory.
     pub plan_peak_tilt_rad: Option<f64>,
-    /// See [`Self::plan_peak_tilt_rad`].
+    /// The planned trajectory's cost `integral tau^2 dt` (N^2 m^2 s) when solved by
+    /// [`braking_run`].
     pub plan_cost_n2m2s: Option<f64>,
     /// Extremes of the braking phase.
     pub peaks: BrakingPeaks,
@@ -422,7 +428,7 @@ pub fn braking_run(
     heading_deg: f64,
     duration_s: f64,
     warm: Option<&Trajectory>,
-) -> Result<(BrakingRun, Option<Trajectory>), BrakingError> {
+) -> Result<BrakingRun, BrakingError> {
     params.validate()?;
     if !(duration_s.is_finite() && duration_s > 0.0) {
         return Err(invalid("duration_s", "must be finite and > 0"));
@@ -430,46 +436,95 @@ pub fn braking_run(
     if !heading_deg.is_finite() {
         return Err(invalid("heading_deg", "must be finite"));
     }
-    let robot = world_params.robot;
-    let plan = plan_braking(&robot, params, heading_deg, duration_s, warm)?;
-    let config = braking_controller_config(&robot)?;
+    let plan = plan_braking(&world_params.robot, params, heading_deg, duration_s, warm)?;
+    if !plan.is_solved() {
+        let config = braking_controller_config(&world_params.robot)?;
+        return Ok(BrakingRun {
+            heading_deg,
+            duration_s,
+            outcome: BrakingOutcome::NoTrajectory {
+                status: plan.status,
+            },
+            brake_start_s: brake_start_step(&world_params, params, &config) as f64
+                * world_params.dt_secs,
+            plan: None,
+            plan_peak_tilt_rad: None,
+            plan_cost_n2m2s: None,
+            peaks: BrakingPeaks::default(),
+            samples: Vec::new(),
+            telemetry_hash: super::telemetry::FNV_OFFSET_BASIS,
+        });
+    }
+    let mut run = fly_braking(
+        world_params,
+        params,
+        heading_deg,
+        &plan.trajectory,
+        &mut |_, _| {},
+    )?;
+    run.plan_cost_n2m2s = Some(plan.cost_n2m2s);
+    Ok(run)
+}
+
+/// The physics step at which braking starts: after settle, approach and cruise, rounded up to
+/// an outer-loop step, so the outer loop samples the trajectory exactly at its sample times.
+fn brake_start_step(
+    world_params: &WorldParams,
+    params: &BrakingParams,
+    config: &BallbotControllerConfig<f64>,
+) -> u64 {
     let dt = world_params.dt_secs;
     let steps_per_outer = (config.outer_dt_secs / dt).round().max(1.0) as u64;
     let before_brake_s = params.settle_s + params.approach_secs() + params.cruise_s;
-    // Braking starts on an outer-loop step, so the outer loop samples the trajectory exactly
-    // at its sample times.
-    let brake_step = (before_brake_s / dt / steps_per_outer as f64).ceil() as u64 * steps_per_outer;
-    let brake_start_s = brake_step as f64 * dt;
+    (before_brake_s / dt / steps_per_outer as f64).ceil() as u64 * steps_per_outer
+}
+
+/// Flies one braking run with a given braking trajectory `plan` (its duration is the braking
+/// time), calling `observe` after every physics step with the loop and, before braking, the
+/// velocity command of that step (e.g. to write an MCAP log with
+/// [`crate::world::WorldLogger`]). The run is the same with or without an observer, and
+/// [`braking_run`] is this with the plan it solves, so replaying a run's
+/// [`BrakingRun::plan`] reproduces it bit for bit.
+pub fn fly_braking(
+    world_params: WorldParams,
+    params: &BrakingParams,
+    heading_deg: f64,
+    plan: &Trajectory,
+    observe: &mut dyn FnMut(&CoreLoop, Option<&VelocityCommand<f64>>),
+) -> Result<BrakingRun, BrakingError> {
+    params.validate()?;
+    if !heading_deg.is_finite() {
+        return Err(invalid("heading_deg", "must be finite"));
+    }
+    let duration_s = plan.duration_secs();
+    let config = braking_controller_config(&world_params.robot)?;
+    let dt = world_params.dt_secs;
+    let brake_step = brake_start_step(&world_params, params, &config);
+    let heading_rad = heading_deg.to_radians();
+    let plane = plane_for_heading(&world_params.robot, heading_rad);
     let mut run = BrakingRun {
         heading_deg,
         duration_s,
         outcome: BrakingOutcome::NoTrajectory {
-            status: plan.status,
+            status: SolveStatus::Solved,
         },
-        brake_start_s,
-        plan_peak_tilt_rad: None,
+        brake_start_s: brake_step as f64 * dt,
+        plan: Some(plan.clone()),
+        plan_peak_tilt_rad: Some(
+            plan.knot_states()
+                .iter()
+                .fold(0.0, |m: f64, s| m.max(s[0].abs())),
+        ),
         plan_cost_n2m2s: None,
         peaks: BrakingPeaks::default(),
         samples: Vec::new(),
         telemetry_hash: super::telemetry::FNV_OFFSET_BASIS,
     };
-    if !plan.is_solved() {
-        return Ok((run, None));
-    }
-    run.plan_peak_tilt_rad = Some(plan.peak_tilt_rad());
-    run.plan_cost_n2m2s = Some(plan.cost_n2m2s);
-    let radius = plan.problem.plane.ball_radius_m;
+    let radius = plane.ball_radius_m;
     let period = config.outer_dt_secs;
-    let heading_rad = heading_deg.to_radians();
-    let physical: Vec<WipState<f64>> = plan
-        .trajectory
-        .sample(period)
-        .into_iter()
-        .map(|(_, s, _)| s)
-        .collect();
+    let physical: Vec<WipState<f64>> = plan.sample(period).into_iter().map(|(_, s, _)| s).collect();
     let mut states = physical.clone();
     if params.feedforward == TrajectoryFeedforward::Full {
-        let plane = &plan.problem.plane;
         let c = plane.body_mass_kg * plane.ball_radius_m * plane.com_height_m;
         let lqr = if heading_rad.cos().abs() >= heading_rad.sin().abs() {
             config.sagittal.lqr
@@ -500,6 +555,8 @@ pub fn braking_run(
     let rest_from_step = brake_step + ((duration_s + params.rest_within_s) / dt).round() as u64;
     let end_step = rest_from_step + (params.rest_hold_s / dt).round() as u64;
     let every = (params.sample_every_s / dt).round().max(1.0) as u64;
+    let after_failure_steps = (AFTER_FAILURE_S / dt).round() as u64;
+    let mut failed_at: Option<u64> = None;
     let mut peaks = BrakingPeaks {
         min_normal_force_n: [f64::INFINITY; 3],
         ..BrakingPeaks::default()
@@ -531,6 +588,10 @@ pub fn braking_run(
             (cmd, s[3] * radius, s[0])
         };
         let tel = *sim.step(command);
+        match command {
+            Command::Velocity(v) => observe(&sim, Some(&v)),
+            _ => observe(&sim, None),
+        }
         tel.hash_into(&mut run.telemetry_hash);
         let (speed, tilt) = along_heading(&tel, cos_h, sin_h);
         let braking = k >= brake_step;
@@ -539,7 +600,8 @@ pub fn braking_run(
         } else {
             [0.0; 3]
         };
-        if braking {
+        let failed = failed_at.is_some();
+        if braking && !failed {
             let p = &mut peaks;
             for (i, w) in tel.wheels.iter().enumerate() {
                 p.cone_utilisation[i] = p.cone_utilisation[i].max(w.cone_utilisation);
@@ -568,14 +630,18 @@ pub fn braking_run(
                 actuator_utilisation: utilisation,
             });
         }
-        if k >= rest_from_step {
+        if k >= rest_from_step && !failed {
             let v = &tel.ball_velocity_m_per_s;
             rest_speed = rest_speed.max(v.x.hypot(v.y));
             rest_tilt = rest_tilt.max(tilt_from_vertical_rad(&tel));
         }
-        if let Some(failure) = sim.world().failure() {
-            run.outcome = BrakingOutcome::Failed(failure);
-            break;
+        match (failed_at, sim.world().failure()) {
+            (None, Some(failure)) => {
+                run.outcome = BrakingOutcome::Failed(failure);
+                failed_at = Some(k);
+            }
+            (Some(at), _) if k >= at + after_failure_steps => break,
+            _ => {}
         }
     }
     if !matches!(run.outcome, BrakingOutcome::Failed(_)) {
@@ -598,7 +664,7 @@ pub fn braking_run(
         }
     }
     run.peaks = peaks;
-    Ok((run, Some(plan.trajectory)))
+    Ok(run)
 }
 
 /// The paper's protocol and the refinement beyond it.
@@ -693,10 +759,10 @@ pub fn braking_study(
     };
     let mut warm: Option<Trajectory> = None;
     for &t in &study.durations_s {
-        let (run, plan) = braking_run(world_params, params, heading_deg, t, warm.as_ref())?;
+        let run = braking_run(world_params, params, heading_deg, t, warm.as_ref())?;
         on_run(&run);
-        if plan.is_some() {
-            warm = plan;
+        if run.plan.is_some() {
+            warm.clone_from(&run.plan);
         }
         let success = run.outcome.is_success();
         out.descent.push(run);
@@ -716,10 +782,10 @@ pub fn braking_study(
     ) {
         while (hi - lo).abs() > resolution + 1e-9 && lo < hi {
             let mid = 0.5 * (lo + hi);
-            let (run, plan) = braking_run(world_params, params, heading_deg, mid, warm.as_ref())?;
+            let run = braking_run(world_params, params, heading_deg, mid, warm.as_ref())?;
             on_run(&run);
-            if plan.is_some() {
-                warm = plan;
+            if run.plan.is_some() {
+                warm.clone_from(&run.plan);
             }
             if run.outcome.is_success() {
                 hi = mid;

@@ -184,12 +184,26 @@ impl PushTrial {
 
 /// Stands the robot still for `settle_s`, pushes its body's centre of mass with a horizontal
 /// impulse of `impulse_ns` towards `heading_deg` (body frame at the start of the push) spread
-/// over `push_duration_s`, and watches for `observe_s` (or until the world fails).
+/// over `push_duration_s`, and watches for `observe_s` (or until
+/// [`AFTER_FAILURE_S`](super::braking::AFTER_FAILURE_S) after the world fails: the samples
+/// show what followed, the peaks and outcome are those at the failure).
 pub fn push_trial(
     world_params: WorldParams,
     params: &PushParams,
     heading_deg: f64,
     impulse_ns: f64,
+) -> Result<PushTrial, WorldError> {
+    push_trial_observed(world_params, params, heading_deg, impulse_ns, &mut |_| {})
+}
+
+/// [`push_trial`] calling `observe` after every physics step with the loop (e.g. to write an
+/// MCAP log with [`crate::world::WorldLogger`]); the trial is the same with or without it.
+pub fn push_trial_observed(
+    world_params: WorldParams,
+    params: &PushParams,
+    heading_deg: f64,
+    impulse_ns: f64,
+    observe: &mut dyn FnMut(&CoreLoop),
 ) -> Result<PushTrial, WorldError> {
     params.validate()?;
     if !(heading_deg.is_finite() && impulse_ns.is_finite() && impulse_ns >= 0.0) {
@@ -218,6 +232,8 @@ pub fn push_trial(
         telemetry_hash: super::telemetry::FNV_OFFSET_BASIS,
     };
     let mut rest_tilt: f64 = 0.0;
+    let after_failure_steps = (super::braking::AFTER_FAILURE_S / dt).round() as u64;
+    let mut failed_at: Option<u64> = None;
     for k in 0..end_step {
         if k == push_step {
             let (_, _, yaw) = sim.world().telemetry().body_orientation.euler_angles();
@@ -230,15 +246,17 @@ pub fn push_trial(
                 .push_body(direction * (impulse_ns / push_steps as f64));
         }
         let tel = *sim.step(still);
+        observe(&sim);
         tel.hash_into(&mut trial.telemetry_hash);
         let tilt = tilt_from_vertical_rad(&tel);
         let v = &tel.ball_velocity_m_per_s;
         let speed = v.x.hypot(v.y);
-        if k >= push_step {
+        let failed = failed_at.is_some();
+        if k >= push_step && !failed {
             trial.peak_tilt_rad = trial.peak_tilt_rad.max(tilt);
             trial.peak_speed_m_per_s = trial.peak_speed_m_per_s.max(speed);
         }
-        if k >= rest_step {
+        if k >= rest_step && !failed {
             trial.rest_speed_m_per_s = trial.rest_speed_m_per_s.max(speed);
             rest_tilt = rest_tilt.max(tilt);
         }
@@ -255,10 +273,17 @@ pub fn push_trial(
                     .fold(0.0, f64::max),
             });
         }
-        if let Some(failure) = sim.world().failure() {
-            trial.outcome = PushOutcome::Failed(failure);
-            return Ok(trial);
+        match (failed_at, sim.world().failure()) {
+            (None, Some(failure)) => {
+                trial.outcome = PushOutcome::Failed(failure);
+                failed_at = Some(k);
+            }
+            (Some(at), _) if k >= at + after_failure_steps => return Ok(trial),
+            _ => {}
         }
+    }
+    if failed_at.is_some() {
+        return Ok(trial);
     }
     trial.outcome = if trial.peak_tilt_rad >= params.max_tilt_rad {
         PushOutcome::TiltExceeded
