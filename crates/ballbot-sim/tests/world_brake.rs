@@ -75,6 +75,16 @@ fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bise
     let below = r.limit_failure_s.unwrap();
     assert!((2.0..=3.0).contains(&limit) && (1.0..=2.0).contains(&below));
     assert_eq!(limit - below, 1.0);
+    // The bracket's ends are a success and a failure actually flown.
+    let outcome = |t: f64| {
+        r.descent
+            .iter()
+            .chain(&r.bisection)
+            .find(|run| run.duration_s == t)
+            .map(|run| run.outcome.is_success())
+    };
+    assert_eq!(outcome(limit), Some(true));
+    assert_eq!(outcome(below), Some(false));
     assert_eq!(seen, vec![3.0, 1.0, 2.0]);
     assert_eq!(r.shortest_success().unwrap().duration_s, 3.0);
     assert_eq!(r.first_failure().unwrap().duration_s, 1.0);
