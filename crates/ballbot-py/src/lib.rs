@@ -17,6 +17,7 @@ mod params;
 mod sim;
 mod trajopt;
 mod world;
+mod world_study;
 
 use pyo3::prelude::*;
 
@@ -33,5 +34,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     trajopt::register(m)?;
     sim::register(m)?;
     world::register(m)?;
+    world_study::register(m)?;
     Ok(())
 }

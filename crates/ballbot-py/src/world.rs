@@ -4,6 +4,7 @@
 //! return dicts of numpy arrays, so Python threads run several worlds in parallel.
 
 use crate::errors::{Kind, core_error, error};
+use crate::log::log_error;
 use crate::params::PyWorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
@@ -12,7 +13,7 @@ use ballbot_sim::world::experiments::{RampParams, RampResult, max_speed_ramp_wit
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
 use ballbot_sim::world::{
     BallbotWorld, CoreLoop, Failure, FailureKind, Measurement, StepTelemetry, WheelTelemetry,
-    WorldError, WorldParams,
+    WorldError, WorldLogOptions, WorldLogger, WorldParams,
 };
 use nalgebra::Vector3;
 use numpy::{
@@ -21,6 +22,7 @@ use numpy::{
 };
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::path::{Path, PathBuf};
 
 type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
@@ -547,16 +549,16 @@ impl RunOptions {
 
 /// Runs `step(k, input)` for the options' steps, recording every `record_every`-th step (the
 /// first included) and the failing one. Returns the trace and the number of steps run.
-fn run_steps(
+fn run_steps<E>(
     options: RunOptions,
     inputs: &[[f64; 3]],
     mut trace: Trace,
-    mut step: impl FnMut([f64; 3]) -> (StepTelemetry, bool),
-) -> (Trace, usize) {
+    mut step: impl FnMut([f64; 3]) -> Result<(StepTelemetry, bool), E>,
+) -> Result<(Trace, usize), E> {
     let mut steps = 0;
     for k in 0..options.n_steps {
         let input = row_at(inputs, k);
-        let (telemetry, failed) = step(input);
+        let (telemetry, failed) = step(input)?;
         steps += 1;
         let stop = failed && options.stop_on_failure;
         if k % options.record_every == 0 || stop {
@@ -566,7 +568,35 @@ fn run_steps(
             break;
         }
     }
-    (trace, steps)
+    Ok((trace, steps))
+}
+
+/// The MCAP logger of a run, if `log_path` is given: `compact` writes the telemetry at 1 kHz.
+fn logger(
+    py: Python<'_>,
+    log_path: Option<&Path>,
+    params: &WorldParams,
+    compact: bool,
+) -> PyResult<Option<WorldLogger>> {
+    let Some(path) = log_path else {
+        return Ok(None);
+    };
+    let options = if compact {
+        WorldLogOptions::compact()
+    } else {
+        WorldLogOptions::default()
+    };
+    WorldLogger::with_options(path, params, options)
+        .map(Some)
+        .map_err(|e| log_error(py, e))
+}
+
+/// Closes the log of a run.
+fn finish_log(py: Python<'_>, log: Option<WorldLogger>) -> PyResult<()> {
+    if let Some(log) = log {
+        py.detach(|| log.finish()).map_err(|e| log_error(py, e))?;
+    }
+    Ok(())
 }
 
 /// The world methods both `World` and `WorldLoop` have: what `BallbotWorld` offers besides
@@ -818,8 +848,15 @@ world_class! {
         /// `ball_velocity_m_per_s`, `ball_angular_velocity_rad_per_s`, `body_position_m`,
         /// `body_rate_rad_per_s` (n, 3); `body_orientation` (n, 4) `(x, y, z, w)`; `tilt_rad`
         /// (n, 2); `tilt_from_vertical_rad`, `yaw_rad`, `floor_force_n` (n,); and `steps`
-        /// (steps run), `failure` (`Failure` or `None`).
-        #[pyo3(signature = (n_steps, torque_nm = None, *, record_every = 1, stop_on_failure = false))]
+        /// (steps run), `failure` (`Failure` or `None`), `log_path`. With `log_path` every step
+        /// is also written to that MCAP file (`ballbot_sim::world::WorldLogger`: telemetry,
+        /// the Foxglove 3D scene and transforms, failure events; `log_compact` writes the
+        /// telemetry at 1 kHz instead of every step), readable with `McapLog`.
+        #[pyo3(signature = (
+            n_steps, torque_nm = None, *, record_every = 1, stop_on_failure = false,
+            log_path = None, log_compact = false,
+        ))]
+        #[allow(clippy::too_many_arguments)]
         fn run<'py>(
             &mut self,
             py: Python<'py>,
@@ -827,18 +864,28 @@ world_class! {
             torque_nm: Option<Arr<'py>>,
             record_every: usize,
             stop_on_failure: bool,
+            log_path: Option<PathBuf>,
+            log_compact: bool,
         ) -> PyResult<Bound<'py, PyDict>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, torque_nm, n_steps, "torque_nm")?;
             let trace = Trace::with_capacity(options.records())?;
+            let mut log = logger(py, log_path.as_deref(), self.inner.params(), log_compact)?;
             let world = &mut self.inner;
-            let (trace, steps) = py.detach(|| {
+            let result = py.detach(|| {
                 run_steps(options, &inputs, trace, |tau| {
                     let telemetry = *world.step(tau);
-                    (telemetry, world.failure().is_some())
+                    if let Some(log) = log.as_mut() {
+                        log.record(world, None)?;
+                    }
+                    Ok((telemetry, world.failure().is_some()))
                 })
             });
-            finish_run(py, trace, "torque_nm", steps, self.inner.failure())
+            let (trace, steps) = result.map_err(|e| log_error(py, e))?;
+            finish_log(py, log)?;
+            let d = finish_run(py, trace, "torque_nm", steps, self.inner.failure())?;
+            d.set_item("log_path", log_path)?;
+            Ok(d)
         }
     }
 }
@@ -1010,8 +1057,14 @@ world_class! {
         /// zeros. Records every `record_every`-th step (the first one included);
         /// `stop_on_failure` ends the run at the step that detects a failure (recorded too).
         /// Returns the dict of `World.run` with `command` (n, 3) instead of `torque_nm`
-        /// (`motor_torque_nm` holds what the controller drove).
-        #[pyo3(signature = (n_steps, command = None, *, record_every = 1, stop_on_failure = false))]
+        /// (`motor_torque_nm` holds what the controller drove). `log_path` and `log_compact`
+        /// as in `World.run`; the log also carries the controller's outer loop and the
+        /// commands (what `ballbot world` writes).
+        #[pyo3(signature = (
+            n_steps, command = None, *, record_every = 1, stop_on_failure = false,
+            log_path = None, log_compact = false,
+        ))]
+        #[allow(clippy::too_many_arguments)]
         fn run<'py>(
             &mut self,
             py: Python<'py>,
@@ -1019,23 +1072,38 @@ world_class! {
             command: Option<Arr<'py>>,
             record_every: usize,
             stop_on_failure: bool,
+            log_path: Option<PathBuf>,
+            log_compact: bool,
         ) -> PyResult<Bound<'py, PyDict>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, command, n_steps, "command")?;
             let trace = Trace::with_capacity(options.records())?;
+            let params = *self.inner.world().params();
+            let mut log = logger(py, log_path.as_deref(), &params, log_compact)?;
             let sim = &mut self.inner;
-            let (trace, steps) = py.detach(|| {
+            let result = py.detach(|| {
                 run_steps(options, &inputs, trace, |cmd| {
-                    let telemetry = *sim.step(Command::Velocity(velocity(cmd)));
-                    (telemetry, sim.world().failure().is_some())
+                    let command = velocity(cmd);
+                    if let Some(log) = log.as_mut() {
+                        log.record_command(sim.world().time_s(), &command)?;
+                    }
+                    let telemetry = *sim.step(Command::Velocity(command));
+                    if let Some(log) = log.as_mut() {
+                        log.record_core(sim)?;
+                    }
+                    Ok((telemetry, sim.world().failure().is_some()))
                 })
             });
-            finish_run(py, trace, "command", steps, self.inner.world().failure())
+            let (trace, steps) = result.map_err(|e| log_error(py, e))?;
+            finish_log(py, log)?;
+            let d = finish_run(py, trace, "command", steps, self.inner.world().failure())?;
+            d.set_item("log_path", log_path)?;
+            Ok(d)
         }
     }
 }
 
-fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyDict>> {
+pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("heading_deg", r.heading_deg)?;
     d.set_item("max_speed_m_per_s", r.max_speed_m_per_s)?;

@@ -64,6 +64,9 @@ __all__ = [
     "WorldLoop",
     "WorldParams",
     "max_speed_ramp",
+    "failing_acceleration",
+    "max_speed_study",
+    "slow_ramp_trial",
 ]
 
 __version__: str
@@ -1248,6 +1251,7 @@ class _WorldTrace(TypedDict):
     floor_force_n: _F64
     steps: int
     failure: Optional[Failure]
+    log_path: Optional[Path]
 
 class _WorldRun(_WorldTrace):
     torque_nm: _F64
@@ -1269,6 +1273,8 @@ class World:
         *,
         record_every: int = 1,
         stop_on_failure: bool = False,
+        log_path: Optional[_Path] = None,
+        log_compact: bool = False,
     ) -> _WorldRun: ...
     @property
     def params(self) -> WorldParams: ...
@@ -1333,6 +1339,8 @@ class WorldLoop:
         *,
         record_every: int = 1,
         stop_on_failure: bool = False,
+        log_path: Optional[_Path] = None,
+        log_compact: bool = False,
     ) -> _WorldLoopRun: ...
     @property
     def params(self) -> WorldParams: ...
@@ -1392,3 +1400,57 @@ def max_speed_ramp(
     max_tilt_command_rad: Optional[float] = None,
     max_tilt_rate_command_rad_per_s: Optional[float] = None,
 ) -> _Ramp: ...
+
+class _TrialOutcome(TypedDict):
+    heading_deg: float
+    seed: int
+    accel_m_per_s2: float
+    max_speed_m_per_s: float
+    censored: bool
+    failure: Optional[Failure]
+    peak_cone_utilisation: float
+    min_normal_force_n: float
+    peak_tilt_rad: float
+
+class _Trial(_Ramp):
+    outcome: _TrialOutcome
+
+def slow_ramp_trial(
+    params: Optional[WorldParams] = None, *, heading_deg: float = 0.0, seed: int = 1
+) -> _Trial: ...
+
+class _FailingAccel(TypedDict):
+    heading_deg: float
+    largest_surviving_m_per_s2: Optional[float]
+    smallest_failing_m_per_s2: Optional[float]
+    censored: bool
+    text: str
+    runs: int
+    failing: Optional[_TrialOutcome]
+    surviving: Optional[_TrialOutcome]
+    failing_run: Optional[_Ramp]
+
+def failing_acceleration(
+    params: Optional[WorldParams] = None,
+    *,
+    heading_deg: float = 0.0,
+    seed: int = 0,
+    fast_top_m_per_s: Optional[float] = None,
+    accel_bracket_m_per_s2: Optional[tuple[float, float]] = None,
+    accel_resolution_m_per_s2: Optional[float] = None,
+) -> _FailingAccel: ...
+def max_speed_study(
+    params: Optional[WorldParams] = None,
+    *,
+    quick: bool = False,
+    trial_headings_deg: Optional[list[float]] = None,
+    seeds: Optional[list[int]] = None,
+    map_headings_deg: Optional[list[float]] = None,
+    sensitivity_headings_deg: Optional[list[float]] = None,
+    sensitivity_mu: Optional[list[float]] = None,
+    sensitivity_com_height_m: Optional[list[float]] = None,
+    threads: int = 0,
+    fast_top_m_per_s: Optional[float] = None,
+    accel_bracket_m_per_s2: Optional[tuple[float, float]] = None,
+    accel_resolution_m_per_s2: Optional[float] = None,
+) -> dict[str, Any]: ...
