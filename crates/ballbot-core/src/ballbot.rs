@@ -66,14 +66,18 @@
 //! assert!(torques.torque_nm.iter().all(|t| t.abs() <= 43.2));
 //! # Ok::<(), ballbot_core::Error>(())
 //! ```
+//!
+//! [`ball_body_z_rate_per_ball_rate`]: crate::estimation::ball_body_z_rate_per_ball_rate
 
 use crate::check::{lit, positive};
-use crate::command::{Command, CommandShaper, CommandShaperParams, PlanarCommands, clamp_sym};
+use crate::command::{
+    Command, CommandShaper, CommandShaperParams, PlanarCommands, clamp_sym, max, min,
+};
 use crate::control::{
     LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi, SpeedPiGains, StepStatus,
 };
 use crate::estimation::{
-    EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate,
+    EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos,
 };
 use crate::lqr::{
     SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
@@ -311,8 +315,7 @@ impl<T: RealField + Copy> SpinOuter<T> {
                 status: StepStatus::InvalidInput,
             };
         }
-        let max = g.max_torque_nm;
-        let torque = requested.max(-max).min(max);
+        let torque = clamp_sym(requested, g.max_torque_nm);
         let status = if torque == requested {
             StepStatus::Nominal
         } else {
@@ -320,11 +323,9 @@ impl<T: RealField + Copy> SpinOuter<T> {
         };
         let accel = self.model.acceleration(measured, torque);
         let band = self.config.max_rate_error_rad_per_s;
-        let anchored = self
-            .reference_rate_rad_per_s
-            .unwrap_or(rate)
-            .max(rate - band)
-            .min(rate + band);
+        // Plain min/max: the stored rate, the measured rate and the band are finite.
+        let stored = self.reference_rate_rad_per_s.unwrap_or(rate);
+        let anchored = min(rate + band, max(rate - band, stored));
         self.reference_rate_rad_per_s = Some(anchored + accel * dt_secs);
         SpinOuterOutput {
             reference_torque_nm: torque,
@@ -966,12 +967,14 @@ impl<T: RealField + Copy> BallbotController<T> {
         if !safety.mode.motors_enabled() {
             return self.disabled(safety, states);
         }
+        // By reference: the command is a large enum (a trajectory borrows its samples).
+        let stop = Command::Stop;
         let command = if safety.mode == Mode::Balancing {
-            input.command
+            &input.command
         } else {
-            Command::Stop
+            &stop
         };
-        let shaped = self.shaper.step(&command, dt);
+        let shaped = self.shaper.step(command, dt);
         // Equilibrium-input feedforward through the command states (see the type's docs).
         let mut c = shaped.planar;
         let ff = &self.feedforward;
@@ -980,8 +983,15 @@ impl<T: RealField + Copy> BallbotController<T> {
         c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x;
         let yaw_rate_c = c.spin[1];
         c.spin[0] += ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_s * yaw_rate_c;
-        let fro = self.frontal.step(&states.frontal, &c.frontal, dt);
-        let sag = self.sagittal.step(&states.sagittal, &c.sagittal, dt);
+        // One sin_cos of each tilt serves the plane's reference model and the wheel mapping.
+        let roll_sin_cos = states.frontal[TILT].sin_cos();
+        let pitch_sin_cos = states.sagittal[TILT].sin_cos();
+        let fro =
+            self.frontal
+                .step_with_tilt_sin_cos(&states.frontal, &c.frontal, dt, roll_sin_cos);
+        let sag =
+            self.sagittal
+                .step_with_tilt_sin_cos(&states.sagittal, &c.sagittal, dt, pitch_sin_cos);
         let spin = self.spin.step(&states.spin, &c.spin, dt);
         let planar_torque = Vector3::new(
             fro.reference_torque_nm,
@@ -997,7 +1007,7 @@ impl<T: RealField + Copy> BallbotController<T> {
         // The reference ball motion does not spin about the vertical: leaning, its rolling has
         // a component about the body's z axis that the wheels see like a yaw rate (see
         // `ball_body_z_rate_per_ball_rate`).
-        let k = ball_body_z_rate_per_ball_rate(states.frontal[TILT], states.sagittal[TILT]);
+        let k = ball_body_z_rate_per_ball_rate_sin_cos(roll_sin_cos, pitch_sin_cos);
         let relative = Vector3::new(
             reference_rate[0] - states.frontal[TILT_RATE],
             reference_rate[1] - states.sagittal[TILT_RATE],
@@ -1286,9 +1296,9 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
         let step_ok = dt_secs.is_finite() && dt_secs > T::zero();
         // Reference at the middle of this step, ramping for one outer period at most.
         let t = if step_ok {
-            (self.elapsed_secs + dt_secs * lit(0.5)).min(self.outer_dt_secs)
+            min(self.elapsed_secs + dt_secs * lit(0.5), self.outer_dt_secs)
         } else {
-            self.elapsed_secs.min(self.outer_dt_secs)
+            min(self.elapsed_secs, self.outer_dt_secs)
         };
         let r = &self.references;
         for (i, motor) in self.motors.iter_mut().enumerate() {
@@ -1304,7 +1314,7 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             out.reference_speed_rad_per_s[i] = reference;
         }
         if step_ok {
-            self.elapsed_secs = (self.elapsed_secs + dt_secs).min(timeout + dt_secs);
+            self.elapsed_secs = min(self.elapsed_secs + dt_secs, timeout + dt_secs);
         }
         out
     }
@@ -1332,6 +1342,8 @@ pub struct MotorSpeedPi<T: RealField + Copy> {
     peak_torque_nm: T,
     /// `peak / no_load_speed` (N m s/rad).
     torque_drop_nm_s_per_rad: T,
+    /// The smaller of the peak and the PI's symmetric limit (N m): the bounds the PI applies.
+    limit_nm: T,
 }
 
 impl<T: RealField + Copy> MotorSpeedPi<T> {
@@ -1349,10 +1361,12 @@ impl<T: RealField + Copy> MotorSpeedPi<T> {
     /// ```
     pub fn new(gains: SpeedPiGains<T>, actuator: &ActuatorParams<T>) -> Result<Self, Error> {
         actuator.validate()?;
+        let peak = actuator.peak_torque_nm;
         Ok(Self {
             pi: SpeedPi::new(gains)?,
-            peak_torque_nm: actuator.peak_torque_nm,
-            torque_drop_nm_s_per_rad: actuator.peak_torque_nm / actuator.no_load_speed_rad_per_s,
+            peak_torque_nm: peak,
+            torque_drop_nm_s_per_rad: peak / actuator.no_load_speed_rad_per_s,
+            limit_nm: min(peak, gains.max_torque_nm),
         })
     }
 
@@ -1434,9 +1448,21 @@ impl<T: RealField + Copy> MotorSpeedPi<T> {
         measured_speed_rad_per_s: T,
         dt_secs: T,
     ) -> (T, T) {
-        let (lower, upper) = self.torque_bounds_nm(measured_speed_rad_per_s);
-        let out = self.pi.step_within(
-            measured_speed_rad_per_s,
+        // The range `SpeedPi::step_within` would apply to `Self::torque_bounds_nm`, computed
+        // directly against the prepared `limit_nm` (the motoring side never exceeds the peak)
+        // with plain min/max, and the PI law without re-checking it. A non-finite speed makes
+        // the speed error, and the request, non-finite: the PI rejects it (zero torque).
+        let speed = measured_speed_rad_per_s;
+        let limit = self.limit_nm;
+        let line = self.peak_torque_nm - self.torque_drop_nm_s_per_rad * speed.abs();
+        let motoring = max(T::zero(), min(limit, line));
+        let (lower, upper) = if speed >= T::zero() {
+            (-limit, motoring)
+        } else {
+            (-motoring, limit)
+        };
+        let out = self.pi.step_in_range(
+            speed,
             &SpeedCommand {
                 speed_rad_per_s: reference_speed_rad_per_s,
                 feedforward_torque_nm,
@@ -1445,14 +1471,8 @@ impl<T: RealField + Copy> MotorSpeedPi<T> {
             lower,
             upper,
         );
-        // SpeedPi returns a finite torque within [lower, upper]; keep the guarantee local (a
-        // NaN fails both comparisons).
-        let torque = out.torque_nm;
-        if torque >= lower && torque <= upper {
-            (torque, out.saturation_nm)
-        } else {
-            (T::zero(), T::zero())
-        }
+        // Finite and within [lower, upper] (the PI's contract; zero torque when rejected).
+        (out.torque_nm, out.saturation_nm)
     }
 }
 
@@ -1546,7 +1566,7 @@ mod tests {
         let (roll, pitch) = (0.03, -0.02);
         // Body-frame ball rates of a ball rolling at 20 rad/s forward, -5 rad/s sideways,
         // without vertical spin.
-        let k = ball_body_z_rate_per_ball_rate(roll, pitch);
+        let k = crate::estimation::ball_body_z_rate_per_ball_rate(roll, pitch);
         let ball = Vector3::new(-5.0, 20.0, k[0] * -5.0 + k[1] * 20.0);
         let command = Command::Velocity(VelocityCommand {
             vx_m_per_s: 1.0,

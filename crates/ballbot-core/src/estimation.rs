@@ -429,8 +429,16 @@ impl<T: RealField + Copy> Estimator<T> {
 /// ```
 #[inline]
 pub fn ball_body_z_rate_per_ball_rate<T: RealField + Copy>(roll_rad: T, pitch_rad: T) -> [T; 2] {
-    let (sin_r, cos_r) = roll_rad.sin_cos();
-    let (sin_p, cos_p) = pitch_rad.sin_cos();
+    ball_body_z_rate_per_ball_rate_sin_cos(roll_rad.sin_cos(), pitch_rad.sin_cos())
+}
+
+/// [`ball_body_z_rate_per_ball_rate`] from `(sin, cos)` of the roll and of the pitch, for a
+/// caller that has them already (the 3D controller's plane models need them too).
+#[inline]
+pub(crate) fn ball_body_z_rate_per_ball_rate_sin_cos<T: RealField + Copy>(
+    (sin_r, cos_r): (T, T),
+    (sin_p, cos_p): (T, T),
+) -> [T; 2] {
     let g_z = cos_p * cos_r;
     // Also false for NaN.
     if g_z > lit(0.1) {
