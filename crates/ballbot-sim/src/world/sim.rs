@@ -16,7 +16,8 @@ use rapier3d_f64::prelude::{
 /// Solver iterations (substeps) of rapier's step. The only rapier contact is the ball on the
 /// floor; at the 8 kHz step one substep gives the same trajectories as rapier's default four
 /// (8 s of driving under the core controller: ball positions within 0.2 mm, tilts within
-/// 1e-4 rad) and the same static floor load, for 62 % of the instructions per world step.
+/// 1e-4 rad) and the same static floor load, for about 60 % of the instructions per world
+/// step.
 /// The floor is rapier's soft contact (60 Hz, damping ratio 10 against the ball's mass): the
 /// ball settles about 1.5 mm into it, with a time constant of about 0.1 s at one substep and
 /// 0.3 s at four. CCD is off: in one 125 us step the ball would need 160 m/s to travel
