@@ -7,3 +7,4 @@ mod fast_paths;
 mod kinematics;
 mod lqr;
 mod safety;
+mod spin;
