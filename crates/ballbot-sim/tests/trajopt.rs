@@ -443,7 +443,10 @@ fn minimum_braking_time_brackets_the_feasibility_boundary() {
         .iter()
         .fold(0.0_f64, |m, u| m.max(u.abs()));
     assert!(peak > 90.0, "{peak}");
-    assert!((0.3..0.6).contains(&t_min), "{t_min}");
+    // README: 0.43 s under MiaPURE's actuator limits alone (measured 0.4285, bracketed from
+    // 0.4172). The bisection stops at 0.02 s resolution, so the documented number to +-0.02 s
+    // (was 0.3..0.6, a band that did not pin the README's number).
+    assert!((t_min - 0.43).abs() <= 0.02, "{t_min}");
     // Just below the bracket it is not solvable.
     let below = BrakingProblem {
         duration_secs: t_bad,
@@ -575,8 +578,10 @@ fn reproduce_brake_record_has_the_summary_keys() {
     assert_eq!(v["intervals"], 100);
     assert_eq!(v["min_braking_time_intervals"], 40);
     assert!(v["solve_ms"].as_f64().unwrap() > 0.0);
+    // The same search as `minimum_braking_time_brackets_the_feasibility_boundary`: README's
+    // 0.43 s to the bisection's 0.02 s resolution.
     let t_min = v["min_braking_time_s"].as_f64().unwrap();
-    assert!((0.3..0.6).contains(&t_min), "{v}");
+    assert!((t_min - 0.43).abs() <= 0.02, "{v}");
     assert!(dir.path().join("brake_miapure.svg").exists());
     assert!(dir.path().join("brake_miapure.png").exists());
 }
