@@ -610,3 +610,29 @@ fn traction_limit_on_a_long_horizon_solves() {
     .unwrap();
     approx::assert_relative_eq!(sol.cost_n2m2s, free.cost_n2m2s, max_relative = 1e-6);
 }
+
+/// README: with the friction cones (mu = 0.6) the minimum braking time at 180 deg rises from
+/// the actuators' 0.43 s to 0.49 s (`ballbot brake --actuators --traction --min-time 0.01`,
+/// N = 100). Here on the coarser N = 40 grid and 0.02 s resolution of
+/// `minimum_braking_time_brackets_the_feasibility_boundary` (cheap in a debug build): the
+/// traction limit must cost time, and the value must be README's to that resolution.
+#[test]
+fn traction_limit_lengthens_the_minimum_braking_time_to_the_readme_value() {
+    let p = BrakingProblem {
+        intervals: 40,
+        limits: Limits {
+            traction: true,
+            ..Limits::miapure_actuators(PI)
+        },
+        ..BrakingProblem::miapure()
+    };
+    let search = MinTimeOptions {
+        lower_secs: 0.1,
+        upper_secs: 3.0,
+        resolution_secs: 0.02,
+    };
+    let r = min_braking_time(&p, &SolveOptions::default(), &search).unwrap();
+    let t_min = r.min_duration_secs.unwrap();
+    eprintln!("traction-limited minimum braking time {t_min} s");
+    assert!((t_min - 0.49).abs() <= 0.02, "{t_min}");
+}
