@@ -501,7 +501,7 @@ impl Trace {
 }
 
 /// Rows of length `N` as an `(n, N)` numpy array.
-fn table<'py, T: Element + Copy, const N: usize>(
+pub fn table<'py, T: Element + Copy, const N: usize>(
     py: Python<'py>,
     rows: Vec<[T; N]>,
 ) -> PyResult<Bound<'py, PyArrayDyn<T>>> {

@@ -92,3 +92,65 @@ def test_bad_study_input_raises_documented_errors(tmp_path: Path) -> None:
         ballbot.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
     with pytest.raises(ballbot.FileError, match="missing"):
         ballbot.World().run(10, log_path=tmp_path / "missing" / "dir" / "x.mcap")
+
+
+FAST_BRAKING = {"approach_accel_m_per_s2": 1.0, "settle_s": 0.2, "cruise_s": 1.0}
+FAST_PUSH = {"settle_s": 0.5, "observe_s": 3.0, "rest_within_s": 2.5}
+
+
+def test_braking_study_descends_then_bisects() -> None:
+    # The Rust test's numbers (tests/world_brake.rs): at 180 deg from 1.4 m/s, 3 s stops, 1 s
+    # fails in the world although a plan exists, the bisection tries 2 s once.
+    r = ballbot.braking_study(
+        heading_deg=180.0, durations_s=[3.0, 1.0, 0.5], bisection_resolution_s=1.0, **FAST_BRAKING
+    )
+    assert r["shortest_success_s"] == 3.0 and r["first_failure_s"] == 1.0
+    assert [run["duration_s"] for run in r["descent"]] == [3.0, 1.0]
+    assert [run["duration_s"] for run in r["bisection"]] == [2.0]
+    ok, bad = r["descent"]
+    assert ok["outcome"] == "stopped" and ok["success"] and ok["rest_speed_m_per_s"] is not None
+    assert abs(ok["speed_m_per_s"][-1]) < 0.05 and abs(ok["command_m_per_s"][-1]) < 1e-9
+    assert ok["peaks"]["speed_error_m_per_s"] < 0.15
+    assert max(ok["peaks"]["cone_utilisation"]) < 0.9
+    assert ok["normal_force_n"].shape == (ok["time_s"].size, 3)
+    assert bad["outcome"] == "failed" and bad["failure"] is not None
+    assert bad["plan_cost_n2m2s"] is not None
+    limit, below = r["limit_s"], r["limit_failure_s"]
+    assert limit is not None and below is not None and limit - below == 1.0
+
+
+def test_braking_run_without_a_plan_and_is_deterministic() -> None:
+    none = ballbot.braking_run(heading_deg=180.0, duration_s=0.3, **FAST_BRAKING)
+    assert none["outcome"] == "no_trajectory" and not none["success"]
+    assert none["solve_status"] is not None and none["time_s"].size == 0
+    a = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, **FAST_BRAKING)
+    b = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, **FAST_BRAKING)
+    assert a["telemetry_hash"] == b["telemetry_hash"] and a["success"]
+    with pytest.raises(ballbot.ParameterError, match="feedforward"):
+        ballbot.braking_run(duration_s=2.0, feedforward="magic")
+    with pytest.raises(ballbot.ParameterError, match="cruise_speed_m_per_s"):
+        ballbot.braking_run(duration_s=2.0, cruise_speed_m_per_s=-1.0)
+    with pytest.raises(ballbot.ParameterError, match="duration_s"):
+        ballbot.braking_run(duration_s=float("nan"))
+
+
+def test_push_recovery() -> None:
+    small = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, **FAST_PUSH)
+    assert small["outcome"] == "recovered" and small["recovered"]
+    assert 0.0 < np.degrees(small["peak_tilt_rad"]) < 3.0
+    assert small["ball_velocity_m_per_s"].shape == (small["time_s"].size, 2)
+    huge = ballbot.push_trial(heading_deg=90.0, impulse_ns=150.0, **FAST_PUSH)
+    assert not huge["recovered"]
+    again = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, **FAST_PUSH)
+    assert again["telemetry_hash"] == small["telemetry_hash"]
+    r = ballbot.push_recovery_limit(heading_deg=90.0, upper_ns=160.0, resolution_ns=20.0, **FAST_PUSH)
+    failing = r["smallest_failing_ns"]
+    assert failing is not None and r["largest_recovered_ns"] >= 5.0
+    assert failing - r["largest_recovered_ns"] <= 20.0
+    ok = [t["impulse_ns"] for t in r["trials"] if t["recovered"]]
+    bad = [t["impulse_ns"] for t in r["trials"] if not t["recovered"]]
+    assert max(ok, default=0.0) < min(bad)
+    with pytest.raises(ballbot.ParameterError, match="rest_within_s"):
+        ballbot.push_trial(impulse_ns=5.0, observe_s=2.0)
+    with pytest.raises(ballbot.ParameterError, match="resolution_ns"):
+        ballbot.push_recovery_limit(resolution_ns=0.0)

@@ -67,6 +67,10 @@ __all__ = [
     "failing_acceleration",
     "max_speed_study",
     "slow_ramp_trial",
+    "braking_run",
+    "braking_study",
+    "push_trial",
+    "push_recovery_limit",
 ]
 
 __version__: str
@@ -1454,3 +1458,114 @@ def max_speed_study(
     accel_bracket_m_per_s2: Optional[tuple[float, float]] = None,
     accel_resolution_m_per_s2: Optional[float] = None,
 ) -> dict[str, Any]: ...
+
+_BrakingOutcome = Literal["stopped", "no_trajectory", "failed", "not_at_rest"]
+
+class _BrakingRun(TypedDict):
+    heading_deg: float
+    duration_s: float
+    outcome: _BrakingOutcome
+    success: bool
+    failure: Optional[Failure]
+    rest_speed_m_per_s: Optional[float]
+    solve_status: Optional[str]
+    brake_start_s: float
+    plan_peak_tilt_rad: Optional[float]
+    plan_cost_n2m2s: Optional[float]
+    peaks: dict[str, Any]
+    time_s: _F64
+    command_m_per_s: _F64
+    speed_m_per_s: _F64
+    command_tilt_rad: _F64
+    tilt_rad: _F64
+    cone_utilisation: _F64
+    normal_force_n: _F64
+    actuator_utilisation: _F64
+    telemetry_hash: int
+
+def braking_run(
+    params: Optional[WorldParams] = None,
+    *,
+    duration_s: float,
+    heading_deg: float = 0.0,
+    cruise_speed_m_per_s: Optional[float] = None,
+    approach_accel_m_per_s2: Optional[float] = None,
+    settle_s: Optional[float] = None,
+    cruise_s: Optional[float] = None,
+    trajectory_tilt_limit_rad: Optional[float] = None,
+    intervals: Optional[int] = None,
+    sample_every_s: Optional[float] = None,
+    feedforward: Literal["full", "core"] = "full",
+) -> _BrakingRun: ...
+
+class _BrakingStudy(TypedDict):
+    heading_deg: float
+    shortest_success_s: Optional[float]
+    first_failure_s: Optional[float]
+    limit_s: Optional[float]
+    limit_failure_s: Optional[float]
+    descent: list[_BrakingRun]
+    bisection: list[_BrakingRun]
+
+def braking_study(
+    params: Optional[WorldParams] = None,
+    *,
+    heading_deg: float = 0.0,
+    durations_s: Optional[list[float]] = None,
+    bisection_resolution_s: Optional[float] = ...,  # 0.05; None skips the bisection
+    cruise_speed_m_per_s: Optional[float] = None,
+    approach_accel_m_per_s2: Optional[float] = None,
+    settle_s: Optional[float] = None,
+    cruise_s: Optional[float] = None,
+    trajectory_tilt_limit_rad: Optional[float] = None,
+    intervals: Optional[int] = None,
+    sample_every_s: Optional[float] = None,
+    feedforward: Literal["full", "core"] = "full",
+) -> _BrakingStudy: ...
+
+class _PushTrial(TypedDict):
+    heading_deg: float
+    impulse_ns: float
+    outcome: Literal["recovered", "tilt_exceeded", "failed", "not_at_rest"]
+    recovered: bool
+    failure: Optional[Failure]
+    peak_tilt_rad: float
+    peak_speed_m_per_s: float
+    rest_speed_m_per_s: float
+    time_s: _F64
+    tilt_rad: _F64
+    speed_m_per_s: _F64
+    max_cone_utilisation: _F64
+    ball_velocity_m_per_s: _F64
+    telemetry_hash: int
+
+def push_trial(
+    params: Optional[WorldParams] = None,
+    *,
+    impulse_ns: float,
+    heading_deg: float = 0.0,
+    push_duration_s: Optional[float] = None,
+    settle_s: Optional[float] = None,
+    observe_s: Optional[float] = None,
+    rest_within_s: Optional[float] = None,
+    sample_every_s: Optional[float] = None,
+) -> _PushTrial: ...
+
+class _PushRecovery(TypedDict):
+    heading_deg: float
+    largest_recovered_ns: float
+    smallest_failing_ns: Optional[float]
+    trials: list[_PushTrial]
+
+def push_recovery_limit(
+    params: Optional[WorldParams] = None,
+    *,
+    heading_deg: float = 0.0,
+    upper_ns: float = 100.0,
+    resolution_ns: float = 0.5,
+    push_duration_s: Optional[float] = None,
+    settle_s: Optional[float] = None,
+    observe_s: Optional[float] = None,
+    rest_within_s: Optional[float] = None,
+    sample_every_s: Optional[float] = None,
+) -> _PushRecovery: ...
