@@ -42,6 +42,8 @@ step "reproduce smoke run (ballbot reproduce --quick)"
 cargo run -q -p ballbot-sim --bin ballbot -- reproduce --quick --out target/reproduce-quick
 grep -q '"piptb"' target/reproduce-quick/summary.json
 grep -q '"max_speed_by_heading"' target/reproduce-quick/summary.json
+grep -q '"min_braking_time_3d_s": 2' target/reproduce-quick/summary.json
+grep -q '"push_recovery_ns"' target/reproduce-quick/summary.json
 
 step "Python package: pip install into a fresh venv, mypy.stubtest, mypy --strict, pytest"
 bash scripts/test-python.sh

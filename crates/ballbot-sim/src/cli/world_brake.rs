@@ -225,13 +225,17 @@ fn wheel_name(i: usize) -> String {
 
 /// A short description of a failure, e.g. `lift-off OW1 at 6.086 s`.
 pub fn failure_label(f: &Failure) -> String {
-    let what = match f.kind {
+    format!("{} at {:.3} s", failure_kind_label(f), f.time_s)
+}
+
+/// What failed, e.g. `lift-off OW1`.
+fn failure_kind_label(f: &Failure) -> String {
+    match f.kind {
         FailureKind::Tilt { tilt_rad } => format!("tilt {:.1} deg", tilt_rad.to_degrees()),
         FailureKind::BodyTouchedFloor => "chassis on the floor".to_owned(),
         FailureKind::SustainedSlip { wheel } => format!("slip {}", wheel_name(wheel)),
         FailureKind::LiftOff { wheel } => format!("lift-off {}", wheel_name(wheel)),
-    };
-    format!("{what} at {:.3} s", f.time_s)
+    }
 }
 
 fn failure_json(f: &Failure) -> Value {
@@ -400,7 +404,7 @@ fn braking_figure(run: &BrakingRun, title: &str) -> TimeSeriesFigure {
         .min(run.duration_s);
     let fig = fig.shade(0.0, end, "braking");
     match failure {
-        Some(f) => fig.marker(f.time_s - run.brake_start_s, &failure_label(&f)),
+        Some(f) => fig.marker(f.time_s - run.brake_start_s, &failure_kind_label(&f)),
         None => fig,
     }
 }
@@ -713,7 +717,10 @@ pub fn reproduce(
                     &format!(
                         "MiaPURE braking at 180° in T = {:.1} s (first failure: {})",
                         run.duration_s,
-                        run.outcome.label()
+                        match run.outcome {
+                            BrakingOutcome::Failed(f) => failure_kind_label(&f),
+                            o => o.label().to_owned(),
+                        }
                     ),
                 )
                 .save_svg_and_png(&out.join("world_braking_failure"))?;
