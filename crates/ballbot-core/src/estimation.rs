@@ -645,6 +645,31 @@ mod tests {
         assert!(!zero.is_finite());
     }
 
+    proptest! {
+        #[test]
+        fn ball_body_z_rate_keeps_the_rolling_ball_off_the_vertical(
+            roll in -0.6f64..0.6,
+            pitch in -0.6f64..0.6,
+            rate in prop::array::uniform2(-50.0f64..50.0),
+        ) {
+            // A ball rolling about a horizontal world axis, seen from the body: its body-z
+            // rate is k . its body-x, body-y rates.
+            let body = UnitQuaternion::from_euler_angles(roll, pitch, 0.7);
+            let world = Vector3::new(rate[0], rate[1], 0.0);
+            let seen = body.inverse() * world;
+            let k = ball_body_z_rate_per_ball_rate(roll, pitch);
+            let z = k[0] * seen.x + k[1] * seen.y;
+            prop_assert!((z - seen.z).abs() <= 1e-12 * (1.0 + world.norm()), "{z} vs {}", seen.z);
+        }
+    }
+
+    #[test]
+    fn ball_body_z_rate_is_zero_when_fallen_or_not_finite() {
+        assert_eq!(ball_body_z_rate_per_ball_rate(1.5, 0.0), [0.0, 0.0]);
+        assert_eq!(ball_body_z_rate_per_ball_rate(0.0, -1.5), [0.0, 0.0]);
+        assert_eq!(ball_body_z_rate_per_ball_rate(f64::NAN, 0.1), [0.0, 0.0]);
+    }
+
     #[test]
     fn positive_pitch_leans_towards_plus_x_and_positive_roll_towards_minus_y() {
         // The body z axis in the world for a pure pitch and a pure roll.

@@ -9,7 +9,9 @@
 //! ```
 //! Columns: time (s), commanded and actual speed along the heading (m/s), yaw (deg), body yaw
 //! rate (rad/s, gyro), roll and pitch (deg), the ball's rate about the body z axis and about
-//! the world vertical (rad/s), the spin plane's reference yaw rate (rad/s) and torque (N m).
+//! the world vertical (rad/s), the spin plane's reference yaw rate (rad/s) and torque (N m),
+//! the fastest wheel (rad/s) and the controller's mode. The last line: the highest speed along
+//! the heading before any failure, the largest |yaw|, and the failure.
 
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
@@ -42,8 +44,10 @@ fn main() -> Result<(), Box<dyn Error>> {
     let every = (every_s / dt).round().max(1.0) as u64;
     println!(
         "t_s v_cmd speed yaw_deg yaw_rate roll_deg pitch_deg ball_wz_body ball_wz_world \
-         spin_ref_rate spin_torque_nm"
+         spin_ref_rate spin_torque_nm max_wheel_rad_per_s mode"
     );
+    let (mut max_speed, mut max_yaw_deg): (f64, f64) = (0.0, 0.0);
+    let mut end = None;
     for k in 0..(end_s / dt).round() as u64 {
         let t = k as f64 * dt;
         let v = ((t - 0.5).max(0.0) * accel).min(top);
@@ -53,16 +57,26 @@ fn main() -> Result<(), Box<dyn Error>> {
             yaw_rate_rad_per_s: 0.0,
         }));
         let failure = sim.world().failure();
+        let (roll, pitch, yaw) = tel.body_orientation.euler_angles();
+        let v_body =
+            Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
+        if failure.is_none() {
+            max_speed = max_speed.max(v_body.dot(&Vector3::new(c, s, 0.0)));
+            max_yaw_deg = max_yaw_deg.max(yaw.to_degrees().abs());
+        }
         if k.is_multiple_of(every) || failure.is_some() {
-            let (roll, pitch, yaw) = tel.body_orientation.euler_angles();
             let ball_body = tel.body_orientation.inverse() * tel.ball_angular_velocity_rad_per_s;
-            let v_body =
-                Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
             let (ref_rate, ref_torque) = sim.last_outer().map_or((0.0, 0.0), |o| {
                 (o.reference_rate_rad_per_s[2], o.reference_torque_nm[2])
             });
+            let max_wheel = tel
+                .wheels
+                .iter()
+                .map(|w| w.speed_rad_per_s.abs())
+                .fold(0.0, f64::max);
             println!(
-                "{t:.2} {v:.3} {:.3} {:.2} {:.4} {:.3} {:.3} {:.4} {:.4} {ref_rate:.4} {ref_torque:.3}",
+                "{t:.2} {v:.3} {:.3} {:.2} {:.4} {:.3} {:.3} {:.4} {:.4} {ref_rate:.4} {ref_torque:.3} \
+                 {max_wheel:.2} {:?}",
                 v_body.dot(&Vector3::new(c, s, 0.0)),
                 yaw.to_degrees(),
                 tel.body_rate_rad_per_s.z,
@@ -70,12 +84,16 @@ fn main() -> Result<(), Box<dyn Error>> {
                 pitch.to_degrees(),
                 ball_body.z,
                 tel.ball_angular_velocity_rad_per_s.z,
+                sim.mode(),
             );
         }
-        if let Some(f) = failure {
-            println!("failure: {f:?}");
+        if failure.is_some() {
+            end = failure;
             break;
         }
     }
+    println!(
+        "heading {heading_deg} deg: max speed {max_speed:.3} m/s, max |yaw| {max_yaw_deg:.2} deg, failure {end:?}"
+    );
     Ok(())
 }
