@@ -181,6 +181,12 @@ impl BrakingParams {
     }
 
     /// Duration of the jerk-limited approach ramp from rest to the cruise speed (s).
+    ///
+    /// ```
+    /// use ballbot_sim::world::braking::BrakingParams;
+    /// // 1.4 m/s at 0.5 m/s^2 with a 2 m/s^3 jerk: 1.4 / 0.5 + 0.5 / 2 = 3.05 s.
+    /// approx::assert_relative_eq!(BrakingParams::default().approach_secs(), 3.05);
+    /// ```
     pub fn approach_secs(&self) -> f64 {
         let (v, a, j) = (
             self.cruise_speed_m_per_s,
@@ -225,6 +231,18 @@ fn plane_for_heading(robot: &BallbotParams<f64>, heading_rad: f64) -> WipParams<
 /// rest in `duration_s`, Hermite-Simpson, torques pinned to 0 at both ends (a command that
 /// starts and ends without a step), with the actuator limits of all three omniwheels, their
 /// traction cones (`mu N`) and the tilt bound.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_sim::world::braking::{BrakingParams, braking_problem};
+/// let robot = BallbotParams::miapure_60kg();
+/// let problem = braking_problem(&robot, &BrakingParams::default(), 180.0, 2.0);
+/// let plan = problem.solve()?;
+/// assert!(plan.is_solved());
+/// // Non-minimum phase: the body leans back (about 6.8 deg) and the ball first speeds up.
+/// assert!((plan.peak_tilt_rad().to_degrees() - 6.8).abs() < 0.2);
+/// # Ok::<(), ballbot_sim::trajopt::TrajoptError>(())
+/// ```
 pub fn braking_problem(
     robot: &BallbotParams<f64>,
     params: &BrakingParams,

@@ -62,6 +62,14 @@ impl Default for PushParams {
 
 impl PushParams {
     /// Checks every field.
+    ///
+    /// ```
+    /// use ballbot_sim::world::push::PushParams;
+    /// assert!(PushParams::default().validate().is_ok());
+    /// // The rest window must start before the run ends.
+    /// let late = PushParams { rest_within_s: 5.0, ..PushParams::default() };
+    /// assert!(late.validate().is_err());
+    /// ```
     pub fn validate(&self) -> Result<(), WorldError> {
         let check = |ok: bool, field, requirement| {
             if ok {
