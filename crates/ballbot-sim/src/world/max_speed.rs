@@ -143,14 +143,15 @@ impl MaxSpeedStudySettings {
         }
     }
 
-    /// The CI smoke variant: one trial at 0 and 180 deg with the slow ramp ending at 3.5 m/s,
-    /// the search on a 0.2 m/s^2 grid between 1.0 and 3.0 m/s^2, no further map headings, no
-    /// sensitivity.
+    /// The CI smoke variant: one trial at 0 and 180 deg with a short fast ramp (1 m/s^2 to
+    /// 3 m/s) in place of the slow one, the search on a 0.2 m/s^2 grid between 1.0 and
+    /// 3.0 m/s^2, no further map headings, no sensitivity.
     pub fn quick() -> Self {
         let defaults = MaxSpeedProtocol::default();
         let protocol = MaxSpeedProtocol {
             slow_ramp: RampParams {
-                max_command_m_per_s: 3.5,
+                accel_m_per_s2: 1.0,
+                max_command_m_per_s: 3.0,
                 ..defaults.slow_ramp
             },
             accel_bracket_m_per_s2: [1.0, 3.0],
