@@ -90,6 +90,9 @@ fn censored_and_failed_trials_are_reported_as_such() {
         Some("OW2" | "OW3")
     ));
     assert_eq!(json["trials"][0]["mean_is_lower_bound"], false);
+    // Slip while balancing: the supervisor had not stopped.
+    assert_eq!(t.supervisor_stop_s, None);
+    assert!(trial["supervisor_stop_s"].is_null());
 
     let ok = run_study(params, &tiny_settings(short_ramp(1.0, 1.0), 180.0), &|_| {}).unwrap();
     let t = ok.trials[0].trials[0];
@@ -210,4 +213,26 @@ fn quasi_static_prediction_orders_the_headings_and_grows_with_mu() {
         .apply(WorldParams::miapure_60kg())
         .robot;
     assert!(quasi_static_failing_accel_m_per_s2(&slippery, 0.0).unwrap() < at(0.0) - 0.3);
+}
+
+#[test]
+fn a_controlled_stop_of_the_supervisor_is_reported() {
+    // With the wheel-speed limit lowered to 8 rad/s (about 0.8 m/s towards OW1), a 1 m/s^2 ramp
+    // to 1.5 m/s makes the core's supervisor start a controlled stop before the top.
+    use ballbot_sim::world::experiments::max_speed_ramp_with_config;
+    use ballbot_sim::world::max_speed::controller;
+    let params = WorldParams::miapure_60kg();
+    let protocol = short_ramp(1.0, 1.5);
+    let mut config = controller(&params, &protocol).unwrap();
+    let unlimited = max_speed_ramp_with_config(params, config, 0.0, &protocol.slow_ramp).unwrap();
+    assert_eq!(unlimited.supervisor_stop_s, None);
+    config.safety.wheel_speed_limit_rad_per_s = 8.0;
+    let run = max_speed_ramp_with_config(params, config, 0.0, &protocol.slow_ramp).unwrap();
+    let stop_s = run.supervisor_stop_s.unwrap();
+    // The ramp starts at 0.2 s; 0.8 m/s needs at least 0.8 s of it.
+    assert!(stop_s > 1.0 && stop_s < 2.0, "{stop_s}");
+    // The stop brakes the command although the ramp asks for its top.
+    let last = run.samples.last().unwrap();
+    assert_eq!(last.command_m_per_s, 1.5);
+    assert!(last.shaped_command_m_per_s < 0.8, "{last:?}");
 }

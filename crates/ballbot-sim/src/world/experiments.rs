@@ -7,6 +7,7 @@ use super::failure::{Failure, tilt_from_vertical_rad};
 use super::params::WorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
+use ballbot_core::safety::Mode;
 use ballbot_core::wip::BALL_RATE;
 use nalgebra::Vector3;
 
@@ -41,6 +42,10 @@ pub struct RampResult {
     pub max_speed_m_per_s: f64,
     /// The failure that ended the run; `None` if the ramp ended first.
     pub failure: Option<Failure>,
+    /// When the controller's safety supervisor left balancing (e.g. a controlled stop at a
+    /// wheel's speed limit) (s); `None` if it balanced to the end. A failure after it is the
+    /// stop's, not the ramp's.
+    pub supervisor_stop_s: Option<f64>,
     /// Samples every `sample_every_s`.
     pub samples: Vec<RampSample>,
 }
@@ -121,6 +126,7 @@ pub fn max_speed_ramp_observed(
     let every = (ramp.sample_every_s / dt).round().max(1.0) as u64;
     let mut samples = Vec::with_capacity((steps / every + 1) as usize);
     let mut max_speed: f64 = 0.0;
+    let mut supervisor_stop_s = None;
     for k in 0..steps {
         let t = k as f64 * dt;
         let v = ((t - ramp.settle_s).max(0.0) * ramp.accel_m_per_s2).min(ramp.max_command_m_per_s);
@@ -131,6 +137,9 @@ pub fn max_speed_ramp_observed(
         };
         let tel = *sim.step(Command::Velocity(cmd));
         observe(&sim, &cmd);
+        if supervisor_stop_s.is_none() && matches!(sim.mode(), Mode::ControlledStop | Mode::Fault) {
+            supervisor_stop_s = Some(tel.time_s);
+        }
         // Ball velocity expressed in the body's yaw frame, along the heading.
         let (_, _, yaw) = tel.body_orientation.euler_angles();
         let v_body = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw)
@@ -168,6 +177,7 @@ pub fn max_speed_ramp_observed(
         heading_deg,
         max_speed_m_per_s: max_speed,
         failure: sim.world().failure(),
+        supervisor_stop_s,
         samples,
     })
 }

@@ -209,6 +209,9 @@ pub struct TrialOutcome {
     pub max_speed_m_per_s: f64,
     /// The failure; `None` if the ramp and its hold ended first (censored).
     pub failure: Option<Failure>,
+    /// When the controller's supervisor stopped balancing (controlled stop, e.g. at a wheel's
+    /// speed limit) (s), if it did; a failure after it is the stop's.
+    pub supervisor_stop_s: Option<f64>,
     /// Largest friction-cone utilisation of any wheel in the samples.
     pub peak_cone_utilisation: f64,
     /// Smallest normal force of any wheel in the samples (N).
@@ -226,6 +229,7 @@ impl TrialOutcome {
             accel_m_per_s2,
             max_speed_m_per_s: run.max_speed_m_per_s,
             failure: run.failure,
+            supervisor_stop_s: run.supervisor_stop_s,
             peak_cone_utilisation: s.iter().map(|x| x.max_cone_utilisation).fold(0.0, f64::max),
             min_normal_force_n: s
                 .iter()
@@ -257,6 +261,7 @@ impl TrialOutcome {
             "max_speed_m_per_s": self.max_speed_m_per_s,
             "censored": self.censored(),
             "failure": failure_json(self.failure),
+            "supervisor_stop_s": self.supervisor_stop_s,
             "peak_cone_utilisation": self.peak_cone_utilisation,
             "min_normal_force_n": self.min_normal_force_n,
             "peak_tilt_deg": self.peak_tilt_rad.to_degrees(),
@@ -1199,8 +1204,11 @@ impl MaxSpeedStudy {
         for h in &self.trials {
             for t in &h.trials {
                 if let Some(f) = t.failure {
+                    let stop = t.supervisor_stop_s.map_or(String::new(), |s| {
+                        format!(", after the supervisor's controlled stop at {s:.2} s")
+                    });
                     out.push_str(&format!(
-                        "  {:.0} deg seed {}: {}\n",
+                        "  {:.0} deg seed {}: {}{stop}\n",
                         h.heading_deg,
                         t.seed,
                         failure_text(Some(f))
