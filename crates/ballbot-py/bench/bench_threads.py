@@ -11,7 +11,10 @@ script times, as medians over repeats:
   twice the CPU of one (a CPU ratio of ~2.0) whatever the machine's load, and the CPU time
   divided by the wall time of the two-thread phase shows how many cores the process used at
   once (up to 2.0). On a loaded machine the wall ratio is pessimistic; the CPU figures and the
-  load average tell how much.
+  load average tell how much;
+- the overlap of the two runs' time intervals, each taken in Python around its call: a call
+  that held the GIL would keep the other thread from even starting its call, so the intervals
+  would be disjoint (0 %); with the GIL released they coincide (100 %) whatever the load.
 
 Usage: python crates/ballbot-py/bench/bench_threads.py [--seconds 2.0] [--repeats 5] [--quick]
 """
@@ -30,6 +33,13 @@ def simulate(n_steps: int) -> float:
     sim = ballbot.WorldLoop()
     run = sim.run(n_steps, [0.5, 0.0, 0.0], record_every=400)
     return float(run["ball_velocity_m_per_s"][-1, 0])
+
+
+def simulate_interval(n_steps: int) -> tuple[float, float, float]:
+    """`simulate` with the wall-clock interval of the call: (start, end, final speed)."""
+    start = time.perf_counter()
+    speed = simulate(n_steps)
+    return start, time.perf_counter(), speed
 
 
 def timed(fn: "object") -> tuple[float, float]:
@@ -54,10 +64,13 @@ def main() -> None:
     def one() -> None:
         simulate(n_steps)
 
+    overlaps: list[float] = []
+
     def two() -> None:
-        futures = [pool.submit(simulate, n_steps) for _ in range(2)]
-        speeds = [f.result() for f in futures]
-        assert speeds[0] == speeds[1], "the same seeded run must give the same result"
+        futures = [pool.submit(simulate_interval, n_steps) for _ in range(2)]
+        (s0, e0, v0), (s1, e1, v1) = [f.result() for f in futures]
+        assert v0 == v1, "the same seeded run must give the same result"
+        overlaps.append(max(0.0, min(e0, e1) - max(s0, s1)) / (0.5 * (e0 - s0 + e1 - s1)))
 
     ones, twos = [], []
     for _ in range(repeats):
@@ -83,6 +96,10 @@ def main() -> None:
         f"(1.0 = perfect parallelism on 2 free cores, 2.0 = serialised); "
         f"CPU ratio {cpu2 / cpu1:.2f} (2.0 = no threading overhead); "
         f"cores used at once in the two-thread phase {cpu2 / wall2:.2f}"
+    )
+    print(
+        f"overlap of the two runs' intervals {100 * statistics.median(overlaps):.0f} % "
+        f"(100 % = concurrent, GIL released; 0 % = serialised by the GIL)"
     )
 
 
