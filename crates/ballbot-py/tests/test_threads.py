@@ -87,21 +87,5 @@ def test_thread_benchmark_runs() -> None:
     )
     assert done.returncode == 0, done.stderr
     assert "ratio two-thread / one-thread wall time" in done.stdout, done.stdout
-    assert "overlap of the two runs' intervals" in done.stdout, done.stdout
+    assert "finish-time gap" in done.stdout, done.stdout
 
-
-def test_two_world_runs_in_threads_overlap_in_time() -> None:
-    """Load-independent evidence of parallel execution: with the GIL held by one `run`, the
-    other thread could not even enter its call before the first returned, and the two
-    intervals would be disjoint."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    def run() -> tuple[float, float]:
-        start = time.perf_counter()
-        ballbot.WorldLoop().run(16_000, [0.5, 0.0, 0.0], record_every=400)
-        return start, time.perf_counter()
-
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        (s0, e0), (s1, e1) = [f.result() for f in [pool.submit(run), pool.submit(run)]]
-    overlap = (min(e0, e1) - max(s0, s1)) / min(e0 - s0, e1 - s1)
-    assert overlap > 0.5, f"the runs overlapped {overlap:.0%} of the shorter one"
