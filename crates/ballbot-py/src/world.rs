@@ -1108,6 +1108,7 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
     d.set_item("heading_deg", r.heading_deg)?;
     d.set_item("max_speed_m_per_s", r.max_speed_m_per_s)?;
     d.set_item("failure", r.failure.map(PyFailure::from))?;
+    d.set_item("supervisor_stop_s", r.supervisor_stop_s)?;
     let column = |f: fn(&ballbot_sim::world::experiments::RampSample) -> f64| {
         r.samples.iter().map(f).collect::<Vec<f64>>()
     };
@@ -1145,7 +1146,9 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
 /// and 1.0 m/s^2).
 ///
 /// Returns a dict: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
-/// before failure), `failure` (`Failure` or `None` if the ramp ended first), and samples every
+/// before failure), `failure` (`Failure` or `None` if the ramp ended first),
+/// `supervisor_stop_s` (when the core's safety supervisor stopped balancing, e.g. at its
+/// wheel-speed limit, or `None`), and samples every
 /// `sample_every_s`: `time_s`, `command_m_per_s` (the ramp), `shaped_command_m_per_s` (after
 /// the controller's command shaper), `speed_m_per_s`, `tilt_rad` (from the vertical),
 /// `max_cone_utilisation` (n,); `normal_force_n`, `cone_utilisation` (n, 3).

@@ -92,6 +92,7 @@ fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, P
     d.set_item("peak_cone_utilisation", o.peak_cone_utilisation)?;
     d.set_item("min_normal_force_n", o.min_normal_force_n)?;
     d.set_item("peak_tilt_rad", o.peak_tilt_rad)?;
+    d.set_item("supervisor_stop_s", o.supervisor_stop_s)?;
     Ok(d)
 }
 
@@ -118,7 +119,7 @@ fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, Py
 /// the command shaper's caps lifted as in the study. Returns the ramp's dict (as
 /// `max_speed_ramp`) plus `outcome`: `max_speed_m_per_s`, `censored` (no failure: the speed is
 /// only a lower bound), `failure`, `peak_cone_utilisation`, `min_normal_force_n`,
-/// `peak_tilt_rad`, `seed`, `accel_m_per_s2`, `heading_deg`.
+/// `peak_tilt_rad`, `supervisor_stop_s`, `seed`, `accel_m_per_s2`, `heading_deg`.
 #[pyfunction(name = "slow_ramp_trial")]
 #[pyo3(signature = (params = None, *, heading_deg = 0.0, seed = 1))]
 fn py_slow_ramp_trial<'py>(

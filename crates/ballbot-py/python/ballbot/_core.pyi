@@ -1381,6 +1381,7 @@ class _Ramp(TypedDict):
     heading_deg: float
     max_speed_m_per_s: float
     failure: Optional[Failure]
+    supervisor_stop_s: Optional[float]
     time_s: _F64
     command_m_per_s: _F64
     shaped_command_m_per_s: _F64
@@ -1415,6 +1416,7 @@ class _TrialOutcome(TypedDict):
     peak_cone_utilisation: float
     min_normal_force_n: float
     peak_tilt_rad: float
+    supervisor_stop_s: Optional[float]
 
 class _Trial(_Ramp):
     outcome: _TrialOutcome
