@@ -815,6 +815,9 @@ world_class! {
     /// normal forces and friction-cone-bounded traction along their rolling directions.
     ///
     /// Frames: world z up, floor at z = 0; the body frame's x points towards OW1.
+    ///
+    /// A world is stepped by one thread at a time (a call while another thread's `run` holds
+    /// it raises `RuntimeError`); run several worlds to use several cores.
     PyWorld("World") {
         inner: BallbotWorld,
         world: |this| &this.inner,

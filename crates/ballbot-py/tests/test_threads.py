@@ -89,3 +89,19 @@ def test_thread_benchmark_runs() -> None:
     assert "ratio two-thread / one-thread wall time" in done.stdout, done.stdout
     assert "finish-time gap" in done.stdout, done.stdout
 
+
+
+def test_a_world_in_use_by_another_thread_raises_runtime_error() -> None:
+    world = ballbot.World()
+    worker = threading.Thread(target=lambda: world.run(80_000, record_every=1000))
+    worker.start()
+    refused = 0
+    while worker.is_alive():
+        try:
+            world.kinetic_energy_j()
+        except RuntimeError:
+            refused += 1
+        time.sleep(0.001)
+    worker.join()
+    assert refused > 0, "the running world must refuse a second user"
+    assert world.time_s == pytest.approx(10.0)
