@@ -379,24 +379,33 @@ fn motor_pis_remove_the_speed_error_that_drive_friction_leaves() {
     );
 }
 
-/// Peak ball speed and peak centre-of-mass speed (m/s) of a ramp at 1 m/s^2 to 1.5 m/s (the
-/// `ballbot world --accel-m-per-s2 1 --top-speed-m-per-s 1.5` command), run for 6 s.
-fn ramp_peaks(config: BallbotControllerConfig<f64>) -> (f64, f64) {
+/// Peak ball speed, peak centre-of-mass speed (m/s) and peak ball acceleration (m/s^2) of a
+/// ramp at 1 m/s^2 to 1.5 m/s (the `ballbot world --accel-m-per-s2 1 --top-speed-m-per-s 1.5`
+/// command), run for 6 s, then a stop for 6 s (the stop's peak acceleration counts too).
+fn ramp_peaks(config: BallbotControllerConfig<f64>) -> (f64, f64, f64) {
     let mut rig = Rig::with_config(config);
     rig.arm();
     let r = rig.plant.sagittal.params().ball_radius_m;
     let l = rig.plant.sagittal.params().com_height_m;
-    let (mut ball, mut com) = (0.0f64, 0.0f64);
-    for k in 0..2400 {
-        let t = k as f64 * OUTER_US as f64 * 1e-6;
-        rig.step(velocity(t.min(1.5), 0.0, 0.0), ModeRequest::None);
+    let dt = OUTER_US as f64 * 1e-6;
+    let (mut ball, mut com, mut accel, mut previous) = (0.0f64, 0.0f64, 0.0f64, 0.0);
+    for k in 0..4800 {
+        let t = k as f64 * dt;
+        let v = if k < 2400 { t.min(1.5) } else { 0.0 };
+        rig.step(velocity(v, 0.0, 0.0), ModeRequest::None);
         let s = rig.plant.states.sagittal;
-        ball = ball.max(r * s[BALL_RATE]);
-        com = com.max(r * s[BALL_RATE] + l * s[TILT_RATE] * s[TILT].cos());
+        accel = accel.max((r * s[BALL_RATE] - previous).abs() / dt);
+        previous = r * s[BALL_RATE];
+        if k < 2400 {
+            ball = ball.max(r * s[BALL_RATE]);
+            com = com.max(r * s[BALL_RATE] + l * s[TILT_RATE] * s[TILT].cos());
+        }
+        if k == 2399 {
+            assert!((previous - 1.5).abs() < 1e-3, "settled at {previous}");
+        }
     }
-    let (vx, _) = rig.body_speed();
-    assert!((vx - 1.5).abs() < 1e-3, "settled at {vx}");
-    (ball, com)
+    assert!(previous.abs() < 1e-3, "stopped at {previous}");
+    (ball, com, accel)
 }
 
 /// Diagnosis of the speed overshoot (docs/embedding.md, "Speed overshoot"), pinned to the
@@ -409,24 +418,45 @@ fn ramp_peaks(config: BallbotControllerConfig<f64>) -> (f64, f64) {
 /// sees the tilt command drop while the measured tilt still holds the lean and rights the body
 /// by running the ball ahead. Feeding `theta_ff`'s own rate `k j` forward (measured by hand:
 /// ball 1.634 m/s, centre of mass 1.500 m/s) removes the body's overshoot but doubles the peak
-/// wheel torque (5.0 -> 10.1 N m); not adopted (see the shaper's comment on braking).
+/// wheel torque (5.0 -> 10.1 N m); not adopted (see the shaper's comment on braking). The
+/// consistent, continuous reference of `CommandShaperParams::reference_filter_secs` removes
+/// both overshoots (next test).
 #[test]
 fn ramp_overshoot_comes_from_the_lean_feedforward_not_the_integrators() {
     let design = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
-    let (ball, com) = ramp_peaks(design);
+    let (ball, com, _) = ramp_peaks(design);
     assert_relative_eq!(ball, 1.786, epsilon = 0.005);
     assert_relative_eq!(com, 1.645, epsilon = 0.005);
 
     let mut no_motor_integral = design;
     no_motor_integral.motor.integral_nm_per_rad = 0.0;
-    let (ball_no_i, com_no_i) = ramp_peaks(no_motor_integral);
+    let (ball_no_i, com_no_i, _) = ramp_peaks(no_motor_integral);
     assert_relative_eq!(ball_no_i, ball, epsilon = 1e-4);
     assert_relative_eq!(com_no_i, com, epsilon = 1e-4);
 
     // A vanishing tilt-command limit removes the lean feedforward.
     let mut no_lean = design;
     no_lean.shaping.max_tilt_command_rad = 1e-12;
-    let (ball_no_lean, com_no_lean) = ramp_peaks(no_lean);
+    let (ball_no_lean, com_no_lean, _) = ramp_peaks(no_lean);
     assert!(ball_no_lean < 1.5 + 1e-3, "{ball_no_lean}");
     assert!(com_no_lean < 1.5 + 1e-3, "{com_no_lean}");
+}
+
+/// The reference filter (`CommandShaperParams::reference_filter_secs` = 0.3 s) removes the
+/// ramp's overshoot: as shipped (filter off) the ball peaks at 1.786 m/s and the centre of mass
+/// at 1.645 m/s; filtered, both at 1.500 m/s (bounds: 0.5 % of the target, the jerk-limited
+/// command itself ends exactly at it). The peak ball acceleration (ramp and stop) stays below
+/// the unfiltered one's 1.69 m/s^2 (filtered 1.54; feeding the unfiltered lean rate `k j`
+/// forward instead gives 6.7).
+#[test]
+fn the_reference_filter_removes_the_ramp_overshoot() {
+    let design = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    let (_, _, accel_off) = ramp_peaks(design);
+    let mut filtered = design;
+    filtered.shaping.reference_filter_secs = 0.3;
+    let (ball, com, accel) = ramp_peaks(filtered);
+    eprintln!("filter 0.3 s: ball {ball:.4} com {com:.4} accel {accel:.3} (off: {accel_off:.3})");
+    assert!(ball < 1.5 * 1.005, "{ball}");
+    assert!(com < 1.5 * 1.005, "{com}");
+    assert!(accel <= accel_off, "{accel} {accel_off}");
 }
