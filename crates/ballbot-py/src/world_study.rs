@@ -115,7 +115,7 @@ fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, Py
 
 /// One slow-ramp trial of the maximum-speed study
 /// (`ballbot_sim::world::max_speed::slow_ramp_trial`): the protocol's slow ramp (0.25 m/s^2 to
-/// 3.5 m/s after 0.5 s, then 1 s hold) at `heading_deg` with the sensor noise seeded by `seed`,
+/// 6 m/s after 0.5 s, then 1 s hold) at `heading_deg` with the sensor noise seeded by `seed`,
 /// the command shaper's caps lifted as in the study. Returns the ramp's dict (as
 /// `max_speed_ramp`) plus `outcome`: `max_speed_m_per_s`, `censored` (no failure: the speed is
 /// only a lower bound), `failure`, `peak_cone_utilisation`, `min_normal_force_n`,

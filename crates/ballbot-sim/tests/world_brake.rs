@@ -227,4 +227,13 @@ fn invalid_parameters_are_errors() {
         ..PushParams::default()
     };
     assert!(p.validate().is_err());
+    // A resolution finer than the floats near `upper_ns` resolve would never close the bracket.
+    let endless = PushSearch {
+        upper_ns: 100.0,
+        resolution_ns: 1e-300,
+    };
+    let err = push_recovery_limit(world, &PushParams::default(), &endless, 0.0, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("resolution_ns"), "{err}");
 }

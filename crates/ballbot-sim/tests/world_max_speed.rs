@@ -236,3 +236,32 @@ fn a_controlled_stop_of_the_supervisor_is_reported() {
     assert_eq!(last.command_m_per_s, 1.5);
     assert!(last.shaped_command_m_per_s < 0.8, "{last:?}");
 }
+
+#[test]
+fn the_search_rejects_a_protocol_it_could_not_finish() {
+    let world = WorldParams::miapure_60kg();
+    for bad in [
+        MaxSpeedProtocol {
+            accel_resolution_m_per_s2: 0.0,
+            ..MaxSpeedProtocol::default()
+        },
+        MaxSpeedProtocol {
+            accel_resolution_m_per_s2: f64::NAN,
+            ..MaxSpeedProtocol::default()
+        },
+        MaxSpeedProtocol {
+            accel_bracket_m_per_s2: [2.0, 1.0],
+            ..MaxSpeedProtocol::default()
+        },
+        MaxSpeedProtocol {
+            fast_top_m_per_s: -1.0,
+            ..MaxSpeedProtocol::default()
+        },
+    ] {
+        // Rejected before any run: an error, not a hang or an overflow.
+        let err = failing_acceleration(world, &bad, 0.0, 1)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("protocol."), "{err}");
+    }
+}

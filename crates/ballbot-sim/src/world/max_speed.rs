@@ -88,6 +88,46 @@ pub struct MaxSpeedProtocol {
     pub shaper: ShaperLimits,
 }
 
+impl MaxSpeedProtocol {
+    /// Finest grid of the failing-acceleration search (m/s^2): finer grids only add runs
+    /// (the bisection needs `log2((high - low) / resolution)` of them) and would overflow the
+    /// integer grid for a zero resolution.
+    pub const MIN_ACCEL_RESOLUTION_M_PER_S2: f64 = 1e-6;
+
+    /// Checks the search bracket, its grid and the fast ramps' top speed (the slow ramp is
+    /// checked by the run itself).
+    ///
+    /// ```
+    /// use ballbot_sim::world::max_speed::MaxSpeedProtocol;
+    /// assert!(MaxSpeedProtocol::default().validate().is_ok());
+    /// let bad = MaxSpeedProtocol { accel_resolution_m_per_s2: 0.0, ..Default::default() };
+    /// let err = bad.validate().err().map(|e| e.to_string()).unwrap_or_default();
+    /// assert!(err.contains("accel_resolution_m_per_s2"), "{err}");
+    /// ```
+    pub fn validate(&self) -> Result<(), WorldError> {
+        let [low, high] = self.accel_bracket_m_per_s2;
+        let invalid = |field, requirement| Err(WorldError::InvalidParameter { field, requirement });
+        if !(self.accel_resolution_m_per_s2 >= Self::MIN_ACCEL_RESOLUTION_M_PER_S2
+            && self.accel_resolution_m_per_s2.is_finite())
+        {
+            return invalid(
+                "protocol.accel_resolution_m_per_s2",
+                "must be finite and >= 1e-6 m/s^2",
+            );
+        }
+        if !(low > 0.0 && high > low && high.is_finite()) {
+            return invalid(
+                "protocol.accel_bracket_m_per_s2",
+                "need 0 < low < high < inf",
+            );
+        }
+        if !(self.fast_top_m_per_s.is_finite() && self.fast_top_m_per_s > 0.0) {
+            return invalid("protocol.fast_top_m_per_s", "must be finite and > 0");
+        }
+        Ok(())
+    }
+}
+
 impl Default for MaxSpeedProtocol {
     fn default() -> Self {
         Self {
@@ -171,18 +211,8 @@ impl MaxSpeedStudySettings {
     }
 
     fn validate(&self) -> Result<(), WorldError> {
-        let p = &self.protocol;
-        let [low, high] = p.accel_bracket_m_per_s2;
+        self.protocol.validate()?;
         let invalid = |field, requirement| Err(WorldError::InvalidParameter { field, requirement });
-        if !(p.accel_resolution_m_per_s2 > 0.0 && low > 0.0 && high > low) {
-            return invalid(
-                "protocol.accel_bracket_m_per_s2",
-                "need 0 < low < high and a resolution > 0",
-            );
-        }
-        if !p.fast_top_m_per_s.is_finite() || p.fast_top_m_per_s <= 0.0 {
-            return invalid("protocol.fast_top_m_per_s", "must be > 0");
-        }
         if self.seeds.is_empty() {
             return invalid("seeds", "need at least one seed");
         }
@@ -726,6 +756,7 @@ pub fn failing_acceleration(
     heading_deg: f64,
     seed: u64,
 ) -> Result<FailingAccel, WorldError> {
+    protocol.validate()?;
     let mut p = params;
     p.sensors.seed = seed;
     let config = controller(&p, protocol)?;

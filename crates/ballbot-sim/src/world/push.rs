@@ -314,6 +314,12 @@ pub struct PushSearch {
     pub resolution_ns: f64,
 }
 
+impl PushSearch {
+    /// Finest resolution relative to `upper_ns` that [`push_recovery_limit`] accepts (about
+    /// 30 halvings of the bracket).
+    pub const MIN_RELATIVE_RESOLUTION: f64 = 1e-9;
+}
+
 impl Default for PushSearch {
     fn default() -> Self {
         Self {
@@ -367,6 +373,13 @@ pub fn push_recovery_limit(
         return Err(WorldError::InvalidParameter {
             field: "push search",
             requirement: "upper_ns and resolution_ns must be finite and > 0",
+        });
+    }
+    // A bracket finer than the floats around `upper_ns` can resolve would never close.
+    if search.resolution_ns < search.upper_ns * PushSearch::MIN_RELATIVE_RESOLUTION {
+        return Err(WorldError::InvalidParameter {
+            field: "push search resolution_ns",
+            requirement: "must be >= 1e-9 * upper_ns (at most ~30 trials)",
         });
     }
     let mut trials = Vec::new();
