@@ -695,7 +695,11 @@ pub struct OuterOutput<T: nalgebra::Scalar> {
 /// standing speed error (0.35 m/s at 1 m/s^2 on MiaPURE). The controller shifts each tilt
 /// command by `b phi_ddot_c / k1`, so the LQR's output at the accelerating equilibrium is
 /// exactly that torque, and the heading command by `(I_z theta_ddot_zc + D_z theta_dot_zc) /
-/// k_heading` for the spin plane. The logged [`OuterOutput::commands`] are the unshifted,
+/// k_heading` for the spin plane. A trajectory also tilts the body: its tilt command is shifted
+/// by a further `c(theta_c) theta_ddot_c / k1`, `c(theta) = m_U r l cos(theta) - I_W`, so that
+/// the feedforward is the second row of the WIP equations, `c(theta_c) theta_ddot_c + b
+/// phi_ddot_c`, with the slopes of the trajectory's interpolated rates (on MiaPURE `c` is four
+/// times `b`: braking's onset tips the body back hard). The logged [`OuterOutput::commands`] are the unshifted,
 /// physical command states.
 ///
 /// ```
@@ -777,6 +781,42 @@ struct InputFeedforward<T> {
     heading_per_yaw_accel_s2: T,
     /// Heading-command shift per rad/s of yaw rate (s).
     heading_per_yaw_rate_s: T,
+    /// Frontal tilt-command shift per rad/s^2 of commanded tilt acceleration.
+    frontal_tilt: TiltFeedforward<T>,
+    /// Sagittal tilt-command shift per rad/s^2 of commanded tilt acceleration.
+    sagittal_tilt: TiltFeedforward<T>,
+}
+
+/// A plane's tilt-command shift `c(theta_c) theta_ddot_c / k1` for a commanded tilt
+/// acceleration, `c(theta) = m_U r l cos(theta) - I_W` (the mass matrix's coupling).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct TiltFeedforward<T> {
+    /// `m_U r l / k1` (s^2).
+    coupling_per_k1_s2: T,
+    /// `I_W / k1` (s^2).
+    wheel_per_k1_s2: T,
+}
+
+impl<T: RealField + Copy> TiltFeedforward<T> {
+    fn new(p: &crate::WipParams<T>, k1: T) -> Self {
+        let per = |x: T| {
+            let v = x / k1;
+            if v.is_finite() { v } else { T::zero() }
+        };
+        Self {
+            coupling_per_k1_s2: per(p.body_mass_kg * p.ball_radius_m * p.com_height_m),
+            wheel_per_k1_s2: per(p.wheel_inertia_kg_m2),
+        }
+    }
+
+    /// The shift for tilt command `tilt_rad` and its acceleration (rad).
+    #[inline]
+    fn shift(&self, tilt_rad: T, tilt_accel_rad_per_s2: T) -> T {
+        if tilt_accel_rad_per_s2 == T::zero() {
+            return T::zero();
+        }
+        (self.coupling_per_k1_s2 * tilt_rad.cos() - self.wheel_per_k1_s2) * tilt_accel_rad_per_s2
+    }
 }
 
 impl<T: RealField + Copy> InputFeedforward<T> {
@@ -806,6 +846,14 @@ impl<T: RealField + Copy> InputFeedforward<T> {
             ),
             heading_per_yaw_accel_s2: per(config.robot.spin.inertia_kg_m2),
             heading_per_yaw_rate_s: per(config.robot.spin.damping_nm_s_per_rad),
+            frontal_tilt: TiltFeedforward::new(
+                &config.robot.frontal,
+                config.frontal.lqr.tilt_nm_per_rad,
+            ),
+            sagittal_tilt: TiltFeedforward::new(
+                &config.robot.sagittal,
+                config.sagittal.lqr.tilt_nm_per_rad,
+            ),
         }
     }
 }
@@ -979,8 +1027,11 @@ impl<T: RealField + Copy> BallbotController<T> {
         let mut c = shaped.planar;
         let ff = &self.feedforward;
         let a = &shaped.acceleration;
-        c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y;
-        c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x;
+        let [tilt_accel_x, tilt_accel_y] = shaped.tilt_accel_rad_per_s2;
+        let tilt_shift_x = ff.frontal_tilt.shift(c.frontal[TILT], tilt_accel_x);
+        let tilt_shift_y = ff.sagittal_tilt.shift(c.sagittal[TILT], tilt_accel_y);
+        c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y + tilt_shift_x;
+        c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x + tilt_shift_y;
         let yaw_rate_c = c.spin[1];
         c.spin[0] += ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_s * yaw_rate_c;
         // One sin_cos of each tilt serves the plane's reference model and the wheel mapping.

@@ -992,6 +992,11 @@ pub struct ShapedCommand<T: nalgebra::Scalar> {
     pub acceleration: BodyMotion<T>,
     /// The planar command states.
     pub planar: PlanarCommands<T>,
+    /// Commanded tilt accelerations `[theta_ddot_x, theta_ddot_y]` of the frontal and
+    /// sagittal planes (rad/s^2): for a trajectory, the slope of its linearly interpolated tilt
+    /// rate, along its heading (zero where the tilt-rate command is clamped); zero for the
+    /// other commands, whose lean command is the equilibrium lean.
+    pub tilt_accel_rad_per_s2: [T; 2],
     /// Whether the command was finite; a non-finite command is replaced by [`Command::Stop`].
     pub command_finite: bool,
 }
@@ -1234,7 +1239,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
         let zero = T::zero();
         // Targets (vx, vy, yaw rate) and, for a trajectory, its tilt and tilt rate along the
         // heading with the heading's (sin, cos).
-        let mut trajectory_tilt: Option<(T, T, T, T)> = None;
+        let mut trajectory_tilt: Option<(T, T, T, T, T)> = None;
         // Each target's own rate (nonzero only for a trajectory).
         let mut feed = (zero, zero);
         let (target_x, target_y, target_yaw) = match command {
@@ -1261,7 +1266,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
                 let radius = T::one() / self.sagittal.inv_radius_per_m;
                 let speed = s[BALL_RATE] * radius;
                 let accel = rate[BALL_RATE] * radius;
-                trajectory_tilt = Some((s[TILT], s[TILT_RATE], sin_h, cos_h));
+                trajectory_tilt = Some((s[TILT], s[TILT_RATE], rate[TILT_RATE], sin_h, cos_h));
                 feed = (accel * cos_h, accel * sin_h);
                 let (vx, vy) = clamp_norm(speed * cos_h, speed * sin_h, translation.max_value);
                 (vx, vy, trajectory.yaw_rate_rad_per_s())
@@ -1316,14 +1321,21 @@ impl<T: RealField + Copy> CommandShaper<T> {
         // term step by `k2 k dj` wherever the jerk switches: on MiaPURE braking from 1.5 m/s
         // that raised the peak ball acceleration from 1.7 to 6.7 m/s^2 for a 0.04 m/s smaller
         // speed error.) Trajectories bring their own tilt and tilt rate.
-        let (tilt_y, rate_y, tilt_x, rate_x) = match trajectory_tilt {
-            Some((tilt, rate, sin_h, cos_h)) => {
-                (cos_h * tilt, cos_h * rate, -sin_h * tilt, -sin_h * rate)
-            }
-            None => (ky * rax, ky * rjx, -kx * ray, -kx * rjy),
-        };
         let max_tilt = self.params.max_tilt_command_rad;
         let max_rate = self.params.max_tilt_rate_command_rad_per_s;
+        // A clamped tilt-rate command does not change: no tilt acceleration then.
+        let unless_clamped = |rate: T, accel: T| if rate.abs() > max_rate { zero } else { accel };
+        let (tilt_y, rate_y, tilt_x, rate_x, accel_y, accel_x) = match trajectory_tilt {
+            Some((tilt, rate, accel, sin_h, cos_h)) => (
+                cos_h * tilt,
+                cos_h * rate,
+                -sin_h * tilt,
+                -sin_h * rate,
+                unless_clamped(cos_h * rate, cos_h * accel),
+                unless_clamped(sin_h * rate, -sin_h * accel),
+            ),
+            None => (ky * rax, ky * rjx, -kx * ray, -kx * rjy, zero, zero),
+        };
         let clamp = clamp_sym::<T>;
         let planar = PlanarCommands {
             sagittal: WipState::new(
@@ -1352,6 +1364,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
                 yaw: self.yaw_rate.rate_per_s(),
             },
             planar,
+            tilt_accel_rad_per_s2: [accel_x, accel_y],
             command_finite,
         }
     }

@@ -460,3 +460,115 @@ fn the_reference_filter_removes_the_ramp_overshoot() {
     assert!(com < 1.5 * 1.005, "{com}");
     assert!(accel <= accel_off, "{accel} {accel_off}");
 }
+
+/// The controller's torque feedforward on a trajectory: its reference torque minus the LQR's
+/// feedback on the tracking error (the LQR is `tau = k (s_c - s)` on the shifted command).
+fn trajectory_feedforward_nm(config: &BallbotControllerConfig<f64>, out: &OuterOutput<f64>) -> f64 {
+    let k = &config.sagittal.lqr;
+    let (c, s) = (out.commands.sagittal, out.states.sagittal);
+    out.reference_torque_nm[1]
+        - k.tilt_nm_per_rad * (c[TILT] - s[TILT])
+        - k.tilt_rate_nm_s_per_rad * (c[TILT_RATE] - s[TILT_RATE])
+        - k.ball_rate_nm_s_per_rad * (c[BALL_RATE] - s[BALL_RATE])
+}
+
+/// A controller whose shaper lets a trajectory through (the world braking study's caps).
+fn trajectory_config() -> BallbotControllerConfig<f64> {
+    let mut config = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    config.shaping.translation.max_rate_per_s = 20.0;
+    config.shaping.translation.max_jerk_per_s2 = 500.0;
+    config.shaping.max_tilt_command_rad = 0.5;
+    config.shaping.max_tilt_rate_command_rad_per_s = 5.0;
+    config
+}
+
+#[test]
+fn trajectory_feedforward_is_the_inverse_dynamics_of_a_pure_tilt() {
+    // The body swings forward and back (0.1 rad bump over 1 s) over a still ball: phi_ddot* =
+    // 0, so the whole feedforward is the mass matrix's coupling c(theta*) theta_ddot*, with the
+    // slope of the linearly interpolated tilt rate.
+    let config = trajectory_config();
+    let wip = Wip::new(config.robot.sagittal).unwrap();
+    let dt = OUTER_US as f64 * 1e-6;
+    let samples: Vec<nalgebra::Vector4<f64>> = (0..=400)
+        .map(|k| {
+            let w = std::f64::consts::PI; // rad/s: one bump in 1 s
+            let t = k as f64 * dt;
+            let tilt = 0.1 * (w * t).sin().powi(2);
+            let rate = 0.1 * w * (2.0 * w * t).sin();
+            nalgebra::Vector4::new(tilt, 0.0, rate, 0.0)
+        })
+        .collect();
+    let trajectory = ballbot_core::command::Trajectory::new(&samples, dt, 0.0).unwrap();
+    let mut rig = Rig::with_config(config);
+    rig.arm();
+    let mut peak_nm: f64 = 0.0;
+    for k in 0..400 {
+        let t = (k as f64 + 0.5) * dt; // mid-interval: no ambiguity about the slope
+        let out = rig.step(
+            Command::Trajectory {
+                trajectory,
+                time_secs: t,
+            },
+            ModeRequest::None,
+        );
+        let (s, rate) = trajectory.sample_with_rate(t);
+        let planned_nm = wip.mass_matrix(s[TILT])[(1, 0)] * rate[TILT_RATE];
+        assert_relative_eq!(out.commands.sagittal[TILT], s[TILT], epsilon = 1e-12);
+        assert_relative_eq!(
+            trajectory_feedforward_nm(&config, &out),
+            planned_nm,
+            epsilon = 1e-9
+        );
+        peak_nm = peak_nm.max(planned_nm.abs());
+    }
+    // c(0) theta_ddot* peaks at m_U r l 2 w^2 0.1 = 4.25 x 1.97 = 8.4 N m: not a vacuous check.
+    assert!(peak_nm > 8.0, "{peak_nm}");
+}
+
+#[test]
+fn trajectory_feedforward_follows_a_brisk_start_and_stop_closely() {
+    // A dynamically consistent tilting plan: the sagittal plant's own motion under a brisk
+    // velocity command (0 -> 1 m/s -> 0 at 2 m/s^2, 20 m/s^3), recorded every outer period.
+    let mut brisk = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    brisk.shaping.translation.max_rate_per_s = 2.0;
+    brisk.shaping.translation.max_jerk_per_s2 = 20.0;
+    brisk.shaping.max_tilt_command_rad = 0.5;
+    brisk.shaping.max_tilt_rate_command_rad_per_s = 5.0;
+    let mut recorder = Rig::with_config(brisk);
+    recorder.arm();
+    let mut samples = vec![recorder.plant.states.sagittal];
+    for k in 0..800 {
+        let vx = if k < 400 { 1.0 } else { 0.0 };
+        recorder.step(velocity(vx, 0.0, 0.0), ModeRequest::None);
+        samples.push(recorder.plant.states.sagittal);
+    }
+    let peak_tilt = samples.iter().fold(0.0f64, |m, s| m.max(s[TILT].abs()));
+    assert!(peak_tilt > 0.1, "{peak_tilt}");
+    // Replayed as a trajectory, the full feedforward keeps the body on the plan.
+    let dt = OUTER_US as f64 * 1e-6;
+    let trajectory = ballbot_core::command::Trajectory::new(&samples, dt, 0.0).unwrap();
+    let mut rig = Rig::with_config(trajectory_config());
+    rig.arm();
+    let (mut worst_tilt_rad, mut worst_speed_m_per_s) = (0.0f64, 0.0f64);
+    let r = rig.plant.sagittal.params().ball_radius_m;
+    for k in 0..800 {
+        let time_secs = k as f64 * dt;
+        rig.step(
+            Command::Trajectory {
+                trajectory,
+                time_secs,
+            },
+            ModeRequest::None,
+        );
+        let planned = trajectory.sample(time_secs + dt);
+        let s = rig.plant.states.sagittal;
+        worst_tilt_rad = worst_tilt_rad.max((s[TILT] - planned[TILT]).abs());
+        worst_speed_m_per_s =
+            worst_speed_m_per_s.max(r * (s[BALL_RATE] - planned[BALL_RATE]).abs());
+    }
+    // Measured: 0.0028 rad and 0.018 m/s (plan: 0.31 rad peak lean). With the equilibrium
+    // feedforward b phi_ddot* alone (no c theta_ddot*): 0.16 rad and 0.91 m/s.
+    assert!(worst_tilt_rad < 0.01, "{worst_tilt_rad}");
+    assert!(worst_speed_m_per_s < 0.05, "{worst_speed_m_per_s}");
+}
