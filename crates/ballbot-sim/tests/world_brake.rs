@@ -104,9 +104,10 @@ fn braking_faster_than_the_planner_allows_has_no_trajectory() {
     assert!(!run.outcome.is_success());
 }
 
-/// Regression: the core's feedforward assumes an equilibrium lean; a braking trajectory
-/// tips the body back first, and without the `c theta_ddot*` term the controller kicks the
-/// ball so hard that OW1 lifts off at the onset of a 2 s braking at 180 deg.
+/// Regression: a braking trajectory tips the body back first; the core feeds forward its
+/// whole torque `c(theta*) theta_ddot* + b phi_ddot*` and OW1 stays loaded, while with the
+/// equilibrium-lean feedforward alone (the ablation, no `c theta_ddot*` term) the controller
+/// kicks the ball so hard that OW1 lifts off at the onset of a 2 s braking at 180 deg.
 #[test]
 fn tilt_acceleration_feedforward_keeps_ow1_loaded_at_the_onset_of_braking() {
     let world = WorldParams::miapure_60kg();

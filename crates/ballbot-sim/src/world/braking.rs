@@ -16,19 +16,18 @@
 //! ([`braking_controller_config`]): the trajectory, not the shaper, sets the deceleration.
 //! The approach ramp is jerk-limited by its own profile, so the raised caps never bite there.
 //!
-//! **Tilt-acceleration feedforward.** The core's controller shifts the tilt command by
-//! `b phi_ddot_c / k1`, so that its LQR outputs the torque `b phi_ddot_c` a plane needs to
-//! accelerate with the body at its *equilibrium* lean (second row of the WIP equations,
-//! `c theta_ddot + b phi_ddot = tau`, with `theta_ddot = 0`). A braking trajectory is not at
-//! equilibrium: its onset tips the body back (`theta_ddot* < 0`), and its torque is
-//! `tau* = b phi_ddot* + c theta_ddot*`, `c = m_U r l`. Without the `c theta_ddot*` part the
-//! controller asks about 40 N m instead of the planned 8 N m in the first 10 ms of a 2 s
-//! braking from 1.4 m/s, and the ball's forward kick lifts OW1 off at 180 deg. With
-//! [`TrajectoryFeedforward::Full`] (the default) the experiment adds `c theta_ddot*_k / k1` to
-//! each trajectory sample's tilt (slope of the sampled tilt rate on the interval starting at
-//! the sample, the same slope the core uses for `phi_ddot_c`), which makes the controller's
-//! feedforward exactly `tau*`; [`TrajectoryFeedforward::Core`] sends the trajectory as it is.
-//! The samples in [`BrakingSample::command_tilt_rad`] are the physical, unshifted tilt.
+//! **Tilt-acceleration feedforward.** A braking trajectory is not at equilibrium: its onset
+//! tips the body back (`theta_ddot* < 0`), and its torque is the second row of the WIP
+//! equations, `tau* = c(theta*) theta_ddot* + b phi_ddot*`, `c = m_U r l cos(theta) - I_W`
+//! (4.25 against `b = 1.07` kg m^2 on MiaPURE). The core's controller feeds forward exactly
+//! that for a [`Command::Trajectory`] (its tilt command is shifted by `tau* / k1`, with the
+//! slopes of the interpolated rates), so the experiment sends the plan as it is
+//! ([`TrajectoryFeedforward::Full`], the default). The ablation
+//! [`TrajectoryFeedforward::Core`] removes the `c theta_ddot*` part (the core fed forward
+//! only the equilibrium-lean torque `b phi_ddot*` before): the controller then asks about
+//! 40 N m instead of the planned 8 N m in the first 10 ms of a 2 s braking from 1.4 m/s, and
+//! the ball's forward kick lifts OW1 off at 180 deg. The samples in
+//! [`BrakingSample::command_tilt_rad`] are the physical, unshifted tilt.
 
 use super::WorldError;
 use super::closed_loop::CoreLoop;
@@ -74,10 +73,12 @@ fn invalid(field: &'static str, requirement: &'static str) -> BrakingError {
 /// What the trajectory command feeds forward (see the module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum TrajectoryFeedforward {
-    /// The core's controller alone: `b phi_ddot_c` (equilibrium lean).
+    /// Ablation: the equilibrium-lean torque `b phi_ddot*` alone (what the core fed forward
+    /// before it had the tilt-acceleration term): each sample's tilt is shifted so that the
+    /// core's `c(theta) theta_ddot* / k1` shift cancels.
     Core,
-    /// The trajectory's full torque `b phi_ddot* + c theta_ddot*`, through a shift of the
-    /// commanded tilt by `c theta_ddot* / k1`.
+    /// The trajectory's full torque `c(theta*) theta_ddot* + b phi_ddot*`: the plan as it is,
+    /// the core feeds forward both terms.
     #[default]
     Full,
 }
@@ -542,19 +543,27 @@ pub fn fly_braking(
     let period = config.outer_dt_secs;
     let physical: Vec<WipState<f64>> = plan.sample(period).into_iter().map(|(_, s, _)| s).collect();
     let mut states = physical.clone();
-    if params.feedforward == TrajectoryFeedforward::Full {
-        let c = plane.body_mass_kg * plane.ball_radius_m * plane.com_height_m;
-        let lqr = if heading_rad.cos().abs() >= heading_rad.sin().abs() {
-            config.sagittal.lqr
+    if params.feedforward == TrajectoryFeedforward::Core {
+        // The core shifts the commanded tilt theta_c by c(theta_c) theta_ddot* / k1
+        // (theta_ddot*: slope of the tilt rate on the interval starting at the sample); the
+        // sample's tilt theta_c solves theta_c + c(theta_c) theta_ddot* / k1 = theta* (a few
+        // fixed-point steps: the shift is a contraction, |dc/dtheta theta_ddot* / k1| << 1).
+        let (lqr, robot_plane) = if heading_rad.cos().abs() >= heading_rad.sin().abs() {
+            (config.sagittal.lqr, config.robot.sagittal)
         } else {
-            config.frontal.lqr
+            (config.frontal.lqr, config.robot.frontal)
         };
+        let mrl = robot_plane.body_mass_kg * robot_plane.ball_radius_m * robot_plane.com_height_m;
+        let coupling = |tilt: f64| mrl * tilt.cos() - robot_plane.wheel_inertia_kg_m2;
         let k1 = lqr.tilt_nm_per_rad;
         if k1.is_finite() && k1 != 0.0 {
             for (k, s) in states.iter_mut().enumerate() {
                 let next = physical.get(k + 1).unwrap_or(&physical[k]);
                 let tilt_accel = (next[2] - physical[k][2]) / period;
-                s[0] += c * tilt_accel / k1;
+                let planned = physical[k][0];
+                for _ in 0..4 {
+                    s[0] = planned - coupling(s[0]) * tilt_accel / k1;
+                }
             }
         }
     }
