@@ -399,7 +399,7 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
 /// `cruise_speed_m_per_s` along `heading_deg`, cruise for `cruise_s`, then the optimal braking
 /// trajectory to rest in `duration_s` (solved here under the actuator, traction and tilt
 /// limits), flown through the core's trajectory command. `feedforward` is `"full"` (the
-/// trajectory's whole torque) or `"core"` (the core's equilibrium-lean feedforward only). Runs
+/// trajectory's whole torque) or `"core"` (ablation: the equilibrium-lean feedforward only). Runs
 /// without the GIL.
 ///
 /// Returns a dict: `outcome` (`"stopped"`, `"no_trajectory"`, `"failed"`, `"not_at_rest"`),

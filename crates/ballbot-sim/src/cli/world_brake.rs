@@ -4,7 +4,7 @@
 //!
 //! Full run: the paper's braking protocol (T = 5 s, 0.5 s shorter per success) plus a
 //! bisection to 0.05 s at 180 deg (the paper's heading), 0 and 90 deg; the same descent at
-//! 180 deg with the core's own feedforward only (ablation, see
+//! 180 deg with the equilibrium-lean feedforward only (ablation, see
 //! [`crate::world::braking`]); the planar model's minimum braking time under the same limits;
 //! push recovery at 0, 90 and 180 deg bisected to 0.5 N s, as a 0.1 s force pulse (summary
 //! key) and applied in one physics step (detail, see [`crate::world::push`]). `--quick`:
@@ -658,7 +658,7 @@ pub fn reproduce(
     );
     if let Some(a) = ablation.as_object() {
         println!(
-            "  ablation, 180° with the core's feedforward only (no c θ̈* term): shortest success \
+            "  ablation, 180° with the equilibrium feedforward only (no c θ̈* term): shortest success \
              {} s, first failure {} s",
             opt(a.get("shortest_success_s").and_then(Value::as_f64), 2),
             opt(a.get("first_failure_s").and_then(Value::as_f64), 2)
