@@ -572,3 +572,52 @@ fn trajectory_feedforward_follows_a_brisk_start_and_stop_closely() {
     assert!(worst_tilt_rad < 0.01, "{worst_tilt_rad}");
     assert!(worst_speed_m_per_s < 0.05, "{worst_speed_m_per_s}");
 }
+
+#[test]
+fn shaped_tilt_acceleration_is_the_interpolated_slope_along_the_heading_in_f32() {
+    use ballbot_core::command::{CommandShaper, CommandShaperParams, Trajectory};
+    let robot = BallbotParams::<f32>::miapure_60kg();
+    let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot).unwrap();
+    // Tilt rate 0 -> 0.5 rad/s over 0.1 s: 5 rad/s^2, driven towards body +y (heading pi/2),
+    // which the frontal plane sees with the opposite sign (y = -r phi_x).
+    let samples = [
+        nalgebra::Vector4::new(0.0f32, 0.0, 0.0, 0.0),
+        nalgebra::Vector4::new(0.025, 0.0, 0.5, 0.0),
+    ];
+    let trajectory = Trajectory::new(&samples, 0.1, core::f32::consts::FRAC_PI_2).unwrap();
+    let shaped = shaper.step(
+        &Command::Trajectory {
+            trajectory,
+            time_secs: 0.05,
+        },
+        0.0025,
+    );
+    let [frontal, sagittal] = shaped.tilt_accel_rad_per_s2;
+    assert_relative_eq!(frontal, -5.0, epsilon = 1e-4);
+    assert!(sagittal.abs() < 1e-5, "{sagittal}");
+    // Past the end the trajectory holds still; velocity commands never ask for one.
+    let done = Command::Trajectory {
+        trajectory,
+        time_secs: 1.0,
+    };
+    assert_eq!(shaper.step(&done, 0.0025).tilt_accel_rad_per_s2, [0.0; 2]);
+    let go = Command::Velocity(VelocityCommand {
+        vx_m_per_s: 1.0,
+        ..VelocityCommand::zero()
+    });
+    assert_eq!(shaper.step(&go, 0.0025).tilt_accel_rad_per_s2, [0.0; 2]);
+    // A tilt-rate command clamped at its cap does not change: no tilt acceleration.
+    let fast = [
+        nalgebra::Vector4::new(0.0f32, 0.0, 2.0, 0.0),
+        nalgebra::Vector4::new(0.2, 0.0, 3.0, 0.0),
+    ];
+    let trajectory = Trajectory::new(&fast, 0.1, 0.0).unwrap();
+    let clamped = shaper.step(
+        &Command::Trajectory {
+            trajectory,
+            time_secs: 0.05,
+        },
+        0.0025,
+    );
+    assert_eq!(clamped.tilt_accel_rad_per_s2, [0.0; 2]);
+}
