@@ -746,7 +746,7 @@ fn lqr_pi_does_not_overshoot_after_a_long_saturation() {
 }
 
 /// Back-calculation, checked by its fixed point (the unit test
-/// `back_calculation_bounds_the_integral_while_saturated` only checks `I <= max`, which the
+/// `saturation_keeps_the_integral_within_the_limit` only checks `I <= max`, which the
 /// clamp alone guarantees: it passes with the anti-windup sign flipped). Held saturated at an
 /// upper bound `u` below the actuator peak with a constant error `e`, the update
 /// `I += ki e dt + k_aw dt (u - kp e - I)` settles at `I* = u - kp e + ki e / k_aw`, here
