@@ -530,3 +530,7 @@ impl Transcription {
         parts.fold((0.0, 0.0), |(sum, max), v| (sum + v, f64::max(max, v)))
     }
 }
+
+#[cfg(test)]
+#[path = "transcription_tests.rs"]
+mod tests;
