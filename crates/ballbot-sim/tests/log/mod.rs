@@ -657,36 +657,3 @@ fn killed_midway(compression: LogCompression) {
         states.len() as u64
     );
 }
-
-/// Writing and reading speed of a typical telemetry message (the 3-wheel state above, about
-/// 400 bytes of JSON). Timing only means something in release:
-/// `cargo test -p ballbot-sim --release --test main -- --ignored --nocapture log::throughput`.
-#[test]
-#[ignore = "timing; run in release with --ignored --nocapture"]
-fn throughput() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("throughput.mcap");
-    let messages = 200_000_u64;
-    let started = std::time::Instant::now();
-    let mut log = McapLogger::create(&path, LoggerOptions::default()).unwrap();
-    let state = log.channel::<RobotState>("/robot/state").unwrap();
-    for step in 0..messages {
-        log.write(&state, step as f64 * 2.5e-3, &state_at(step))
-            .unwrap();
-    }
-    log.finish().unwrap();
-    let write_secs = started.elapsed().as_secs_f64();
-    let bytes = std::fs::metadata(&path).unwrap().len();
-    let started = std::time::Instant::now();
-    let read = McapLog::open(&path).unwrap();
-    let series = read.numeric_series("/robot/state").unwrap();
-    let read_secs = started.elapsed().as_secs_f64();
-    assert_eq!(series.len() as u64, messages);
-    let json_bytes = serde_json::to_vec(&state_at(1)).unwrap().len();
-    println!(
-        "write {:.0} msg/s, read to columns {:.0} msg/s, {:.1} B/msg on disk ({json_bytes} B JSON)",
-        messages as f64 / write_secs,
-        messages as f64 / read_secs,
-        bytes as f64 / messages as f64
-    );
-}
