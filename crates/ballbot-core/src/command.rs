@@ -707,7 +707,7 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn duration_secs(&self) -> T {
-        let n: T = nalgebra::convert((self.samples.len() - 1) as f64);
+        let n: T = nalgebra::convert(self.samples.len().saturating_sub(1) as f64);
         n * self.sample_period_secs
     }
 
@@ -744,8 +744,11 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn sample_with_rate(&self, time_secs: T) -> (WipState<T>, WipState<T>) {
+        // `new` refuses an empty slice; matching on first/last keeps this free of panic paths.
+        let (Some(&first), Some(&final_state)) = (self.samples.first(), self.samples.last()) else {
+            return (WipState::zeros(), WipState::zeros());
+        };
         let last = self.samples.len() - 1;
-        let (first, final_state) = (self.samples[0], self.samples[last]);
         if !time_secs.is_finite() {
             return (final_state, WipState::zeros());
         }
