@@ -78,6 +78,11 @@ pub struct WorldArgs {
     /// Simulated time kept running after a failure, to see the fall (s, >= 0).
     #[arg(long, default_value_t = 0.25)]
     pub after_failure_s: f64,
+    /// Time constant of the command shaper's reference filter (s, >= 0; 0, the core's
+    /// default, is off). About 0.3 s removes the speed overshoot of a velocity ramp
+    /// (`CommandShaperParams::reference_filter_secs`, docs/embedding.md).
+    #[arg(long, default_value_t = 0.0)]
+    pub reference_filter_s: f64,
     /// The MCAP log to write (its folder is created).
     #[arg(long, default_value = "out/world.mcap")]
     pub out: PathBuf,
@@ -107,6 +112,7 @@ impl Default for WorldArgs {
             push_at_s: 2.0,
             push_heading_deg: 90.0,
             after_failure_s: 0.25,
+            reference_filter_s: 0.0,
             out: PathBuf::from("out/world.mcap"),
             decimate: 1,
             scene_hz: 50.0,
@@ -209,6 +215,12 @@ impl WorldArgs {
             self.after_failure_s,
         )?;
         check(
+            finite(self.reference_filter_s) && self.reference_filter_s >= 0.0,
+            "--reference-filter-s",
+            "finite and >= 0",
+            self.reference_filter_s,
+        )?;
+        check(
             finite(self.scene_hz) && self.scene_hz > 0.0 && self.scene_hz <= 1000.0,
             "--scene-hz",
             "in (0, 1000]",
@@ -243,6 +255,7 @@ impl WorldArgs {
         let mut config = BallbotControllerConfig::design(&params.robot)
             .context("cannot design the controller for this robot (--mu/--com-height-m)")?;
         let shaping = &mut config.shaping;
+        shaping.reference_filter_secs = self.reference_filter_s;
         if self.top_speed_m_per_s > shaping.translation.max_value {
             shaping.translation.max_value = self.top_speed_m_per_s;
         }
