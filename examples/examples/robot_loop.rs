@@ -7,7 +7,7 @@
 use ballbot_core::BallbotParams;
 use ballbot_core::safety::Mode;
 use ballbot_examples::demo::{self, Timeline};
-use ballbot_examples::robot_loop::Phase;
+use ballbot_runtime::Phase;
 
 fn main() -> anyhow::Result<()> {
     let robot = BallbotParams::miapure_60kg();

@@ -11,7 +11,7 @@
 //! | 6.0 | remote back, "resume" | balancing again |
 //! | 6.5 | shutdown | controlled stop, disarm at rest, motors off |
 
-use crate::robot_loop::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
+use ballbot_runtime::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
 use crate::sim::{SimError, SimPlant, devices, run_until};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};

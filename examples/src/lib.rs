@@ -1,14 +1,12 @@
 //! # ballbot-examples
 //!
-//! Embedding the ballbot controller in a robot binary. This library is `#![no_std]`: the same
-//! [`robot_loop`] compiles into the workspace's no_std link check (`nostd-check/`) and runs on
-//! a PC against the simulated devices of [`sim`].
+//! Embedding the ballbot controller in a robot binary. This library is `#![no_std]`: it runs
+//! the shipped robot loop ([`ballbot_runtime::RobotLoop`], linked by the workspace's no_std
+//! check `nostd-check/`) on a PC against the simulated devices of [`sim`].
 //!
-//! - [`robot_loop`]: the 400 Hz outer task, the 8 kHz inner task, start-up (arming after an
-//!   upright, still check), fault handling and shutdown, on the core's hardware traits
-//!   ([`ballbot_core::hal`]).
-//! - [`sim`]: those traits implemented by a simulated MiaPURE (decoupled planar plants coupled
-//!   through the omniwheel kinematics).
+//! - [`sim`]: the core's hardware traits ([`ballbot_core::hal`]) implemented by a simulated
+//!   MiaPURE (decoupled planar plants coupled through the omniwheel kinematics).
+//! - [`demo`]: the scripted demonstration (arming, driving, a lost command link, shutdown).
 //!
 //! Runnable examples (`examples/examples/`): `robot_loop` (the loop on the simulated robot:
 //! arming, driving, a lost command link, shutdown) and `gains` (the controller gains for a
@@ -19,7 +17,7 @@
 //! use ballbot_core::ballbot::BallbotControllerConfig;
 //! use ballbot_core::command::Command;
 //! use ballbot_core::safety::{Mode, ModeRequest};
-//! use ballbot_examples::robot_loop::{LoopConfig, OperatorInput, RobotLoop};
+//! use ballbot_runtime::{LoopConfig, OperatorInput, RobotLoop};
 //! use ballbot_examples::sim::{SimPlant, devices};
 //! use core::cell::RefCell;
 //!
@@ -47,5 +45,4 @@
 #![cfg_attr(not(test), no_std)]
 
 pub mod demo;
-pub mod robot_loop;
 pub mod sim;

@@ -1,5 +1,5 @@
 //! A simulated robot behind the [`ballbot_core::hal`] traits, for running the
-//! [`crate::robot_loop`] on a PC (and in tests).
+//! [`ballbot_runtime::RobotLoop`] on a PC (and in tests).
 //!
 //! The plant is the decoupled 3D model of MODEL.md section 4: the nonlinear sagittal and
 //! frontal WIP planes and the spin model, integrated with the core's RK4 at the inner-loop
@@ -11,7 +11,7 @@
 //! IMU never repeats a reading bit for bit and the supervisor's frozen-IMU check stays on.
 //! Faults are injected by setting [`SimPlant::faults`].
 
-use crate::robot_loop::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
+use ballbot_runtime::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
 use ballbot_core::estimation::{EncoderSample, ImuSample, PlanarStates, synthesize_sensors};
 use ballbot_core::hal::{
     DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders,

@@ -9,7 +9,7 @@ use ballbot_core::command::Command;
 use ballbot_core::safety::{Fault, FaultSet, Mode, ModeRequest};
 use ballbot_core::wip::TILT;
 use ballbot_examples::demo::{self, Timeline};
-use ballbot_examples::robot_loop::{LoopConfig, OperatorInput, Phase, RobotLoop};
+use ballbot_runtime::{LoopConfig, OperatorInput, Phase, RobotLoop};
 use ballbot_examples::sim::{SimPlant, devices, run_until};
 use core::cell::RefCell;
 

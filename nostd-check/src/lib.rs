@@ -80,7 +80,7 @@ pub extern "C" fn ballbot_nostd_robot_loop_f32(pitch_rad: f32, now_us: u64) -> f
     use ballbot_core::estimation::{EncoderSample, ImuSample};
     use ballbot_core::hal::{DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders};
     use ballbot_core::safety::ModeRequest;
-    use ballbot_examples::robot_loop::{LoopConfig, OperatorInput, RobotLoop};
+    use ballbot_runtime::{LoopConfig, OperatorInput, RobotLoop};
     use nalgebra::Vector3;
 
     struct Board {

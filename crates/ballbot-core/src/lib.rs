@@ -31,6 +31,7 @@ pub mod kinematics;
 pub mod linalg;
 pub mod lqr;
 pub mod params;
+pub mod rates;
 pub mod safety;
 pub mod spin;
 pub mod wip;

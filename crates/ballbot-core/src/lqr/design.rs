@@ -8,6 +8,7 @@
 
 use super::riccati::{RiccatiSettings, RiccatiSolution, RiccatiStatus, solve_care, solve_dare};
 use crate::check::lit;
+use crate::rates::OUTER_LOOP_RATE_HZ;
 use crate::linalg::{eigenvalues, is_finite, zoh};
 use crate::{Error, Spin, Wip};
 use nalgebra::allocator::Allocator;
@@ -15,15 +16,6 @@ use nalgebra::{
     Complex, Const, DefaultAllocator, DimDiff, DimSub, Matrix1, RealField, SMatrix, SVector, U1,
     Vector4,
 };
-
-/// The paper's outer-loop (LQR) rate: 400 Hz.
-///
-/// ```
-/// use ballbot_core::lqr::OUTER_LOOP_RATE_HZ;
-/// // The 8 kHz inner loop runs 20 steps per outer step.
-/// assert_eq!(8000.0 / OUTER_LOOP_RATE_HZ, 20.0);
-/// ```
-pub const OUTER_LOOP_RATE_HZ: f64 = 400.0;
 
 /// The outer-loop sample time `1 / 400` s, in `T`.
 ///

@@ -28,7 +28,7 @@ mod design;
 mod riccati;
 
 pub use design::{
-    Lqr, LqrWeights, OUTER_LOOP_RATE_HZ, SpinLqr, SpinLqrWeights, WipLqr, WipLqrWeights,
+    Lqr, LqrWeights, SpinLqr, SpinLqrWeights, WipLqr, WipLqrWeights,
     outer_loop_dt_secs, spin_lqr, spin_lqr_discrete, wip_lqr, wip_lqr_discrete,
 };
 pub use riccati::{

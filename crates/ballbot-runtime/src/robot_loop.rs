@@ -39,6 +39,7 @@ use ballbot_core::hal::{
     DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders,
 };
 use ballbot_core::safety::{Fault, Mode, ModeRequest};
+use ballbot_core::rates::{INNER_LOOP_DT_SECS, OUTER_LOOP_PERIOD_US};
 use ballbot_core::wip::BALL_RATE;
 use nalgebra::RealField;
 
@@ -60,8 +61,8 @@ impl<T: RealField + Copy> LoopConfig<T> {
     /// MiaPURE: a 400 Hz outer and an 8 kHz inner loop, arming after 0.25 s upright and still.
     pub fn miapure() -> Self {
         Self {
-            outer_period_us: 2500,
-            inner_dt_secs: nalgebra::convert(1.0 / 8000.0),
+            outer_period_us: OUTER_LOOP_PERIOD_US,
+            inner_dt_secs: nalgebra::convert(INNER_LOOP_DT_SECS),
             settle_us: 250_000,
             rest_speed_m_per_s: nalgebra::convert(0.02),
         }
