@@ -34,6 +34,135 @@ pub struct Failure {
     pub time_s: f64,
 }
 
+/// The paper's name of omniwheel `index` (0-based): `OW1`, `OW2`, `OW3`. The one form in which
+/// every table, log, JSON record and Python result names a wheel.
+///
+/// ```
+/// use ballbot_sim::world::wheel_name;
+/// assert_eq!(wheel_name(0), "OW1");
+/// assert_eq!(wheel_name(2), "OW3");
+/// assert_eq!(wheel_name(7), "OW?");
+/// ```
+pub fn wheel_name(index: usize) -> &'static str {
+    match index {
+        0 => "OW1",
+        1 => "OW2",
+        2 => "OW3",
+        _ => "OW?",
+    }
+}
+
+impl FailureKind {
+    /// Every kind's canonical name, in declaration order.
+    pub const NAMES: [&'static str; 4] =
+        ["tilt", "body_touched_floor", "sustained_slip", "lift_off"];
+
+    /// The canonical (snake_case) name: `tilt`, `body_touched_floor`, `sustained_slip` or
+    /// `lift_off`; JSON, logs and Python use it.
+    ///
+    /// ```
+    /// use ballbot_sim::world::FailureKind;
+    /// assert_eq!(FailureKind::LiftOff { wheel: 0 }.as_str(), "lift_off");
+    /// ```
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Tilt { .. } => Self::NAMES[0],
+            Self::BodyTouchedFloor => Self::NAMES[1],
+            Self::SustainedSlip { .. } => Self::NAMES[2],
+            Self::LiftOff { .. } => Self::NAMES[3],
+        }
+    }
+
+    /// The wheel involved (0-based), for slip and lift-off.
+    pub fn wheel(&self) -> Option<usize> {
+        match self {
+            Self::SustainedSlip { wheel } | Self::LiftOff { wheel } => Some(*wheel),
+            Self::Tilt { .. } | Self::BodyTouchedFloor => None,
+        }
+    }
+
+    /// The wheel involved, named as [`wheel_name`] names it.
+    pub fn wheel_name(&self) -> Option<&'static str> {
+        self.wheel().map(wheel_name)
+    }
+
+    /// The tilt from the vertical when detected (rad), for a tilt failure.
+    pub fn tilt_rad(&self) -> Option<f64> {
+        match self {
+            Self::Tilt { tilt_rad } => Some(*tilt_rad),
+            _ => None,
+        }
+    }
+}
+
+/// Human-readable: `tilt 12.3 deg`, `body touched the floor`, `slip OW2`, `lift-off OW1`.
+///
+/// ```
+/// use ballbot_sim::world::FailureKind;
+/// assert_eq!(FailureKind::SustainedSlip { wheel: 1 }.to_string(), "slip OW2");
+/// assert_eq!(FailureKind::Tilt { tilt_rad: 0.5 }.to_string(), "tilt 28.6 deg");
+/// ```
+impl core::fmt::Display for FailureKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::Tilt { tilt_rad } => write!(f, "tilt {:.1} deg", tilt_rad.to_degrees()),
+            Self::BodyTouchedFloor => f.write_str("body touched the floor"),
+            Self::SustainedSlip { wheel } => write!(f, "slip {}", wheel_name(*wheel)),
+            Self::LiftOff { wheel } => write!(f, "lift-off {}", wheel_name(*wheel)),
+        }
+    }
+}
+
+/// `{"kind": "lift_off", "wheel": "OW1"}`, `{"kind": "tilt", "tilt_rad": 0.61}`: the canonical
+/// JSON form ([`FailureKind::as_str`], [`wheel_name`]).
+impl serde::Serialize for FailureKind {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(None)?;
+        kind_entries(&mut map, self)?;
+        map.end()
+    }
+}
+
+fn kind_entries<M: serde::ser::SerializeMap>(
+    map: &mut M,
+    kind: &FailureKind,
+) -> Result<(), M::Error> {
+    map.serialize_entry("kind", kind.as_str())?;
+    if let Some(wheel) = kind.wheel_name() {
+        map.serialize_entry("wheel", wheel)?;
+    }
+    if let Some(tilt_rad) = kind.tilt_rad() {
+        map.serialize_entry("tilt_rad", &tilt_rad)?;
+    }
+    Ok(())
+}
+
+/// `kind at 6.086 s`, e.g. `lift-off OW1 at 6.086 s`.
+///
+/// ```
+/// use ballbot_sim::world::{Failure, FailureKind};
+/// let f = Failure { kind: FailureKind::LiftOff { wheel: 0 }, time_s: 6.0861 };
+/// assert_eq!(f.to_string(), "lift-off OW1 at 6.086 s");
+/// ```
+impl core::fmt::Display for Failure {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{} at {:.3} s", self.kind, self.time_s)
+    }
+}
+
+/// The kind's fields and `time_s` in one JSON object:
+/// `{"kind": "lift_off", "wheel": "OW1", "time_s": 6.086}`.
+impl serde::Serialize for Failure {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(None)?;
+        kind_entries(&mut map, &self.kind)?;
+        map.serialize_entry("time_s", &self.time_s)?;
+        map.end()
+    }
+}
+
 /// Watches the telemetry step by step and latches the first failure.
 #[derive(Clone, Debug)]
 pub struct FailureMonitor {

@@ -33,7 +33,7 @@ pub mod telemetry;
 
 pub use balance::{PlanarBalancer, PlanarBalancerParams};
 pub use closed_loop::CoreLoop;
-pub use failure::{Failure, FailureKind};
+pub use failure::{Failure, FailureKind, wheel_name};
 pub use log::{WorldLogOptions, WorldLogger};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
 pub use sensors::Measurement;
