@@ -11,12 +11,12 @@
 //! | 6.0 | remote back, "resume" | balancing again |
 //! | 6.5 | shutdown | controlled stop, disarm at rest, motors off |
 
-use ballbot_runtime::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
 use crate::sim::{SimError, SimPlant, devices, run_until};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_core::safety::ModeRequest;
 use ballbot_core::{BallbotParams, Error};
+use ballbot_runtime::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
 use core::cell::RefCell;
 
 /// When each scripted event happens (us).

@@ -11,7 +11,6 @@
 //! IMU never repeats a reading bit for bit and the supervisor's frozen-IMU check stays on.
 //! Faults are injected by setting [`SimPlant::faults`].
 
-use ballbot_runtime::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
 use ballbot_core::estimation::{EncoderSample, ImuSample, PlanarStates, synthesize_sensors};
 use ballbot_core::hal::{
     DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders,
@@ -19,6 +18,7 @@ use ballbot_core::hal::{
 use ballbot_core::kinematics::relative_rate_from_planar;
 use ballbot_core::wip::{BALL_RATE, TILT_RATE};
 use ballbot_core::{BallbotParams, Error, OmniKinematics, Spin, Wip, rk4_step};
+use ballbot_runtime::{LoopConfig, OperatorInput, OuterReport, RobotLoop};
 use core::cell::RefCell;
 use nalgebra::Vector3;
 

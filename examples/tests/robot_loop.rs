@@ -9,8 +9,8 @@ use ballbot_core::command::Command;
 use ballbot_core::safety::{Fault, FaultSet, Mode, ModeRequest};
 use ballbot_core::wip::TILT;
 use ballbot_examples::demo::{self, Timeline};
-use ballbot_runtime::{LoopConfig, OperatorInput, Phase, RobotLoop};
 use ballbot_examples::sim::{SimPlant, devices, run_until};
+use ballbot_runtime::{LoopConfig, OperatorInput, Phase, RobotLoop};
 use core::cell::RefCell;
 
 #[derive(Clone, Copy, Debug)]

@@ -38,8 +38,8 @@ use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::hal::{
     DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders,
 };
-use ballbot_core::safety::{Fault, Mode, ModeRequest};
 use ballbot_core::rates::{INNER_LOOP_DT_SECS, OUTER_LOOP_PERIOD_US};
+use ballbot_core::safety::{Fault, Mode, ModeRequest};
 use ballbot_core::wip::BALL_RATE;
 use nalgebra::RealField;
 
@@ -220,6 +220,17 @@ where
     /// The devices, e.g. to inspect a simulated robot.
     pub fn devices(&self) -> (&I, &E, &M, &C) {
         (&self.imu, &self.encoders, &self.motors, &self.clock)
+    }
+
+    /// The devices, mutably: a simulator behind the traits hands them its samples and reads
+    /// the applied torques back between tasks (`ballbot-sim`'s world robot does).
+    pub fn devices_mut(&mut self) -> (&mut I, &mut E, &mut M, &mut C) {
+        (
+            &mut self.imu,
+            &mut self.encoders,
+            &mut self.motors,
+            &mut self.clock,
+        )
     }
 
     /// Starts a shutdown: a controlled stop (still balancing), then `Disarm` once at rest; the

@@ -9,6 +9,7 @@ pub mod experiments;
 pub mod log;
 pub mod planar;
 pub mod plot;
+pub mod rig;
 pub mod scenario;
 pub mod trajopt;
 pub mod world;

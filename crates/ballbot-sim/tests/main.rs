@@ -3,12 +3,14 @@
 // Tests may unwrap and panic: a failure is a test failure.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod balance;
 mod cli;
 mod log;
 mod piptb;
 mod planar_plant;
 mod planar_sim;
 mod plot;
+mod rig;
 mod trajopt;
 mod world;
 mod world_brake;

@@ -1,9 +1,10 @@
 //! The rapier3d ballbot world: contact forces, conservation, kinematics, slip, determinism,
 //! direction dependence.
 
+use crate::balance::{PlanarBalancer, PlanarBalancerParams};
 use approx::assert_relative_eq;
 use ballbot_sim::world::telemetry::FNV_OFFSET_BASIS;
-use ballbot_sim::world::{BallbotWorld, PlanarBalancer, PlanarBalancerParams, WorldParams};
+use ballbot_sim::world::{BallbotWorld, WorldParams};
 use nalgebra::Vector3;
 
 fn miapure() -> WorldParams {

@@ -29,8 +29,8 @@
 //! the ball's forward kick lifts OW1 off at 180 deg. The samples in
 //! [`BrakingSample::command_tilt_rad`] are the physical, unshifted tilt.
 
+use super::CoreLoop;
 use super::WorldError;
-use super::closed_loop::CoreLoop;
 use super::failure::{Failure, tilt_from_vertical_rad};
 use super::params::WorldParams;
 use super::telemetry::StepTelemetry;

@@ -1,8 +1,8 @@
 //! The MiaPURE benchmarks of the paper's Sec. V in the 3D world, with the core's controller:
 //! maximum speed per heading (slow velocity ramp until failure) and push recovery.
 
+use super::CoreLoop;
 use super::WorldError;
-use super::closed_loop::CoreLoop;
 use super::failure::{Failure, tilt_from_vertical_rad};
 use super::params::WorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;

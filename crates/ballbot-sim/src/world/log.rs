@@ -56,7 +56,7 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::closed_loop::CoreLoop;
+use super::CoreLoop;
 use super::failure::{Failure, FailureKind, tilt_from_vertical_rad};
 use super::params::WorldParams;
 use super::sim::BallbotWorld;

@@ -7,19 +7,14 @@
 //! * [`contact`]: the omniwheel contact law and its step-size needs.
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
-//! * [`closed_loop`]: the core's 3D cascaded LQR-PI controller in the loop ([`CoreLoop`]),
-//!   outer loop at 400 Hz, motor speed PIs at 8 kHz.
 //! * [`log`]: MCAP telemetry and a Foxglove 3D scene of a run ([`WorldLogger`]).
-//! * [`balance`]: a minimal balancing loop from the core's planar model (for tests/benches).
 //!
 //! Why `rapier3d-f64`: the contact deflections are a fraction of a millimetre (0.17 mm under the
 //! static load) and are computed from positions of ball and body that travel metres; in `f32`
 //! at 10 m the position resolution (about 1 um) is already 1 % of the deflection and the normal
 //! forces would become noisy. The core runs in `f64` too, so no conversions are needed.
 
-pub mod balance;
 pub mod braking;
-pub mod closed_loop;
 pub mod contact;
 pub mod experiments;
 pub mod failure;
@@ -31,8 +26,7 @@ pub mod sensors;
 pub mod sim;
 pub mod telemetry;
 
-pub use balance::{PlanarBalancer, PlanarBalancerParams};
-pub use closed_loop::CoreLoop;
+pub use crate::rig::WorldRobot as CoreLoop;
 pub use failure::{Failure, FailureKind, wheel_name};
 pub use log::{WorldLogOptions, WorldLogger};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};

@@ -16,8 +16,8 @@
 //! tilt below `rest_tilt_rad` ([`PushParams`]). [`push_recovery_limit`] bisects the impulse
 //! for the largest one recovered.
 
+use super::CoreLoop;
 use super::WorldError;
-use super::closed_loop::CoreLoop;
 use super::failure::{Failure, tilt_from_vertical_rad};
 use super::params::WorldParams;
 use ballbot_core::command::{Command, VelocityCommand};

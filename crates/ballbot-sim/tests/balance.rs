@@ -3,12 +3,12 @@
 //! linearisation, a PD yaw hold, and the omniwheel torque map (MODEL.md section 4). It runs at
 //! the outer rate and holds its torques in between (no inner motor PI).
 //!
-//! It exists to exercise the world (tests, benches) independently of the full 3D controller;
-//! it is deliberately simple and reads only the sensors.
+//! A test fixture: it exercises the world's physics independently of the shipped controller
+//! and loop (`ballbot_sim::rig`), so a physics test cannot pass or fail because of the
+//! controller. It is deliberately simple and reads only the sensors.
 
-use super::WorldError;
-use super::sensors::Measurement;
 use ballbot_core::{BallbotParams, Wip, WipParams};
+use ballbot_sim::world::{Measurement, WorldError};
 use nalgebra::{Matrix3, Vector3};
 
 /// Design of the [`PlanarBalancer`].
@@ -126,16 +126,6 @@ impl PlanarBalancer {
     /// Outer-loop period (s).
     pub fn period_secs(&self) -> f64 {
         1.0 / self.params.rate_hz
-    }
-
-    /// The gains `[k_theta, k_theta_dot, k_phi_dot]` of the sagittal plane (`tau = -k . s`).
-    pub fn sagittal_gain(&self) -> Vector3<f64> {
-        self.gain_sagittal
-    }
-
-    /// The motor torques (N m) of the last update.
-    pub fn torque_nm(&self) -> [f64; 3] {
-        self.torque_nm
     }
 
     /// One outer-loop update from a sensor sample and a body-frame velocity command

@@ -1,0 +1,171 @@
+//! [`WorldRobot`]: the world stepped together with the shipped robot loop.
+
+use super::devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
+use crate::world::{BallbotWorld, StepTelemetry, WorldError, WorldParams};
+use ballbot_core::ballbot::{BallbotControllerConfig, OuterOutput};
+use ballbot_core::command::Command;
+use ballbot_core::estimation::{EncoderSample, ImuSample};
+use ballbot_core::safety::{Mode, ModeRequest};
+use ballbot_runtime::{LoopConfig, OperatorInput, Phase, RobotLoop};
+use nalgebra::Vector3;
+
+/// The robot loop that drives the world: [`RobotLoop`] on the world's devices.
+pub type WorldRobotLoop = RobotLoop<f64, WorldImu, WorldEncoders, WorldMotors, WorldClock>;
+
+/// The rapier3d world driven by the shipped robot loop ([`RobotLoop`]) at its two rates.
+///
+/// Every physics step (8 kHz) the loop's inner task runs the motor speed PIs on the encoders'
+/// speed estimate and the motor drivers apply its torque (or nothing while the motors are
+/// off); every `outer_dt / dt` steps the outer task runs first on a fresh sensor sample (IMU
+/// with its noise, encoders). The loop arms itself at the first outer step once the body is
+/// upright and still (settling time 0: an experiment starts from a balanced robot) and passes
+/// the command with a fresh timestamp, as a healthy command link would.
+///
+/// ```
+/// use ballbot_core::command::{Command, VelocityCommand};
+/// use ballbot_sim::rig::WorldRobot;
+/// use ballbot_sim::world::WorldParams;
+/// let mut sim = WorldRobot::new(WorldParams::miapure_60kg())?;
+/// let cmd = VelocityCommand { vx_m_per_s: 0.3, vy_m_per_s: 0.0, yaw_rate_rad_per_s: 0.0 };
+/// for _ in 0..8000 {
+///     sim.step(Command::Velocity(cmd));
+/// }
+/// assert!(sim.world().failure().is_none());
+/// assert!((sim.world().telemetry().ball_velocity_m_per_s.x - 0.3).abs() < 0.1);
+/// # Ok::<(), ballbot_sim::world::WorldError>(())
+/// ```
+pub struct WorldRobot {
+    world: BallbotWorld,
+    robot: WorldRobotLoop,
+    steps_per_outer: u64,
+    step_index: u64,
+    last_outer: Option<OuterOutput<f64>>,
+}
+
+impl WorldRobot {
+    /// The world with the controller designed from its robot
+    /// ([`BallbotControllerConfig::design`]).
+    pub fn new(params: WorldParams) -> Result<Self, WorldError> {
+        let config = BallbotControllerConfig::design(&params.robot)?;
+        Self::with_config(params, config)
+    }
+
+    /// The world with a given controller configuration (e.g. designed for a different model
+    /// than the simulated robot).
+    pub fn with_config(
+        params: WorldParams,
+        config: BallbotControllerConfig<f64>,
+    ) -> Result<Self, WorldError> {
+        let world = BallbotWorld::new(params)?;
+        let ratio = config.outer_dt_secs / params.dt_secs;
+        if !(ratio.is_finite() && ratio >= 1.0 && (ratio - ratio.round()).abs() < 1e-9) {
+            return Err(WorldError::InvalidParameter {
+                field: "outer_dt_secs",
+                requirement: "must be a whole multiple of the physics step dt_secs",
+            });
+        }
+        let outer_period_us = (config.outer_dt_secs * 1e6).round();
+        if (outer_period_us * 1e-6 - config.outer_dt_secs).abs() > 1e-9 {
+            return Err(WorldError::InvalidParameter {
+                field: "outer_dt_secs",
+                requirement: "must be a whole number of microseconds",
+            });
+        }
+        let loop_config = LoopConfig {
+            // A whole number of microseconds, checked above.
+            outer_period_us: outer_period_us as u64,
+            inner_dt_secs: params.dt_secs,
+            settle_us: 0,
+            ..LoopConfig::miapure()
+        };
+        let robot = RobotLoop::new(
+            config,
+            loop_config,
+            WorldImu::default(),
+            WorldEncoders::default(),
+            WorldMotors::default(),
+            WorldClock::default(),
+        )?;
+        Ok(Self {
+            world,
+            robot,
+            steps_per_outer: ratio.round() as u64,
+            step_index: 0,
+            last_outer: None,
+        })
+    }
+
+    /// The simulated world.
+    pub fn world(&self) -> &BallbotWorld {
+        &self.world
+    }
+
+    /// The simulated world, e.g. to push the body.
+    pub fn world_mut(&mut self) -> &mut BallbotWorld {
+        &mut self.world
+    }
+
+    /// The robot loop (its controller, supervisor, phase and device error counts).
+    pub fn robot(&self) -> &WorldRobotLoop {
+        &self.robot
+    }
+
+    /// The last outer-loop output (references, estimated states, safety status).
+    pub fn last_outer(&self) -> Option<&OuterOutput<f64>> {
+        self.last_outer.as_ref()
+    }
+
+    /// The controller's mode (Idle before the first step arms it).
+    pub fn mode(&self) -> Mode {
+        self.robot.mode()
+    }
+
+    /// The loop's phase (starting up, running, shutting down, off).
+    pub fn phase(&self) -> Phase {
+        self.robot.phase()
+    }
+
+    /// Starts the loop's shutdown: a controlled stop, then disarm once at rest.
+    pub fn shutdown(&mut self) {
+        self.robot.shutdown();
+    }
+
+    /// One physics step (8 kHz): every `outer_dt / dt` steps the outer task first, on a fresh
+    /// sensor sample, then the inner task, whose torque the world applies for this step.
+    pub fn step(&mut self, command: Command<'_, f64>) -> &StepTelemetry {
+        if self.step_index.is_multiple_of(self.steps_per_outer) {
+            let m = self.world.measure();
+            let now_us = (m.time_s * 1e6).round() as u64;
+            let (imu, encoders, _, clock) = self.robot.devices_mut();
+            imu.sample = ImuSample {
+                timestamp_us: now_us,
+                roll_rad: m.tilt_rad[0],
+                pitch_rad: m.tilt_rad[1],
+                yaw_rad: m.yaw_rad,
+                angular_velocity_rad_per_s: Vector3::from(m.body_rate_rad_per_s),
+            };
+            encoders.sample = EncoderSample {
+                timestamp_us: now_us,
+                wheel_speeds_rad_per_s: Vector3::from(m.wheel_speed_rad_per_s),
+            };
+            clock.now_us = now_us;
+            let report = self.robot.outer_task(&OperatorInput {
+                command,
+                command_timestamp_us: Some(now_us),
+                request: ModeRequest::None,
+            });
+            self.last_outer = Some(report.output);
+        }
+        self.step_index += 1;
+        let speeds = Vector3::from(self.world.encoder_speeds_rad_per_s());
+        let now_us = (self.world.time_s() * 1e6).round() as u64;
+        let (_, encoders, _, _) = self.robot.devices_mut();
+        encoders.sample = EncoderSample {
+            timestamp_us: now_us,
+            wheel_speeds_rad_per_s: speeds,
+        };
+        self.robot.inner_task();
+        let torque = self.robot.devices().2.torque_nm;
+        self.world.step([torque.x, torque.y, torque.z])
+    }
+}

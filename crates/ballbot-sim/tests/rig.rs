@@ -1,0 +1,80 @@
+//! The shipped robot loop (`ballbot_runtime::RobotLoop`) against the rapier3d world: the same
+//! loop a robot binary runs arms, balances, drives, shuts down at rest, and switches the motors
+//! off on an unrecoverable fault.
+
+use ballbot_core::command::{Command, VelocityCommand};
+use ballbot_core::safety::{Fault, Mode};
+use ballbot_runtime::Phase;
+use ballbot_sim::rig::WorldRobot;
+use ballbot_sim::world::WorldParams;
+
+fn velocity(vx_m_per_s: f64) -> Command<'static, f64> {
+    Command::Velocity(VelocityCommand {
+        vx_m_per_s,
+        vy_m_per_s: 0.0,
+        yaw_rate_rad_per_s: 0.0,
+    })
+}
+
+#[test]
+fn the_shipped_loop_arms_drives_and_shuts_down_at_rest_in_the_world() {
+    let mut sim = WorldRobot::new(WorldParams::miapure_60kg()).unwrap();
+    assert_eq!(sim.phase(), Phase::StartingUp);
+    sim.step(velocity(0.5));
+    // Upright and still at t = 0 with no settling time: armed at the first outer task.
+    assert_eq!((sim.phase(), sim.mode()), (Phase::Running, Mode::Balancing));
+    for _ in 0..4 * 8000 {
+        sim.step(velocity(0.5));
+    }
+    let v = sim.world().telemetry().ball_velocity_m_per_s.x;
+    assert!((v - 0.5).abs() < 0.05, "cruising at {v} m/s");
+    assert!(sim.robot().devices().2.enabled);
+
+    sim.shutdown();
+    let mut off_at_s = None;
+    for _ in 0..6 * 8000 {
+        sim.step(velocity(0.5));
+        if sim.phase() == Phase::Off {
+            off_at_s = Some(sim.world().time_s());
+            break;
+        }
+        assert_ne!(sim.mode(), Mode::Fault);
+    }
+    let off_at_s = off_at_s.expect("the loop disarms once at rest");
+    // The operator's 0.5 m/s is overridden by the controlled stop; disarmed only at rest.
+    let speed = sim.world().telemetry().ball_velocity_m_per_s.norm();
+    assert!(speed < 0.05, "disarmed at {speed} m/s, t = {off_at_s} s");
+    assert!(
+        off_at_s > 4.2,
+        "a stop from 0.5 m/s takes time: {off_at_s} s"
+    );
+    assert!(sim.world().failure().is_none());
+    // Motors off once disarmed: the world's wheels receive no torque.
+    sim.step(velocity(0.5));
+    assert!(!sim.robot().devices().2.enabled);
+    for w in &sim.world().telemetry().wheels {
+        assert_eq!(w.motor_torque_nm, 0.0);
+    }
+}
+
+#[test]
+fn an_unrecoverable_fault_switches_the_motors_off_in_the_world() {
+    let mut sim = WorldRobot::new(WorldParams::miapure_60kg()).unwrap();
+    for _ in 0..8000 {
+        sim.step(Command::Stop);
+    }
+    assert!(sim.robot().devices().2.enabled);
+    // Tip the body far beyond the supervisor's recoverable tilt.
+    sim.world_mut().tilt_body([0.0, 0.6]);
+    for _ in 0..40 {
+        sim.step(Command::Stop);
+    }
+    let out = sim.last_outer().unwrap();
+    assert_eq!(out.safety.mode, Mode::Fault);
+    assert!(out.safety.faults.contains(Fault::TiltLimit));
+    assert!(!sim.robot().devices().2.enabled, "motors must be off");
+    // What the world's wheels received, not only what the driver port holds.
+    for w in &sim.world().telemetry().wheels {
+        assert_eq!(w.motor_torque_nm, 0.0);
+    }
+}
