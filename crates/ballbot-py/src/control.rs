@@ -9,7 +9,8 @@ use ballbot_core::control::{
     SpeedPi, SpeedPiGains, StepStatus,
 };
 use ballbot_core::lqr::LqrWeights;
-use ballbot_core::{Wip, WipState, rk4_step};
+use ballbot_core::{Wip, WipState};
+use ballbot_sim::planar::{PlanarError, RolloutController, RolloutSettings, rollout};
 use nalgebra::{SMatrix, Vector4};
 use numpy::{AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -754,75 +755,36 @@ fn columns<'py, O>(
     Ok(d)
 }
 
-/// A controller for the closed-loop rollout.
-#[derive(Clone, Copy)]
-enum Loop {
-    Lqr(LqrController<f64>),
-    PiPd(PiPdController<f64>),
-    LqrPi(LqrPiOuter<f64>, SpeedPi<f64>),
-}
-
-/// Runs `n_steps` controller periods from each initial state; returns the flat states
+/// Runs `n_steps` controller periods from each initial state on the planar simulator's
+/// scheduler (`ballbot_sim::planar::rollout`, the one planar loop); appends the flat states
 /// (per trajectory `n_steps + 1` rows of 4), torques and status codes (`n_steps` each).
 #[allow(clippy::too_many_arguments)]
 fn run_rollouts(
     plant: &Wip<f64>,
-    controller: Loop,
+    controller: &RolloutController,
     initial: &[[f64; 4]],
     commands: &[[f64; 4]],
-    dt_secs: f64,
-    n_steps: usize,
-    substeps: usize,
+    settings: &RolloutSettings,
     states: &mut Vec<f64>,
     torques: &mut Vec<f64>,
     statuses: &mut Vec<i8>,
-) {
-    let h = dt_secs / substeps as f64;
+) -> Result<(), PlanarError> {
+    let commands: Vec<WipState<f64>> = commands.iter().map(|c| Vector4::from(*c)).collect();
     for s0 in initial {
-        let mut ctrl = controller;
-        let mut s = Vector4::from(*s0);
-        states.extend_from_slice(s.as_slice());
-        for k in 0..n_steps {
-            let cmd = Vector4::from(commands[if commands.len() == 1 { 0 } else { k }]);
-            let (torque, status) = match &mut ctrl {
-                Loop::Lqr(c) => {
-                    let o = c.step(&s, &cmd, dt_secs);
-                    for _ in 0..substeps {
-                        s = rk4_step(|x| plant.derivative(x, o.torque_nm), &s, h);
-                    }
-                    (o.torque_nm, o.status)
-                }
-                Loop::PiPd(c) => {
-                    let o = c.step(&s, &cmd, dt_secs);
-                    for _ in 0..substeps {
-                        s = rk4_step(|x| plant.derivative(x, o.torque_nm), &s, h);
-                    }
-                    (o.torque_nm, o.status)
-                }
-                Loop::LqrPi(outer, inner) => {
-                    let o = outer.step(&s, &cmd, dt_secs);
-                    let speed_cmd = SpeedCommand {
-                        speed_rad_per_s: o.reference_ball_rate_rad_per_s,
-                        feedforward_torque_nm: o.reference_torque_nm,
-                    };
-                    let mut sum = 0.0;
-                    let mut status = o.status;
-                    for _ in 0..substeps {
-                        let i = inner.step(s[3], &speed_cmd, h);
-                        if i.status != StepStatus::Nominal && status == StepStatus::Nominal {
-                            status = i.status;
-                        }
-                        sum += i.torque_nm;
-                        s = rk4_step(|x| plant.derivative(x, i.torque_nm), &s, h);
-                    }
-                    (sum / substeps as f64, status)
-                }
-            };
+        let run = rollout(
+            *plant.params(),
+            controller,
+            Vector4::from(*s0),
+            &commands,
+            settings,
+        )?;
+        for s in &run.states {
             states.extend_from_slice(s.as_slice());
-            torques.push(torque);
-            statuses.push(status_code(status));
         }
+        torques.extend_from_slice(&run.torque_nm);
+        statuses.extend(run.status.iter().map(|s| status_code(*s)));
     }
+    Ok(())
 }
 
 /// Closed-loop rollouts of `controller` on the nonlinear WIP `plant`, entirely in Rust and
@@ -832,7 +794,11 @@ fn run_rollouts(
 /// it is now: the caller's object is not stepped) runs `n_steps` periods of `dt_secs` (default
 /// 1/400 s). Its torque is held over the period while the plant advances by `substeps` RK4
 /// steps. An `LqrPiOuter` needs its inner loop `inner` (a `SpeedPi`), which then runs at every
-/// substep on the plant's ball rate (the paper: 400 Hz outer, 8 kHz inner, `substeps=20`).
+/// substep in the drive, on the joint (motor) rate its encoder measures, the ball-rate
+/// reference shifted by the tilt rate of the outer sample (the paper: 400 Hz outer, 8 kHz inner,
+/// `substeps=20`). The loop is the planar simulator's scheduler on the ideal WIP (no friction,
+/// no actuator limit beyond the controllers' own, perfect sensors, no delay); a state that
+/// becomes non-finite ends the trajectory with NaN rows of status 2.
 /// `command` is a WIP state `(4,)` held throughout, or one per period `(n_steps, 4)`.
 ///
 /// Returns a dict: `time_secs` `(n_steps + 1,)`; `state` `(n_steps + 1, 4)` or
@@ -873,9 +839,9 @@ fn closed_loop_rollout<'py>(
         ));
     }
     let ctrl = if let Ok(c) = controller.cast::<PyLqrController>() {
-        Loop::Lqr(c.borrow().inner)
+        RolloutController::Lqr(c.borrow().inner)
     } else if let Ok(c) = controller.cast::<PyPiPdController>() {
-        Loop::PiPd(c.borrow().inner)
+        RolloutController::PiPd(c.borrow().inner)
     } else if let Ok(c) = controller.cast::<PyLqrPiOuter>() {
         let Some(inner) = &inner else {
             return Err(error(
@@ -884,13 +850,16 @@ fn closed_loop_rollout<'py>(
                 "an LqrPiOuter controller needs its inner loop: pass `inner=SpeedPi(...)`",
             ));
         };
-        Loop::LqrPi(c.borrow().inner, inner.inner)
+        RolloutController::LqrPi {
+            outer: c.borrow().inner,
+            inner: inner.inner,
+        }
     } else {
         return Err(pyo3::exceptions::PyTypeError::new_err(
             "`controller` must be an LqrController, PiPdController or LqrPiOuter",
         ));
     };
-    if inner.is_some() && !matches!(ctrl, Loop::LqrPi(..)) {
+    if inner.is_some() && !matches!(ctrl, RolloutController::LqrPi { .. }) {
         return Err(error(
             py,
             Kind::Parameter,
@@ -935,22 +904,26 @@ fn closed_loop_rollout<'py>(
     let mut torques = reserve::<f64>(step_len)?;
     let mut statuses = reserve::<i8>(step_len)?;
     let wip = plant.inner;
-    let compute_secs = py.detach(|| {
+    let settings = RolloutSettings {
+        dt_secs,
+        n_steps,
+        substeps,
+    };
+    let (result, compute_secs) = py.detach(|| {
         let start = std::time::Instant::now();
-        run_rollouts(
+        let result = run_rollouts(
             &wip,
-            ctrl,
+            &ctrl,
             &init.rows,
             &commands,
-            dt_secs,
-            n_steps,
-            substeps,
+            &settings,
             &mut states,
             &mut torques,
             &mut statuses,
         );
-        start.elapsed().as_secs_f64()
+        (result, start.elapsed().as_secs_f64())
     });
+    result.map_err(|e| error(py, Kind::Parameter, e.to_string()))?;
     let time: Vec<f64> = (0..=n_steps).map(|k| k as f64 * dt_secs).collect();
     let d = PyDict::new(py);
     d.set_item("time_secs", PyArray1::from_vec(py, time))?;

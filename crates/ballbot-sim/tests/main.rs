@@ -11,6 +11,7 @@ mod planar_plant;
 mod planar_sim;
 mod plot;
 mod rig;
+mod rollout;
 mod trajopt;
 mod world;
 mod world_brake;

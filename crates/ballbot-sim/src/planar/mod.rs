@@ -15,6 +15,7 @@ mod error;
 mod friction;
 mod plant;
 mod record;
+mod rollout;
 mod sensors;
 mod sim;
 
@@ -30,5 +31,6 @@ pub use record::{
     FaultMsg, FrictionMsg, McapRecorder, PLANAR_FRICTION, PlanarCommandMsg, PlanarControlMsg,
     PlanarStateMsg,
 };
+pub use rollout::{Rollout, RolloutController, RolloutSettings, rollout};
 pub use sensors::{ImuSample, SensorParams, Sensors, SpeedEstimator};
 pub use sim::{Fault, FaultKind, Observer, OuterTick, PlanarSim, RunOutcome, SimConfig};
