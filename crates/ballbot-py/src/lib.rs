@@ -19,12 +19,17 @@ mod trajopt;
 mod world;
 mod world_study;
 
+use ballbot_core::rates;
 use pyo3::prelude::*;
 
 /// The native module. Everything here is re-exported by the `ballbot` package.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("OUTER_LOOP_RATE_HZ", rates::OUTER_LOOP_RATE_HZ)?;
+    m.add("OUTER_LOOP_DT_SECS", rates::OUTER_LOOP_DT_SECS)?;
+    m.add("INNER_LOOP_RATE_HZ", rates::INNER_LOOP_RATE_HZ)?;
+    m.add("INNER_LOOP_DT_SECS", rates::INNER_LOOP_DT_SECS)?;
     params::register(m)?;
     models::register(m)?;
     kinematics::register(m)?;

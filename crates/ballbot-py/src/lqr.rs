@@ -12,6 +12,7 @@ use ballbot_core::control::LqrGains;
 use ballbot_core::lqr::{
     Lqr, LqrWeights, RiccatiSettings, RiccatiSolution, RiccatiStatus, solve_care, solve_dare,
 };
+use ballbot_core::rates::OUTER_LOOP_DT_SECS;
 use nalgebra::{Complex, SMatrix, SVector};
 use numpy::{AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -415,7 +416,7 @@ fn wip_lqr(py: Python<'_>, wip: PyRef<'_, PyWip>, q: Option<Arr<'_>>, r: f64) ->
 /// Discrete LQR for the WIP on `[theta, theta_dot, phi_dot]` at `dt_secs` (default the
 /// paper's 400 Hz), on the zero-order-hold discretisation of the upright linearisation.
 #[pyfunction]
-#[pyo3(signature = (wip, dt_secs = 0.0025, q = None, r = 0.1))]
+#[pyo3(signature = (wip, dt_secs = OUTER_LOOP_DT_SECS, q = None, r = 0.1))]
 fn wip_lqr_discrete(
     py: Python<'_>,
     wip: PyRef<'_, PyWip>,

@@ -4,10 +4,11 @@
 //! The braking (`braking_run`, `braking_study`) and push-recovery (`push_trial`,
 //! `push_recovery_limit`) experiments. Everything runs in Rust without the GIL.
 
+use crate::errors::world_error;
 use crate::errors::{Kind, error};
 use crate::log::json_to_py;
 use crate::params::PyWorldParams;
-use crate::world::{PyFailure, ramp_dict, world_error};
+use crate::world::{PyFailure, ramp_dict};
 use ballbot_sim::world::WorldParams;
 use ballbot_sim::world::braking::{
     BrakingError, BrakingOutcome, BrakingParams, BrakingRun, BrakingSample, BrakingStudyParams,
