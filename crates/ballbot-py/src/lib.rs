@@ -8,12 +8,14 @@
 
 mod arrays;
 mod control;
+mod enums;
 mod errors;
 mod kinematics;
 mod log;
 mod lqr;
 mod models;
 mod params;
+mod results;
 mod sim;
 mod trajopt;
 mod world;
@@ -30,6 +32,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("OUTER_LOOP_DT_SECS", rates::OUTER_LOOP_DT_SECS)?;
     m.add("INNER_LOOP_RATE_HZ", rates::INNER_LOOP_RATE_HZ)?;
     m.add("INNER_LOOP_DT_SECS", rates::INNER_LOOP_DT_SECS)?;
+    enums::register(m)?;
     params::register(m)?;
     models::register(m)?;
     kinematics::register(m)?;

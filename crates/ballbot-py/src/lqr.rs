@@ -94,15 +94,6 @@ fn from_smatrix<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> Vec<f
     v
 }
 
-fn status_name(status: RiccatiStatus) -> &'static str {
-    match status {
-        RiccatiStatus::Converged => "converged",
-        RiccatiStatus::MaxIterations => "max_iterations",
-        RiccatiStatus::NotStabilizable => "not_stabilizable",
-        RiccatiStatus::NonFinite => "non_finite",
-    }
-}
-
 /// A plant `(A (n, n), B (n, m))` read and checked; `B` may be 1-D for a single input.
 struct Plant {
     n: usize,
@@ -491,11 +482,11 @@ impl PyRiccatiSolution {
         array_out(py, self.gain.clone(), &[self.m, self.n])
     }
 
-    /// How the solve ended: `"converged"`, `"max_iterations"`, `"not_stabilizable"` or
-    /// `"non_finite"`. Use `x` and `gain` only when converged.
+    /// How the solve ended: a `RiccatiStatus` (`CONVERGED`, `MAX_ITERATIONS`,
+    /// `NOT_STABILIZABLE` or `NON_FINITE`). Use `x` and `gain` only when converged.
     #[getter]
-    fn status(&self) -> &'static str {
-        status_name(self.status)
+    fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::enums::riccati_status(py, self.status)
     }
 
     /// Doubling steps taken.
@@ -517,8 +508,8 @@ impl PyRiccatiSolution {
 
     fn __repr__(&self) -> String {
         format!(
-            "RiccatiSolution(status={:?}, iterations={}, residual={:e})",
-            status_name(self.status),
+            "RiccatiSolution(status=RiccatiStatus.{}, iterations={}, residual={:e})",
+            crate::enums::riccati_status_name(self.status).to_uppercase(),
             self.iterations,
             self.residual
         )

@@ -119,7 +119,7 @@ impl PyScenario {
     /// `friction_torque_nm`, `saturated` (1.0 / 0.0) (n,); and `end_time_secs`, `fault` (None
     /// or why the run stopped), `log_path` (None or the MCAP file).
     #[pyo3(signature = (log_path = None))]
-    fn run<'py>(&self, py: Python<'py>, log_path: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+    fn run<'py>(&self, py: Python<'py>, log_path: Option<PathBuf>) -> PyResult<Bound<'py, PyAny>> {
         let scenario = &self.inner;
         let result = py.detach(|| run_scenario(scenario, log_path.as_deref()));
         let (rec, end_time_secs) = match result {
@@ -144,7 +144,7 @@ impl PyScenario {
         d.set_item("end_time_secs", end_time_secs)?;
         d.set_item("fault", rec.fault)?;
         d.set_item("log_path", log_path)?;
-        Ok(d)
+        crate::results::make(py, "ScenarioRun", d)
     }
 }
 
@@ -231,7 +231,7 @@ fn piptb_experiment<'py>(
     base_seed: Option<u64>,
     controllers: Option<Vec<String>>,
     log_dir: Option<PathBuf>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let mut settings = if quick {
         PiptbSettings::quick()
     } else {
@@ -287,7 +287,7 @@ fn piptb_experiment<'py>(
         by_kind.set_item(c.kind.key(), entry)?;
     }
     out.set_item("controllers", by_kind)?;
-    Ok(out)
+    crate::results::make(py, "PiptbExperiment", out)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

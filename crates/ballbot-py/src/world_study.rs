@@ -82,7 +82,7 @@ fn protocol(
     Ok(p)
 }
 
-fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, PyDict>> {
+fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, PyAny>> {
     let d = PyDict::new(py);
     d.set_item("heading_deg", o.heading_deg)?;
     d.set_item("seed", o.seed)?;
@@ -94,10 +94,10 @@ fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, P
     d.set_item("min_normal_force_n", o.min_normal_force_n)?;
     d.set_item("peak_tilt_rad", o.peak_tilt_rad)?;
     d.set_item("supervisor_stop_s", o.supervisor_stop_s)?;
-    Ok(d)
+    crate::results::make(py, "TrialOutcome", d)
 }
 
-fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, PyDict>> {
+fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, PyAny>> {
     let d = PyDict::new(py);
     d.set_item("heading_deg", f.heading_deg)?;
     d.set_item("largest_surviving_m_per_s2", f.largest_surviving_m_per_s2)?;
@@ -109,9 +109,12 @@ fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, Py
     d.set_item("failing", failing)?;
     let surviving = f.surviving.map(|o| outcome_dict(py, &o)).transpose()?;
     d.set_item("surviving", surviving)?;
-    let run = f.failing_run.map(|r| ramp_dict(py, r)).transpose()?;
+    let run = f
+        .failing_run
+        .map(|r| crate::results::make(py, "RampRun", ramp_dict(py, r)?))
+        .transpose()?;
     d.set_item("failing_run", run)?;
-    Ok(d)
+    crate::results::make(py, "FailingAcceleration", d)
 }
 
 /// One slow-ramp trial of the maximum-speed study
@@ -128,7 +131,7 @@ fn py_slow_ramp_trial<'py>(
     params: Option<PyWorldParams>,
     heading_deg: f64,
     seed: u64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let params = params_or_default(params);
     let protocol = MaxSpeedProtocol::default();
     let (run, outcome) = py
@@ -136,7 +139,7 @@ fn py_slow_ramp_trial<'py>(
         .map_err(|e| world_error(py, e))?;
     let d = ramp_dict(py, run)?;
     d.set_item("outcome", outcome_dict(py, &outcome)?)?;
-    Ok(d)
+    crate::results::make(py, "SlowRampTrial", d)
 }
 
 /// The failing-acceleration search at `heading_deg`
@@ -161,7 +164,7 @@ fn py_failing_acceleration<'py>(
     fast_top_m_per_s: Option<f64>,
     accel_bracket_m_per_s2: Option<(f64, f64)>,
     accel_resolution_m_per_s2: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let params = params_or_default(params);
     let protocol = protocol(
         py,
@@ -210,7 +213,7 @@ fn py_max_speed_study<'py>(
     fast_top_m_per_s: Option<f64>,
     accel_bracket_m_per_s2: Option<(f64, f64)>,
     accel_resolution_m_per_s2: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let params = params_or_default(params);
     let mut settings = if quick {
         MaxSpeedStudySettings::quick()
@@ -278,10 +281,11 @@ fn py_max_speed_study<'py>(
     d.set_item("table", study.table())?;
     let first = PyDict::new(py);
     for h in study.trials {
-        first.set_item(h.heading_deg, ramp_dict(py, h.first_run)?)?;
+        let run = crate::results::make(py, "RampRun", ramp_dict(py, h.first_run)?)?;
+        first.set_item(h.heading_deg, run)?;
     }
     d.set_item("first_runs", first)?;
-    Ok(d)
+    crate::results::make(py, "MaxSpeedStudy", d)
 }
 
 fn braking_error(py: Python<'_>, e: BrakingError) -> PyErr {
@@ -349,11 +353,11 @@ fn triples<'py>(
     crate::world::table(py, samples.iter().map(f).collect())
 }
 
-fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'py, PyDict>> {
+fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'py, PyAny>> {
     let d = PyDict::new(py);
     d.set_item("heading_deg", run.heading_deg)?;
     d.set_item("duration_s", run.duration_s)?;
-    d.set_item("outcome", run.outcome.label())?;
+    d.set_item("outcome", crate::enums::braking_outcome(py, &run.outcome)?)?;
     d.set_item("success", run.outcome.is_success())?;
     let (failure, rest_speed, status) = match run.outcome {
         BrakingOutcome::Stopped { rest_speed_m_per_s } => (None, Some(rest_speed_m_per_s), None),
@@ -361,11 +365,16 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
             rest_speed_m_per_s, ..
         } => (None, Some(rest_speed_m_per_s), None),
         BrakingOutcome::Failed(f) => (Some(PyFailure::from(f)), None, None),
-        BrakingOutcome::NoTrajectory { status } => (None, None, Some(format!("{status:?}"))),
+        BrakingOutcome::NoTrajectory { status } => (None, None, Some(status)),
     };
     d.set_item("failure", failure)?;
     d.set_item("rest_speed_m_per_s", rest_speed)?;
-    d.set_item("solve_status", status)?;
+    d.set_item(
+        "solve_status",
+        status
+            .map(|s| crate::enums::solve_status(py, s))
+            .transpose()?,
+    )?;
     d.set_item("brake_start_s", run.brake_start_s)?;
     d.set_item("plan_peak_tilt_rad", run.plan_peak_tilt_rad)?;
     d.set_item("plan_cost_n2m2s", run.plan_cost_n2m2s)?;
@@ -377,7 +386,7 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
     peaks.set_item("tilt_rad", p.tilt_rad)?;
     peaks.set_item("speed_error_m_per_s", p.speed_error_m_per_s)?;
     peaks.set_item("slip_s", p.slip_s)?;
-    d.set_item("peaks", peaks)?;
+    d.set_item("peaks", crate::results::make(py, "BrakingPeaks", peaks)?)?;
     let s = &run.samples;
     let column = |f: fn(&BrakingSample) -> f64| PyArray1::from_vec(py, s.iter().map(f).collect());
     d.set_item("time_s", column(|x| x.time_s))?;
@@ -392,7 +401,7 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
         triples(py, s, |x| x.actuator_utilisation)?,
     )?;
     d.set_item("telemetry_hash", run.telemetry_hash)?;
-    Ok(d)
+    crate::results::make(py, "BrakingRun", d)
 }
 
 /// One braking run of the paper's Sec. V in the 3D world
@@ -430,7 +439,7 @@ fn py_braking_run<'py>(
     intervals: Option<usize>,
     sample_every_s: Option<f64>,
     feedforward: &str,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = braking_params(
         py,
@@ -480,7 +489,7 @@ fn py_braking_study<'py>(
     intervals: Option<usize>,
     sample_every_s: Option<f64>,
     feedforward: &str,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = braking_params(
         py,
@@ -507,12 +516,12 @@ fn py_braking_study<'py>(
     d.set_item("first_failure_s", result.first_failure_s)?;
     d.set_item("limit_s", result.limit_s)?;
     d.set_item("limit_failure_s", result.limit_failure_s)?;
-    let runs = |runs: &[BrakingRun]| -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let runs = |runs: &[BrakingRun]| -> PyResult<Vec<Bound<'py, PyAny>>> {
         runs.iter().map(|r| braking_run_dict(py, r)).collect()
     };
     d.set_item("descent", runs(&result.descent)?)?;
     d.set_item("bisection", runs(&result.bisection)?)?;
-    Ok(d)
+    crate::results::make(py, "BrakingStudy", d)
 }
 
 fn push_params(
@@ -541,11 +550,11 @@ fn push_params(
     p
 }
 
-fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, PyDict>> {
+fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, PyAny>> {
     let d = PyDict::new(py);
     d.set_item("heading_deg", t.heading_deg)?;
     d.set_item("impulse_ns", t.impulse_ns)?;
-    d.set_item("outcome", t.outcome.label())?;
+    d.set_item("outcome", crate::enums::push_outcome(py, &t.outcome)?)?;
     d.set_item("recovered", t.recovered())?;
     let failure = match t.outcome {
         PushOutcome::Failed(f) => Some(PyFailure::from(f)),
@@ -564,7 +573,7 @@ fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, P
     let v: Vec<[f64; 2]> = s.iter().map(|x| x.ball_velocity_m_per_s).collect();
     d.set_item("ball_velocity_m_per_s", crate::world::table(py, v)?)?;
     d.set_item("telemetry_hash", t.telemetry_hash)?;
-    Ok(d)
+    crate::results::make(py, "PushTrial", d)
 }
 
 /// One push-recovery trial (`ballbot_sim::world::push::push_trial`): the robot stands still
@@ -593,7 +602,7 @@ fn py_push_trial<'py>(
     observe_s: Option<f64>,
     rest_within_s: Option<f64>,
     sample_every_s: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = push_params(
         push_duration_s,
@@ -639,7 +648,7 @@ fn py_push_recovery_limit<'py>(
     observe_s: Option<f64>,
     rest_within_s: Option<f64>,
     sample_every_s: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = push_params(
         push_duration_s,
@@ -669,13 +678,13 @@ fn py_push_recovery_limit<'py>(
     d.set_item("heading_deg", found.heading_deg)?;
     d.set_item("largest_recovered_ns", found.largest_recovered_ns)?;
     d.set_item("smallest_failing_ns", found.smallest_failing_ns)?;
-    let trials: Vec<Bound<'py, PyDict>> = found
+    let trials: Vec<Bound<'py, PyAny>> = found
         .trials
         .iter()
         .map(|t| push_trial_dict(py, t))
         .collect::<PyResult<_>>()?;
     d.set_item("trials", trials)?;
-    Ok(d)
+    crate::results::make(py, "PushRecovery", d)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

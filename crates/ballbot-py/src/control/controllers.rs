@@ -2,8 +2,8 @@
 
 use super::gains::{PyLqrGains, PyLqrPiOuterConfig, PyPiPdGains, PySpeedPiGains};
 use super::outputs::{PyLqrOutput, PyLqrPiOuterOutput, PyPiPdOutput, PySpeedPiOutput};
-use super::status_code;
 use crate::arrays::{Rows, rows, vec4};
+use crate::enums::step_status_code;
 use crate::errors::{Kind, core_error, error};
 use crate::models::PyWip;
 use ballbot_core::WipState;
@@ -367,7 +367,10 @@ pub(crate) fn columns<'py, O>(
     }
     d.set_item(
         "status",
-        PyArray1::from_vec(py, outs.iter().map(|o| status_code(status(o))).collect()),
+        PyArray1::from_vec(
+            py,
+            outs.iter().map(|o| step_status_code(status(o))).collect(),
+        ),
     )?;
     Ok(d)
 }

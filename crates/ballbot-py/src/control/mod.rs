@@ -6,31 +6,12 @@ mod gains;
 mod outputs;
 mod rollout;
 
-use ballbot_core::control::StepStatus;
 use pyo3::prelude::*;
 
 pub(crate) use controllers::*;
 pub(crate) use gains::*;
 pub(crate) use outputs::*;
 pub(crate) use rollout::*;
-
-/// The name of a step status in Python.
-pub fn status_name(status: StepStatus) -> &'static str {
-    match status {
-        StepStatus::Nominal => "nominal",
-        StepStatus::Saturated => "saturated",
-        _ => "invalid_input",
-    }
-}
-
-/// The integer code of a step status in batch outputs: 0 nominal, 1 saturated, 2 invalid.
-fn status_code(status: StepStatus) -> i8 {
-    match status {
-        StepStatus::Nominal => 0,
-        StepStatus::Saturated => 1,
-        _ => 2,
-    }
-}
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(py_accelerating_command, m)?)?;

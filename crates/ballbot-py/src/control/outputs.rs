@@ -1,10 +1,10 @@
 //! One controller step's result, with each term (`LqrOutput`, `PiPdOutput`, ...).
 
-use super::status_name;
+use crate::enums::{step_status, step_status_name};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// Defines a frozen output class: float fields plus a `status` string.
+/// Defines a frozen output class: float fields plus a `status` (`ballbot.StepStatus`).
 macro_rules! py_output {
     (
         $(#[$meta:meta])*
@@ -27,24 +27,29 @@ macro_rules! py_output {
                 }
             )*
 
-            /// `"nominal"`, `"saturated"` or `"invalid_input"`.
+            /// `StepStatus.NOMINAL`, `SATURATED` or `INVALID_INPUT`.
             #[getter]
-            fn status(&self) -> &'static str {
-                status_name(self.inner.status)
+            fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+                step_status(py, self.inner.status)
             }
 
             /// The fields as a dict.
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
                 let d = PyDict::new(py);
                 $(d.set_item(stringify!($field), self.inner.$field)?;)*
-                d.set_item("status", status_name(self.inner.status))?;
+                d.set_item("status", step_status(py, self.inner.status)?)?;
                 Ok(d)
             }
 
             fn __repr__(&self) -> String {
                 let fields: Vec<String> =
                     vec![$(format!("{}={:?}", stringify!($field), self.inner.$field)),*];
-                format!("{}({}, status={:?})", $name, fields.join(", "), status_name(self.inner.status))
+                format!(
+                    "{}({}, status=StepStatus.{})",
+                    $name,
+                    fields.join(", "),
+                    step_status_name(self.inner.status).to_uppercase()
+                )
             }
         }
     };

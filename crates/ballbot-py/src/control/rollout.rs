@@ -2,8 +2,8 @@
 //! accelerating command.
 
 use super::controllers::{PyLqrController, PyLqrPiOuter, PyPiPdController, PySpeedPi};
-use super::status_code;
 use crate::arrays::{Rows, array_out, reserve, rows};
+use crate::enums::step_status_code;
 use crate::errors::{Kind, error};
 use crate::models::PyWip;
 use ballbot_core::control::{
@@ -84,7 +84,7 @@ pub(crate) fn run_rollouts(
             };
             states.extend_from_slice(s.as_slice());
             torques.push(torque);
-            statuses.push(status_code(status));
+            statuses.push(step_status_code(status));
         }
     }
 }
@@ -99,7 +99,7 @@ pub(crate) fn run_rollouts(
 /// substep on the plant's ball rate (the paper: 400 Hz outer, 8 kHz inner, `substeps=20`).
 /// `command` is a WIP state `(4,)` held throughout, or one per period `(n_steps, 4)`.
 ///
-/// Returns a dict: `time_secs` `(n_steps + 1,)`; `state` `(n_steps + 1, 4)` or
+/// Returns a `Rollout`: `time_secs` `(n_steps + 1,)`; `state` `(n_steps + 1, 4)` or
 /// `(n, n_steps + 1, 4)`; `torque_nm` (the mean torque applied over each period) and `status`
 /// (int8: 0 nominal, 1 saturated, 2 invalid input) `(n_steps,)` or `(n, n_steps)`; and
 /// `compute_secs`, the time spent in the Rust loop. Raises `ParameterError` for a bad
@@ -121,7 +121,7 @@ pub(crate) fn closed_loop_rollout<'py>(
     command: Option<Arr<'py>>,
     inner: Option<PyRef<'py, PySpeedPi>>,
     substeps: usize,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     if !(dt_secs.is_finite() && dt_secs > 0.0) {
         return Err(error(
             py,
@@ -234,7 +234,7 @@ pub(crate) fn closed_loop_rollout<'py>(
     };
     d.set_item("status", status)?;
     d.set_item("compute_secs", compute_secs)?;
-    Ok(d)
+    crate::results::make(py, "Rollout", d)
 }
 
 /// The steady command that accelerates the ball at `ball_accel_rad_per_s2` while rolling at

@@ -11,7 +11,6 @@ use ballbot_sim::world::BallbotWorld;
 use nalgebra::Vector3;
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 use std::path::PathBuf;
 
 /// The world methods both `World` and `WorldLoop` have: what `BallbotWorld` offers besides
@@ -270,7 +269,7 @@ world_class! {
             stop_on_failure: bool,
             log_path: Option<PathBuf>,
             log_compact: bool,
-        ) -> PyResult<Bound<'py, PyDict>> {
+        ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, torque_nm, n_steps, "torque_nm")?;
             let trace = Trace::with_capacity(options.records())?;
@@ -289,7 +288,7 @@ world_class! {
             finish_log(py, log)?;
             let d = finish_run(py, trace, "torque_nm", steps, self.inner.failure())?;
             d.set_item("log_path", log_path)?;
-            Ok(d)
+            crate::results::make(py, "WorldRun", d)
         }
     }
 }

@@ -81,7 +81,7 @@ pub(crate) fn max_speed_ramp<'py>(
     max_jerk_m_per_s3: Option<f64>,
     max_tilt_command_rad: Option<f64>,
     max_tilt_rate_command_rad_per_s: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let params = params_or_default(params);
     let config = Shaping {
         max_speed_m_per_s,
@@ -115,5 +115,5 @@ pub(crate) fn max_speed_ramp<'py>(
     let result = py
         .detach(|| max_speed_ramp_with_config(params, config, heading_deg, &ramp))
         .map_err(|e| world_error(py, e))?;
-    ramp_dict(py, result)
+    crate::results::make(py, "RampRun", ramp_dict(py, result)?)
 }

@@ -2,66 +2,67 @@
 //! `Failure`.
 
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
-use ballbot_sim::world::{Failure, FailureKind, Measurement, StepTelemetry, WheelTelemetry};
+use ballbot_sim::world::{Failure, Measurement, StepTelemetry, WheelTelemetry};
 use nalgebra::Vector3;
 use numpy::PyArray1;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
-/// One omniwheel in one step (`ballbot_sim::world::WheelTelemetry`).
-#[pyclass(name = "WheelTelemetry", module = "ballbot", frozen, get_all)]
+/// One omniwheel in one step (`ballbot_sim::world::WheelTelemetry`, wrapped).
+#[pyclass(name = "WheelTelemetry", module = "ballbot", frozen)]
 #[derive(Clone, Debug)]
 pub struct PyWheelTelemetry {
-    /// Normal force `N_i` (N), from the compliant contact.
-    normal_force_n: f64,
-    /// Traction `F_i` the wheel applies to the ball along its rolling direction (N).
-    traction_n: f64,
-    /// Traction the contact would need to keep sticking (N).
-    traction_demand_n: f64,
-    /// `|F_i| / (mu N_i)`, 0 when lifted off.
-    cone_utilisation: f64,
-    /// Slip speed along the rolling direction, ball surface minus wheel rim (m/s).
-    slip_speed_m_per_s: f64,
-    /// Whether the demand exceeded the friction cone (the contact slides).
-    slipping: bool,
-    /// Torque the actuator delivered at the wheel after its torque-speed limit (N m).
-    motor_torque_nm: f64,
-    /// Wheel speed relative to the body (rad/s).
-    speed_rad_per_s: f64,
-    /// Wheel angle relative to the body (rad).
-    angle_rad: f64,
+    pub(crate) inner: WheelTelemetry,
 }
 
-impl From<&WheelTelemetry> for PyWheelTelemetry {
-    fn from(w: &WheelTelemetry) -> Self {
-        Self {
-            normal_force_n: w.normal_force_n,
-            traction_n: w.traction_n,
-            traction_demand_n: w.traction_demand_n,
-            cone_utilisation: w.cone_utilisation,
-            slip_speed_m_per_s: w.slip_speed_m_per_s,
-            slipping: w.slipping,
-            motor_torque_nm: w.motor_torque_nm,
-            speed_rad_per_s: w.speed_rad_per_s,
-            angle_rad: w.angle_rad,
+/// Getters delegating to the wrapped record's fields (documented there).
+macro_rules! wheel_getters {
+    ($($field:ident: $ty:ty),* $(,)?) => {
+        #[pymethods]
+        impl PyWheelTelemetry {
+            $(
+                #[getter]
+                fn $field(&self) -> $ty {
+                    self.inner.$field
+                }
+            )*
+
+            /// The fields as a dict.
+            fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+                let d = PyDict::new(py);
+                $(d.set_item(stringify!($field), self.inner.$field)?;)*
+                Ok(d)
+            }
+
+            fn __repr__(&self) -> String {
+                let w = &self.inner;
+                format!(
+                    "WheelTelemetry(normal_force_n={:.3}, traction_n={:.3}, cone_utilisation={:.3}, \
+                     slip_speed_m_per_s={:.4}, slipping={}, motor_torque_nm={:.3}, \
+                     speed_rad_per_s={:.3})",
+                    w.normal_force_n,
+                    w.traction_n,
+                    w.cone_utilisation,
+                    w.slip_speed_m_per_s,
+                    if w.slipping { "True" } else { "False" },
+                    w.motor_torque_nm,
+                    w.speed_rad_per_s
+                )
+            }
         }
-    }
+    };
 }
 
-#[pymethods]
-impl PyWheelTelemetry {
-    fn __repr__(&self) -> String {
-        format!(
-            "WheelTelemetry(normal_force_n={:.3}, traction_n={:.3}, cone_utilisation={:.3}, \
-             slip_speed_m_per_s={:.4}, slipping={}, motor_torque_nm={:.3}, speed_rad_per_s={:.3})",
-            self.normal_force_n,
-            self.traction_n,
-            self.cone_utilisation,
-            self.slip_speed_m_per_s,
-            if self.slipping { "True" } else { "False" },
-            self.motor_torque_nm,
-            self.speed_rad_per_s
-        )
-    }
+wheel_getters! {
+    normal_force_n: f64,
+    traction_n: f64,
+    traction_demand_n: f64,
+    cone_utilisation: f64,
+    slip_speed_m_per_s: f64,
+    slipping: bool,
+    motor_torque_nm: f64,
+    speed_rad_per_s: f64,
+    angle_rad: f64,
 }
 
 pub(crate) fn vec_out<'py>(py: Python<'py>, v: &Vector3<f64>) -> Bound<'py, PyArray1<f64>> {
@@ -90,7 +91,7 @@ impl PyStepTelemetry {
         self.inner
             .wheels
             .iter()
-            .map(PyWheelTelemetry::from)
+            .map(|w| PyWheelTelemetry { inner: *w })
             .collect()
     }
 
@@ -226,50 +227,64 @@ impl PyMeasurement {
     }
 }
 
-/// A detected failure of a world run (`ballbot_sim::world::Failure`): `kind` is `"tilt"`,
-/// `"body_touched_floor"`, `"sustained_slip"` or `"lift_off"`; `wheel` (0-based, OW1 is 0)
-/// for slip and lift-off, `tilt_rad` for a tilt failure.
-#[pyclass(name = "Failure", module = "ballbot", frozen, eq, get_all)]
+/// A detected failure of a world run (`ballbot_sim::world::Failure`, wrapped): `kind` is a
+/// `FailureKind`; `wheel` (`"OW1"`..`"OW3"`) for slip and lift-off, `tilt_rad` for a tilt
+/// failure.
+#[pyclass(name = "Failure", module = "ballbot", frozen, eq)]
 #[derive(Clone, Debug, PartialEq)]
 pub struct PyFailure {
-    /// What failed: `"tilt"`, `"body_touched_floor"`, `"sustained_slip"`, `"lift_off"`.
-    kind: &'static str,
-    /// Simulated time of detection (s).
-    time_s: f64,
-    /// The wheel, 0-based, for `"sustained_slip"` and `"lift_off"`.
-    wheel: Option<usize>,
-    /// Tilt from the vertical when detected (rad), for `"tilt"`.
-    tilt_rad: Option<f64>,
+    pub(crate) inner: Failure,
 }
 
 impl From<Failure> for PyFailure {
-    fn from(f: Failure) -> Self {
-        let (kind, wheel, tilt_rad) = match f.kind {
-            FailureKind::Tilt { tilt_rad } => ("tilt", None, Some(tilt_rad)),
-            FailureKind::BodyTouchedFloor => ("body_touched_floor", None, None),
-            FailureKind::SustainedSlip { wheel } => ("sustained_slip", Some(wheel), None),
-            FailureKind::LiftOff { wheel } => ("lift_off", Some(wheel), None),
-        };
-        Self {
-            kind,
-            time_s: f.time_s,
-            wheel,
-            tilt_rad,
-        }
+    fn from(inner: Failure) -> Self {
+        Self { inner }
     }
 }
 
 #[pymethods]
 impl PyFailure {
+    /// What failed: `FailureKind.TILT`, `BODY_TOUCHED_FLOOR`, `SUSTAINED_SLIP` or `LIFT_OFF`.
+    #[getter]
+    fn kind<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::enums::failure_kind(py, &self.inner.kind)
+    }
+
+    /// Simulated time of detection (s).
+    #[getter]
+    fn time_s(&self) -> f64 {
+        self.inner.time_s
+    }
+
+    /// The wheel, `"OW1"`, `"OW2"` or `"OW3"`, for slip and lift-off.
+    #[getter]
+    fn wheel(&self) -> Option<&'static str> {
+        self.inner.kind.wheel_name()
+    }
+
+    /// The wheel's 0-based index (OW1 is 0), for slip and lift-off.
+    #[getter]
+    fn wheel_index(&self) -> Option<usize> {
+        self.inner.kind.wheel()
+    }
+
+    /// Tilt from the vertical when detected (rad), for a tilt failure.
+    #[getter]
+    fn tilt_rad(&self) -> Option<f64> {
+        self.inner.kind.tilt_rad()
+    }
+
     fn __repr__(&self) -> String {
-        let detail = match (self.wheel, self.tilt_rad) {
-            (Some(w), _) => format!(", wheel={w}"),
+        let kind = &self.inner.kind;
+        let detail = match (kind.wheel_name(), kind.tilt_rad()) {
+            (Some(w), _) => format!(", wheel={w:?}"),
             (_, Some(t)) => format!(", tilt_rad={t:.4}"),
             _ => String::new(),
         };
         format!(
-            "Failure(kind={:?}, time_s={:.4}{detail})",
-            self.kind, self.time_s
+            "Failure(kind=FailureKind.{}, time_s={:.4}{detail})",
+            kind.as_str().to_uppercase(),
+            self.inner.time_s
         )
     }
 }

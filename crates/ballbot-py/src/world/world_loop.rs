@@ -11,12 +11,10 @@ use crate::log::log_error;
 use crate::params::PyWorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
-use ballbot_core::safety::Mode;
 use ballbot_sim::world::{BallbotWorld, CoreLoop, WorldParams};
 use nalgebra::Vector3;
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 use std::path::PathBuf;
 
 /// Overrides of the controller's command shaping (`BallbotControllerConfig.shaping`), e.g. to
@@ -82,15 +80,6 @@ impl Shaping {
     }
 }
 
-pub(crate) fn mode_name(mode: Mode) -> &'static str {
-    match mode {
-        Mode::Idle => "idle",
-        Mode::Balancing => "balancing",
-        Mode::ControlledStop => "controlled_stop",
-        Mode::Fault => "fault",
-    }
-}
-
 pub(crate) fn velocity(command: [f64; 3]) -> VelocityCommand<f64> {
     VelocityCommand {
         vx_m_per_s: command[0],
@@ -143,11 +132,11 @@ world_class! {
             Ok(Self { inner })
         }
 
-        /// The controller's mode: `"idle"` (before the first step arms it), `"balancing"`,
-        /// `"controlled_stop"` or `"fault"`.
+        /// The controller's mode: `Mode.IDLE` (before the first step arms it),
+        /// `BALANCING`, `CONTROLLED_STOP` or `FAULT`.
         #[getter]
-        fn mode(&self) -> &'static str {
-            mode_name(self.inner.mode())
+        fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+            crate::enums::mode(py, self.inner.mode())
         }
 
         /// One physics step (8 kHz) with the velocity command (m/s, m/s, rad/s; body frame);
@@ -189,7 +178,7 @@ world_class! {
             stop_on_failure: bool,
             log_path: Option<PathBuf>,
             log_compact: bool,
-        ) -> PyResult<Bound<'py, PyDict>> {
+        ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, command, n_steps, "command")?;
             let trace = Trace::with_capacity(options.records())?;
@@ -213,7 +202,7 @@ world_class! {
             finish_log(py, log)?;
             let d = finish_run(py, trace, "command", steps, self.inner.world().failure())?;
             d.set_item("log_path", log_path)?;
-            Ok(d)
+            crate::results::make(py, "WorldLoopRun", d)
         }
     }
 }
