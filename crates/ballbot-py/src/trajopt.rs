@@ -513,7 +513,7 @@ impl PyBrakingSolution {
 }
 
 /// Bisects the braking duration of `problem` (its own duration ignored) for the shortest one
-/// that solves under its limits. Returns a dict: `min_duration_secs` (None if even
+/// that solves under its limits. Returns a `MinBrakingTime`: `min_duration_secs` (None if even
 /// `upper_secs` fails), `infeasible_below_secs`, `solution` (at the minimum), `solves`.
 #[pyfunction(name = "min_braking_time")]
 #[pyo3(signature = (

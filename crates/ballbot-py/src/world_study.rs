@@ -120,7 +120,7 @@ fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, Py
 /// One slow-ramp trial of the maximum-speed study
 /// (`ballbot_sim::world::max_speed::slow_ramp_trial`): the protocol's slow ramp (0.25 m/s^2 to
 /// 6 m/s after 0.5 s, then 1 s hold) at `heading_deg` with the sensor noise seeded by `seed`,
-/// the command shaper's caps lifted as in the study. Returns the ramp's dict (as
+/// the command shaper's caps lifted as in the study. Returns a `SlowRampTrial`: the ramp (as
 /// `max_speed_ramp`) plus `outcome`: `max_speed_m_per_s`, `censored` (no failure: the speed is
 /// only a lower bound), `failure`, `peak_cone_utilisation`, `min_normal_force_n`,
 /// `peak_tilt_rad`, `supervisor_stop_s`, `seed`, `accel_m_per_s2`, `heading_deg`.
@@ -146,7 +146,7 @@ fn py_slow_ramp_trial<'py>(
 /// (`ballbot_sim::world::max_speed::failing_acceleration`): bisection on the grid of
 /// `accel_resolution_m_per_s2` inside `accel_bracket_m_per_s2` for the largest ramp acceleration
 /// whose ramp to `fast_top_m_per_s` (and 1 s hold) survives. Defaults: the study's protocol
-/// (3.0 m/s, (0.5, 3.0) m/s^2, 0.05 m/s^2). Returns a dict: `largest_surviving_m_per_s2`
+/// (3.0 m/s, (0.5, 3.0) m/s^2, 0.05 m/s^2). Returns a `FailingAcceleration`: `largest_surviving_m_per_s2`
 /// (`None` if the bracket's low end failed), `smallest_failing_m_per_s2` (`None` if its high end
 /// survived: `censored`), `text` (`1.75`, `>= 3.00`, `< 0.50`), `runs`, `failing` and
 /// `surviving` (the two runs' outcomes, as in `slow_ramp_trial`), `failing_run` (the failing
@@ -186,7 +186,7 @@ fn py_failing_acceleration<'py>(
 /// every 15 deg, mu 0.4/0.6/0.8 and COM height 0.4/0.5/0.7 m; a few minutes on two cores); the
 /// other keywords override its lists and the search.
 ///
-/// Returns the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
+/// Returns a `MaxSpeedStudy`: the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
 /// `mu`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
 /// plus `max_speed_by_heading` (mean slow-ramp maximum speed per heading), `table` (the text
 /// table `reproduce` prints) and `first_runs` (per trial heading, the first trial's series as
@@ -412,7 +412,7 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
 /// trajectory's whole torque) or `"core"` (ablation: the equilibrium-lean feedforward only). Runs
 /// without the GIL.
 ///
-/// Returns a dict: `outcome` (`"stopped"`, `"no_trajectory"`, `"failed"`, `"not_at_rest"`),
+/// Returns a `BrakingRun`: `outcome` (a `BrakingOutcome`),
 /// `success`, `failure`, `rest_speed_m_per_s`, `solve_status` (for `no_trajectory`),
 /// `brake_start_s`, `plan_peak_tilt_rad`, `plan_cost_n2m2s`, `peaks` (braking-phase extremes),
 /// `telemetry_hash` (equal for bit-identical runs) and samples every `sample_every_s`:
@@ -464,7 +464,7 @@ fn py_braking_run<'py>(
 /// shortest success and the first failure down to `bisection_resolution_s` (`None` skips it).
 /// The protocol keywords are `braking_run`'s. Runs without the GIL.
 ///
-/// Returns a dict: `shortest_success_s` (the paper's figure), `first_failure_s`, `limit_s`,
+/// Returns a `BrakingStudy`: `shortest_success_s` (the paper's figure), `first_failure_s`, `limit_s`,
 /// `limit_failure_s` (after the bisection), and `descent`, `bisection`: lists of runs as
 /// `braking_run` returns them.
 #[pyfunction(name = "braking_study")]
@@ -582,7 +582,7 @@ fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, P
 /// and the run is watched for `observe_s` (defaults 1.0, 0.1, 4.0 s); recovered means no
 /// failure, tilt below 15 deg, and at rest (ball under 0.1 m/s, tilt under 3 deg) from
 /// `rest_within_s` (default 3.0 s) after the push on. Runs without the GIL.
-/// Returns a dict: `outcome` (`"recovered"`, `"tilt_exceeded"`, `"failed"`, `"not_at_rest"`),
+/// Returns a `PushTrial`: `outcome` (a `PushOutcome`),
 /// `recovered`, `failure`, `peak_tilt_rad`, `peak_speed_m_per_s`, `rest_speed_m_per_s`,
 /// `telemetry_hash`, and samples: `time_s` (since the push), `tilt_rad`, `speed_m_per_s`,
 /// `max_cone_utilisation` (n,), `ball_velocity_m_per_s` (n, 2).
@@ -627,7 +627,7 @@ fn py_push_trial<'py>(
 
 /// The largest push recovered at `heading_deg` (`ballbot_sim::world::push::push_recovery_limit`):
 /// tries `upper_ns` first, then bisects `[0, upper_ns]` down to `resolution_ns` (defaults 100
-/// and 0.5 N s). Trial keywords as `push_trial`. Returns a dict: `largest_recovered_ns`,
+/// and 0.5 N s). Trial keywords as `push_trial`. Returns a `PushRecovery`: `largest_recovered_ns`,
 /// `smallest_failing_ns` (`None` if `upper_ns` was recovered) and `trials`, each as
 /// `push_trial` returns it.
 #[pyfunction(name = "push_recovery_limit")]

@@ -75,7 +75,7 @@ impl PyLqrController {
 
     /// Steps through a sequence of measurements `(n, 4)` (commands `(4,)` or `(n, 4)`) in
     /// Rust: a log replay. Returns a dict of `(n,)` arrays, one per output field, and
-    /// `status` as int8 codes (0 nominal, 1 saturated, 2 invalid input).
+    /// `status` as int8 codes (`StepStatus.from_code`, `StepStatus.decode`).
     #[pyo3(signature = (measured, command = None, dt_secs = OUTER_LOOP_DT_SECS))]
     fn step_many<'py>(
         &mut self,

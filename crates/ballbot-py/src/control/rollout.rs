@@ -101,7 +101,7 @@ pub(crate) fn run_rollouts(
 ///
 /// Returns a `Rollout`: `time_secs` `(n_steps + 1,)`; `state` `(n_steps + 1, 4)` or
 /// `(n, n_steps + 1, 4)`; `torque_nm` (the mean torque applied over each period) and `status`
-/// (int8: 0 nominal, 1 saturated, 2 invalid input) `(n_steps,)` or `(n, n_steps)`; and
+/// (int8 codes, `StepStatus.from_code`) `(n_steps,)` or `(n, n_steps)`; and
 /// `compute_secs`, the time spent in the Rust loop. Raises `ParameterError` for a bad
 /// `dt_secs`/`substeps`/`inner`, `ShapeError` for bad shapes, `MemoryError` when the result
 /// cannot be allocated.

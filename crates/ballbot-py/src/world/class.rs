@@ -243,7 +243,7 @@ world_class! {
         /// Runs `n_steps` physics steps in Rust without the GIL. `torque_nm`: wheel torques
         /// (N m), shape (3,) held for every step or (n_steps, 3), default zeros. Records every
         /// `record_every`-th step (the first one included); `stop_on_failure` ends the run at
-        /// the step that detects a failure (recorded too). Returns a dict of numpy arrays, one
+        /// the step that detects a failure (recorded too). Returns a `WorldRun` of numpy arrays, one
         /// row per recorded step: `time_s` (n,), `torque_nm` (n, 3) (the commands),
         /// per wheel (n, 3) `normal_force_n`, `traction_n`, `traction_demand_n`,
         /// `cone_utilisation`, `slip_speed_m_per_s`, `slipping` (bool), `motor_torque_nm`,

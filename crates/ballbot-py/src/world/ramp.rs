@@ -54,7 +54,7 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
 /// controller's caps as in `WorldLoop` (by default the shaper caps the command at 2.0 m/s
 /// and 1.0 m/s^2).
 ///
-/// Returns a dict: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
+/// Returns a `RampRun`: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
 /// before failure), `failure` (`Failure` or `None` if the ramp ended first),
 /// `supervisor_stop_s` (when the core's safety supervisor stopped balancing, e.g. at its
 /// wheel-speed limit, or `None`), and samples every

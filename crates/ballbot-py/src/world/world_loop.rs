@@ -160,8 +160,8 @@ world_class! {
         /// held for every step or (n_steps, 3) one row per step (a ramp, a profile), default
         /// zeros. Records every `record_every`-th step (the first one included);
         /// `stop_on_failure` ends the run at the step that detects a failure (recorded too).
-        /// Returns the dict of `World.run` with `command` (n, 3) instead of `torque_nm`
-        /// (`motor_torque_nm` holds what the controller drove). `log_path` and `log_compact`
+        /// Returns a `WorldLoopRun`, the columns of `World.run` with `command` (n, 3) instead
+        /// of `torque_nm` (`motor_torque_nm` holds what the controller drove). `log_path` and `log_compact`
         /// as in `World.run`; the log also carries the controller's outer loop and the
         /// commands (what `ballbot world` writes).
         #[pyo3(signature = (
