@@ -83,6 +83,9 @@ def test_settings_validate_and_name_the_field() -> None:
         ballbot.PushSettings(observe_s=-1.0)
     with pytest.raises(ballbot.ParameterError, match="accel_bracket_m_per_s2"):
         ballbot.MaxSpeedSettings(accel_bracket_m_per_s2=(2.0, 1.0))
+    with pytest.raises(ballbot.ParameterError, match="max_jerk_m_per_s3"):
+        ballbot.RampSettings(max_jerk_m_per_s3=0.0)
+    assert ballbot.RampSettings().to_dict()["accel_m_per_s2"] == 0.25
     m = ballbot.MaxSpeedSettings(trial_headings_deg=[0.0, 90.0])
     assert m.trial_headings_deg == (0.0, 90.0)
     with pytest.raises(TypeError, match="BrakingSettings"):

@@ -168,13 +168,10 @@ def test_same_seed_gives_identical_arrays() -> None:
 
 def test_ramp_unloads_driving_wheels_more_towards_ow1() -> None:
     def min_driving_normal_n(heading_deg: float) -> float:
-        r = ballbot.max_speed_ramp(
-            heading_deg=heading_deg,
-            accel_m_per_s2=1.0,
-            max_command_m_per_s=1.0,
-            settle_s=0.2,
-            sample_every_s=0.0025,
+        settings = ballbot.RampSettings(
+            accel_m_per_s2=1.0, max_command_m_per_s=1.0, settle_s=0.2, sample_every_s=0.0025
         )
+        r = ballbot.max_speed_ramp(heading_deg=heading_deg, settings=settings)
         assert r.failure is None and r.max_speed_m_per_s > 0.9
         assert r.heading_deg == heading_deg
         n = r.time_s.size

@@ -192,4 +192,36 @@ class PushSettings(_Settings):
             _check_number(name, getattr(self, name))
 
 
-__all__ = ["BrakingSettings", "MaxSpeedSettings", "PushSettings"]
+@dataclasses.dataclass(frozen=True)
+class RampSettings(_Settings):
+    """One maximum-speed ramp in the 3D world (``max_speed_ramp``) and the controller's
+    command-shaping overrides (``None`` keeps the designed cap: 2.0 m/s, 1.0 m/s^2,
+    2.0 m/s^3, 0.2 rad, 1.0 rad/s)."""
+
+    accel_m_per_s2: float = 0.25
+    """Ramp acceleration (m/s^2)."""
+    max_command_m_per_s: float = 3.5
+    """Top of the ramp (m/s), then held for 1 s."""
+    settle_s: float = 0.5
+    """Standing still before the ramp (s)."""
+    sample_every_s: float = 0.01
+    """Sampling period of the returned series (s)."""
+    max_speed_m_per_s: Optional[float] = None
+    """The shaper's speed cap (m/s)."""
+    max_accel_m_per_s2: Optional[float] = None
+    """The shaper's acceleration cap (m/s^2)."""
+    max_jerk_m_per_s3: Optional[float] = None
+    """The shaper's jerk cap (m/s^3)."""
+    max_tilt_command_rad: Optional[float] = None
+    """The shaper's tilt-command cap (rad)."""
+    max_tilt_rate_command_rad_per_s: Optional[float] = None
+    """The shaper's tilt-rate-command cap (rad/s)."""
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            if f.name != "settle_s":
+                _check_number(f.name, getattr(self, f.name), positive=True)
+        _check_number("settle_s", self.settle_s)
+
+
+__all__ = ["BrakingSettings", "MaxSpeedSettings", "PushSettings", "RampSettings"]

@@ -1,8 +1,8 @@
 """The paper's experiments, run in Rust without the GIL.
 
-In the 3D world: the maximum-speed ramp and study (``max_speed_ramp``, ``slow_ramp_trial``,
-``failing_acceleration``, ``max_speed_study`` with ``MaxSpeedSettings``), braking
-(``braking_run``, ``braking_study`` with ``BrakingSettings``) and push recovery
+In the 3D world: the maximum-speed ramp and study (``max_speed_ramp`` with ``RampSettings``,
+``slow_ramp_trial``, ``failing_acceleration``, ``max_speed_study`` with ``MaxSpeedSettings``),
+braking (``braking_run``, ``braking_study`` with ``BrakingSettings``) and push recovery
 (``push_trial``, ``push_recovery_limit`` with ``PushSettings``). On the planar simulator: the
 PIPTB controller comparison (``piptb_experiment``) and TOML scenarios (``Scenario``).
 
@@ -16,7 +16,7 @@ from __future__ import annotations
 from typing import Any, Optional, TypeVar
 
 from ballbot import _core
-from ballbot._core import Scenario, WorldParams, max_speed_ramp, piptb_experiment, slow_ramp_trial
+from ballbot._core import Scenario, WorldParams, piptb_experiment, slow_ramp_trial
 from ballbot._enums import BrakingOutcome, Feedforward, PushOutcome
 from ballbot._results import (
     BrakingPeaks,
@@ -32,7 +32,13 @@ from ballbot._results import (
     SlowRampTrial,
     TrialOutcome,
 )
-from ballbot._settings import BrakingSettings, MaxSpeedSettings, PushSettings, _Settings
+from ballbot._settings import (
+    BrakingSettings,
+    MaxSpeedSettings,
+    PushSettings,
+    RampSettings,
+    _Settings,
+)
 
 _S = TypeVar("_S", bound=_Settings)
 
@@ -50,6 +56,20 @@ def _search(settings: MaxSpeedSettings) -> dict[str, Any]:
         "accel_bracket_m_per_s2": settings.accel_bracket_m_per_s2,
         "accel_resolution_m_per_s2": settings.accel_resolution_m_per_s2,
     }
+
+
+def max_speed_ramp(
+    params: Optional[WorldParams] = None,
+    *,
+    heading_deg: float = 0.0,
+    settings: Optional[RampSettings] = None,
+    **overrides: Any,
+) -> RampRun:
+    """The maximum-speed experiment of the paper's Sec. V: the core's controller follows a
+    velocity ramp towards ``heading_deg`` (body frame; 0 towards OW1) until the world detects a
+    failure or the top speed has been held for 1 s."""
+    s = _settings(RampSettings, settings, overrides)
+    return _core.max_speed_ramp(params, heading_deg=heading_deg, **s.to_dict())
 
 
 def failing_acceleration(
@@ -166,6 +186,7 @@ __all__ = [
     "PushSettings",
     "PushTrial",
     "RampRun",
+    "RampSettings",
     "Scenario",
     "ScenarioRun",
     "SlowRampTrial",
