@@ -17,9 +17,9 @@ mod models;
 mod params;
 mod results;
 mod sim;
+mod studies;
 mod trajopt;
 mod world;
-mod world_study;
 
 use ballbot_core::rates;
 use pyo3::prelude::*;
@@ -42,6 +42,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     trajopt::register(m)?;
     sim::register(m)?;
     world::register(m)?;
-    world_study::register(m)?;
+    studies::register(m)?;
     Ok(())
 }
