@@ -40,7 +40,7 @@ def test_enums_use_the_rust_names_and_one_code_table(wip: ballbot.Wip) -> None:
     one = ballbot.LqrController(gains)
     assert list(ballbot.StepStatus.decode(batch["status"])) == [one.step(m).status for m in measured]
     # Members are also their names, so string comparisons keep working.
-    assert ballbot.StepStatus.NOMINAL == "nominal" and ballbot.Mode("fault") is ballbot.Mode.FAULT
+    assert ballbot.StepStatus.NOMINAL == "nominal" and ballbot.Mode("fault") is ballbot.Mode.FAULT  # type: ignore[comparison-overlap]
 
 
 def test_results_are_frozen_typed_and_convert_to_dicts(wip: ballbot.Wip) -> None:

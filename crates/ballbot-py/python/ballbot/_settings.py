@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 from typing import Any, Optional, TypeVar, Union
 
 from ballbot._enums import Feedforward
@@ -74,23 +75,24 @@ class _Settings:
 
 @dataclasses.dataclass(frozen=True)
 class MaxSpeedSettings(_Settings):
-    """Settings of the maximum-speed study (``ballbot_sim::world::max_speed``)."""
+    """Settings of the maximum-speed study (``ballbot_sim::world::max_speed``); the lists are
+    stored as tuples."""
 
     quick: bool = False
     """Start from the CI variant (one trial at 0 and 180 deg, a coarse search, no sensitivity)
     instead of the paper's (3 seeds at 0, 90, 180 deg, the map every 15 deg, mu 0.4/0.6/0.8,
     COM height 0.4/0.5/0.7 m)."""
-    trial_headings_deg: Optional[tuple[float, ...]] = None
+    trial_headings_deg: Optional[Sequence[float]] = None
     """Headings of the seeded slow-ramp trials (deg, body frame; 0 towards OW1)."""
-    seeds: Optional[tuple[int, ...]] = None
+    seeds: Optional[Sequence[int]] = None
     """Sensor-noise seeds of the trials (at least one)."""
-    map_headings_deg: Optional[tuple[float, ...]] = None
+    map_headings_deg: Optional[Sequence[float]] = None
     """Headings of the capability map (deg)."""
-    sensitivity_headings_deg: Optional[tuple[float, ...]] = None
+    sensitivity_headings_deg: Optional[Sequence[float]] = None
     """Headings of the mu / COM-height sensitivity (deg)."""
-    sensitivity_mu: Optional[tuple[float, ...]] = None
+    sensitivity_mu: Optional[Sequence[float]] = None
     """Wheel-ball friction coefficients of the sensitivity."""
-    sensitivity_com_height_m: Optional[tuple[float, ...]] = None
+    sensitivity_com_height_m: Optional[Sequence[float]] = None
     """Centre-of-mass heights of the sensitivity (m)."""
     threads: int = 0
     """Rust worker threads (0: every core)."""
