@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import ballbot
+from ballbot import _core
 
 
 def test_failing_acceleration_towards_ow1_is_1_75() -> None:
@@ -92,6 +93,15 @@ def test_bad_study_input_raises_documented_errors(tmp_path: Path) -> None:
         ballbot.max_speed_study(settings=ballbot.MaxSpeedSettings(quick=True, seeds=[]))
     with pytest.raises(ballbot.ParameterError, match="sensitivity_mu"):
         ballbot.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
+    # The settings classes check first; the native functions keep their own checks.
+    with pytest.raises(ballbot.ParameterError, match="accel_bracket_m_per_s2"):
+        _core.failing_acceleration(accel_bracket_m_per_s2=(2.0, 1.0))
+    with pytest.raises(ballbot.ParameterError, match="accel_resolution_m_per_s2"):
+        _core.failing_acceleration(accel_resolution_m_per_s2=0.0)
+    with pytest.raises(ballbot.ParameterError, match="fast_top_m_per_s"):
+        _core.max_speed_study(quick=True, fast_top_m_per_s=float("nan"))
+    with pytest.raises(ballbot.ParameterError, match="sensitivity_mu"):
+        _core.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
     with pytest.raises(ballbot.FileError, match="missing"):
         ballbot.World().run(10, log_path=tmp_path / "missing" / "dir" / "x.mcap")
 
