@@ -102,6 +102,8 @@ def test_bad_study_input_raises_documented_errors(tmp_path: Path) -> None:
         _core.max_speed_study(quick=True, fast_top_m_per_s=float("nan"))
     with pytest.raises(ballbot.ParameterError, match="sensitivity_mu"):
         _core.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
+    with pytest.raises(ballbot.ParameterError, match="seeds"):
+        _core.max_speed_study(quick=True, seeds=[])
     with pytest.raises(ballbot.FileError, match="missing"):
         ballbot.World().run(10, log_path=tmp_path / "missing" / "dir" / "x.mcap")
 
