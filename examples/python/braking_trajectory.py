@@ -45,13 +45,13 @@ def main() -> None:
         upper_secs=5.0,
         resolution_secs=0.02,
     )
-    t_min = search["min_duration_secs"]
+    t_min = search.min_duration_secs
     if t_min is None:
         print("no feasible braking time up to 5 s under these limits")
     else:
         print(
             f"minimum braking time from 1.4 m/s at 180 deg: {t_min:.2f} s "
-            f"({search['solves']} solves; infeasible below {search['infeasible_below_secs']})"
+            f"({search.solves} solves; infeasible below {search.infeasible_below_secs})"
         )
 
 

@@ -39,11 +39,11 @@ def main() -> None:
     initial = np.zeros((leans_deg.size, 4))
     initial[:, 0] = np.radians(leans_deg)
     run = ballbot.closed_loop_rollout(wip, controller, initial, n_steps=4000)
-    final = run["state"][:, -1, :]
+    final = run.state[:, -1, :]
     recovered = (np.abs(final[:, 0]) < 1e-3) & (np.abs(final[:, 3]) < 1e-2)
     # Leans are sorted: the first failure bounds the recoverable range.
     first_failure = leans_deg[~recovered].min() if not recovered.all() else None
-    timing = f"{run['compute_secs'] * 1e3:.0f} ms for {leans_deg.size} x 10 s in Rust"
+    timing = f"{run.compute_secs * 1e3:.0f} ms for {leans_deg.size} x 10 s in Rust"
     if first_failure is None:
         print(f"\nrecovers every lean up to {leans_deg[-1]:.0f} deg ({timing})")
     else:

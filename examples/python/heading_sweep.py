@@ -63,7 +63,7 @@ def ramp_holds(heading_rad: float, accel_m_per_s2: float) -> bool:
     run = ballbot.closed_loop_rollout(
         wip, controller, np.zeros(4), n_steps=accel.size, command=command
     )
-    contacts = kin.wip_contact_forces(wip, heading_rad, run["state"][:-1], run["torque_nm"])
+    contacts = kin.wip_contact_forces(wip, heading_rad, run.state[:-1], run.torque_nm)
     return bool(np.all(contacts.all_hold == 1.0))
 
 

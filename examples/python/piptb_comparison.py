@@ -13,7 +13,6 @@ Usage: python examples/python/piptb_comparison.py [--quick] [--out DIR]
 
 import argparse
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -22,10 +21,10 @@ import ballbot
 LABELS = {"lqr": "LQR", "pi_pd": "PI-PD", "lqr_pi": "LQR-PI"}
 
 
-def print_table(result: dict[str, Any]) -> None:
+def print_table(result: ballbot.PiptbExperiment) -> None:
     print(f"{'controller':10s} {'J_P (N^2 mm^2 s)':>22s} {'paper':>18s} {'stopped':>8s} "
           f"{'jitter (N m)':>12s}")
-    for key, c in result["controllers"].items():
+    for key, c in result.controllers.items():
         paper = c["paper_j_p_n2mm2s"]
         paper_text = f"{paper[0]:.2g} +- {paper[1]:.1g}" if paper else "-"
         print(
@@ -34,7 +33,7 @@ def print_table(result: dict[str, Any]) -> None:
         )
 
 
-def plot(result: dict[str, Any], out: Path) -> None:
+def plot(result: ballbot.PiptbExperiment, out: Path) -> None:
     try:
         import matplotlib
 
@@ -44,15 +43,15 @@ def plot(result: dict[str, Any], out: Path) -> None:
         print("matplotlib is not installed: skipping the plot (pip install matplotlib)")
         return
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(8, 8))
-    for key, c in result["controllers"].items():
+    for key, c in result.controllers.items():
         s = c["trials"][0]["series"]
         axes[0].plot(s["time_secs"], s["speed_m_per_s"], label=LABELS[key])
         axes[1].plot(s["time_secs"], np.degrees(s["tilt_rad"]), label=LABELS[key])
         axes[2].plot(s["time_secs"], s["torque_nm"], label=LABELS[key], linewidth=0.8)
-    first = next(iter(result["controllers"].values()))["trials"][0]["series"]
+    first = next(iter(result.controllers.values()))["trials"][0]["series"]
     axes[0].plot(first["time_secs"], first["command_speed_m_per_s"], "k--", label="command")
     for ax in axes:
-        ax.axvspan(result["brake_start_secs"], result["brake_end_secs"], color="0.9")
+        ax.axvspan(result.brake_start_secs, result.brake_end_secs, color="0.9")
         ax.grid(True)
     axes[0].set_ylabel("ball speed (m/s)")
     axes[1].set_ylabel("tilt (deg)")

@@ -17,27 +17,24 @@ Usage: python examples/python/world_heading_sweep.py [--step-deg 30] [--accel 1.
 import argparse
 import concurrent.futures
 import time
-from typing import Any
 
 import numpy as np
 
 import ballbot
 
 
-def ramp(heading_deg: float, accel_m_per_s2: float, top_m_per_s: float) -> dict[str, Any]:
+def ramp(heading_deg: float, accel_m_per_s2: float, top_m_per_s: float) -> ballbot.RampRun:
     """One ramp at `heading_deg` with the shaper's caps lifted (its jerk limit is kept)."""
-    return dict(
-        ballbot.max_speed_ramp(
-            heading_deg=heading_deg,
-            accel_m_per_s2=accel_m_per_s2,
-            max_command_m_per_s=top_m_per_s,
-            settle_s=0.5,
-            sample_every_s=0.0025,
-            max_speed_m_per_s=5.0,
-            max_accel_m_per_s2=20.0,
-            max_tilt_command_rad=0.5,
-            max_tilt_rate_command_rad_per_s=5.0,
-        )
+    return ballbot.max_speed_ramp(
+        heading_deg=heading_deg,
+        accel_m_per_s2=accel_m_per_s2,
+        max_command_m_per_s=top_m_per_s,
+        settle_s=0.5,
+        sample_every_s=0.0025,
+        max_speed_m_per_s=5.0,
+        max_accel_m_per_s2=20.0,
+        max_tilt_command_rad=0.5,
+        max_tilt_rate_command_rad_per_s=5.0,
     )
 
 
@@ -56,15 +53,15 @@ def main() -> None:
     print(f"ramp {args.accel} m/s^2 to {args.top} m/s, core controller, shaper caps lifted")
     print("heading  max speed  min N(OW2, OW3)  peak cone use  outcome")
     for r in results:
-        failure = r["failure"]
+        failure = r.failure
         outcome = "ramp completed"
         if failure is not None:
-            wheel = "" if failure.wheel is None else f" OW{failure.wheel + 1}"
-            outcome = f"{failure.kind}{wheel} at {failure.time_s:.2f} s"
-        min_n = float(np.min(r["normal_force_n"][:, 1:])) if r["time_s"].size else float("nan")
-        peak_u = float(np.max(r["max_cone_utilisation"], initial=0.0))
+            wheel = "" if failure.wheel is None else f" {failure.wheel}"
+            outcome = f"{failure.kind.value}{wheel} at {failure.time_s:.2f} s"
+        min_n = float(np.min(r.normal_force_n[:, 1:])) if r.time_s.size else float("nan")
+        peak_u = float(np.max(r.max_cone_utilisation, initial=0.0))
         print(
-            f"{r['heading_deg']:5.0f} deg {r['max_speed_m_per_s']:6.2f} m/s {min_n:10.1f} N "
+            f"{r.heading_deg:5.0f} deg {r.max_speed_m_per_s:6.2f} m/s {min_n:10.1f} N "
             f"{peak_u:14.2f}  {outcome}"
         )
     print(f"{len(headings)} headings in {elapsed:.2f} s")

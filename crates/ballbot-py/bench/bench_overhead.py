@@ -51,7 +51,7 @@ def main() -> None:
         start = time.perf_counter()
         run = ballbot.closed_loop_rollout(wip, controller, initial, n_steps=4000)
         walls.append(time.perf_counter() - start)
-        inner.append(run["compute_secs"])
+        inner.append(run.compute_secs)
     wall, rust = statistics.median(walls), statistics.median(inner)
     print(
         f"(a) rollout 100 x 4000 steps: Python call {wall * 1e3:.2f} ms, Rust loop "

@@ -34,7 +34,7 @@ def simulate(n_steps: int) -> float:
     """One closed-loop world run of `n_steps`; returns the ball's final speed (m/s)."""
     sim = ballbot.WorldLoop()
     run = sim.run(n_steps, [0.5, 0.0, 0.0], record_every=400)
-    return float(run["ball_velocity_m_per_s"][-1, 0])
+    return float(run.ball_velocity_m_per_s[-1, 0])
 
 
 def simulate_finish(n_steps: int) -> tuple[float, float]:

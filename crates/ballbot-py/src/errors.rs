@@ -1,5 +1,6 @@
 //! Raising the exceptions of `ballbot._errors` from Rust.
 
+use ballbot_sim::world::WorldError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
@@ -54,4 +55,13 @@ pub fn core_error(py: Python<'_>, e: ballbot_core::Error) -> PyErr {
         _ => Kind::Parameter,
     };
     error(py, kind, e.to_string())
+}
+
+/// Maps a world error: a robot or world parameter out of range to `ballbot.ParameterError`
+/// (the message names the field), a failed controller design to `ballbot.SolverError`.
+pub fn world_error(py: Python<'_>, e: WorldError) -> PyErr {
+    match e {
+        WorldError::Robot(e) => core_error(py, e),
+        other => error(py, Kind::Parameter, other.to_string()),
+    }
 }

@@ -8,23 +8,31 @@
 
 mod arrays;
 mod control;
+mod enums;
 mod errors;
 mod kinematics;
 mod log;
 mod lqr;
 mod models;
 mod params;
+mod results;
 mod sim;
+mod studies;
 mod trajopt;
 mod world;
-mod world_study;
 
+use ballbot_core::rates;
 use pyo3::prelude::*;
 
 /// The native module. Everything here is re-exported by the `ballbot` package.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("OUTER_LOOP_RATE_HZ", rates::OUTER_LOOP_RATE_HZ)?;
+    m.add("OUTER_LOOP_DT_SECS", rates::OUTER_LOOP_DT_SECS)?;
+    m.add("INNER_LOOP_RATE_HZ", rates::INNER_LOOP_RATE_HZ)?;
+    m.add("INNER_LOOP_DT_SECS", rates::INNER_LOOP_DT_SECS)?;
+    enums::register(m)?;
     params::register(m)?;
     models::register(m)?;
     kinematics::register(m)?;
@@ -34,6 +42,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     trajopt::register(m)?;
     sim::register(m)?;
     world::register(m)?;
-    world_study::register(m)?;
+    studies::register(m)?;
     Ok(())
 }

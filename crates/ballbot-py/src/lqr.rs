@@ -12,6 +12,7 @@ use ballbot_core::control::LqrGains;
 use ballbot_core::lqr::{
     Lqr, LqrWeights, RiccatiSettings, RiccatiSolution, RiccatiStatus, solve_care, solve_dare,
 };
+use ballbot_core::rates::OUTER_LOOP_DT_SECS;
 use nalgebra::{Complex, SMatrix, SVector};
 use numpy::{AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -91,15 +92,6 @@ fn from_smatrix<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> Vec<f
         }
     }
     v
-}
-
-fn status_name(status: RiccatiStatus) -> &'static str {
-    match status {
-        RiccatiStatus::Converged => "converged",
-        RiccatiStatus::MaxIterations => "max_iterations",
-        RiccatiStatus::NotStabilizable => "not_stabilizable",
-        RiccatiStatus::NonFinite => "non_finite",
-    }
 }
 
 /// A plant `(A (n, n), B (n, m))` read and checked; `B` may be 1-D for a single input.
@@ -415,7 +407,7 @@ fn wip_lqr(py: Python<'_>, wip: PyRef<'_, PyWip>, q: Option<Arr<'_>>, r: f64) ->
 /// Discrete LQR for the WIP on `[theta, theta_dot, phi_dot]` at `dt_secs` (default the
 /// paper's 400 Hz), on the zero-order-hold discretisation of the upright linearisation.
 #[pyfunction]
-#[pyo3(signature = (wip, dt_secs = 0.0025, q = None, r = 0.1))]
+#[pyo3(signature = (wip, dt_secs = OUTER_LOOP_DT_SECS, q = None, r = 0.1))]
 fn wip_lqr_discrete(
     py: Python<'_>,
     wip: PyRef<'_, PyWip>,
@@ -490,11 +482,11 @@ impl PyRiccatiSolution {
         array_out(py, self.gain.clone(), &[self.m, self.n])
     }
 
-    /// How the solve ended: `"converged"`, `"max_iterations"`, `"not_stabilizable"` or
-    /// `"non_finite"`. Use `x` and `gain` only when converged.
+    /// How the solve ended: a `RiccatiStatus` (`CONVERGED`, `MAX_ITERATIONS`,
+    /// `NOT_STABILIZABLE` or `NON_FINITE`). Use `x` and `gain` only when converged.
     #[getter]
-    fn status(&self) -> &'static str {
-        status_name(self.status)
+    fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::enums::riccati_status(py, self.status)
     }
 
     /// Doubling steps taken.
@@ -516,8 +508,8 @@ impl PyRiccatiSolution {
 
     fn __repr__(&self) -> String {
         format!(
-            "RiccatiSolution(status={:?}, iterations={}, residual={:e})",
-            status_name(self.status),
+            "RiccatiSolution(status=RiccatiStatus.{}, iterations={}, residual={:e})",
+            crate::enums::riccati_status_name(self.status).to_uppercase(),
             self.iterations,
             self.residual
         )

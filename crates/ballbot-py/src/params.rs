@@ -8,8 +8,8 @@
 //! any sequence of the right length. The overlay goes through a TOML value tree, the same
 //! serde representation as `load`/`save`, so the dict, keyword and file forms cannot drift.
 
+use crate::errors::world_error;
 use crate::errors::{Kind, core_error, error};
-use crate::world::world_error;
 use ballbot_core::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WipParams,
 };

@@ -113,13 +113,13 @@ impl PyScenario {
     }
 
     /// Runs the scenario without the GIL, writing every channel to the MCAP file `log_path`
-    /// when given. Returns a dict sampled at the main controller's ticks: `time_secs` (n,),
+    /// when given. Returns a `ScenarioRun` sampled at the main controller's ticks: `time_secs` (n,),
     /// `state` (n, 4) true `[theta, phi, theta_dot, phi_dot]`, `command` (n, 3)
     /// `[theta_c, theta_dot_c, phi_dot_c]`, `requested_torque_nm`, `torque_nm` (delivered),
     /// `friction_torque_nm`, `saturated` (1.0 / 0.0) (n,); and `end_time_secs`, `fault` (None
     /// or why the run stopped), `log_path` (None or the MCAP file).
     #[pyo3(signature = (log_path = None))]
-    fn run<'py>(&self, py: Python<'py>, log_path: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+    fn run<'py>(&self, py: Python<'py>, log_path: Option<PathBuf>) -> PyResult<Bound<'py, PyAny>> {
         let scenario = &self.inner;
         let result = py.detach(|| run_scenario(scenario, log_path.as_deref()));
         let (rec, end_time_secs) = match result {
@@ -144,7 +144,7 @@ impl PyScenario {
         d.set_item("end_time_secs", end_time_secs)?;
         d.set_item("fault", rec.fault)?;
         d.set_item("log_path", log_path)?;
-        Ok(d)
+        crate::results::make(py, "ScenarioRun", d)
     }
 }
 
@@ -217,7 +217,7 @@ fn series_dict<'py>(py: Python<'py>, s: TrialSeries) -> PyResult<Bound<'py, PyDi
 ///
 /// `quick` runs the CI variant (one trial, shorter hold). `trials` and `base_seed` override the
 /// settings; `controllers` picks from `"lqr"`, `"pi_pd"`, `"lqr_pi"`; `log_dir` writes one MCAP
-/// log per trial there. Returns a dict: `brake_start_secs`, `brake_end_secs`, `reference`
+/// log per trial there. Returns a `PiptbExperiment`: `brake_start_secs`, `brake_end_secs`, `reference`
 /// (its effort, peak tilt, duration, source) and `controllers`, keyed by controller: `j_p`
 /// (mean braking effort, N^2 m^2 s), `j_p_std`, `j_p_n2mm2s`, `stopped_all`, `speed_rmse`,
 /// `torque_jitter_nm`, the paper's `paper_j_p_n2mm2s` and `paper_stopped`, and `trials`, each
@@ -231,7 +231,7 @@ fn piptb_experiment<'py>(
     base_seed: Option<u64>,
     controllers: Option<Vec<String>>,
     log_dir: Option<PathBuf>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let mut settings = if quick {
         PiptbSettings::quick()
     } else {
@@ -287,7 +287,7 @@ fn piptb_experiment<'py>(
         by_kind.set_item(c.kind.key(), entry)?;
     }
     out.set_item("controllers", by_kind)?;
-    Ok(out)
+    crate::results::make(py, "PiptbExperiment", out)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -344,11 +344,11 @@ pub struct PyBrakingSolution {
 
 #[pymethods]
 impl PyBrakingSolution {
-    /// `"solved"`, `"max_iterations"`, `"infeasible"`, `"line_search_failed"` or
-    /// `"numerical_error"`. Only `"solved"` certifies the trajectory.
+    /// A `SolveStatus`: `SOLVED`, `MAX_ITERATIONS`, `INFEASIBLE`, `LINE_SEARCH_FAILED` or
+    /// `NUMERICAL_ERROR`. Only `SOLVED` certifies the trajectory.
     #[getter]
-    fn status(&self) -> &'static str {
-        self.inner.status.as_str()
+    fn status<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::enums::solve_status(py, self.inner.status)
     }
 
     /// Whether the status is `"solved"`.
@@ -513,7 +513,7 @@ impl PyBrakingSolution {
 }
 
 /// Bisects the braking duration of `problem` (its own duration ignored) for the shortest one
-/// that solves under its limits. Returns a dict: `min_duration_secs` (None if even
+/// that solves under its limits. Returns a `MinBrakingTime`: `min_duration_secs` (None if even
 /// `upper_secs` fails), `infeasible_below_secs`, `solution` (at the minimum), `solves`.
 #[pyfunction(name = "min_braking_time")]
 #[pyo3(signature = (
@@ -530,7 +530,7 @@ fn py_min_braking_time<'py>(
     max_iterations: usize,
     primal_tolerance: f64,
     dual_tolerance: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let search = MinTimeOptions {
         lower_secs,
         upper_secs,
@@ -554,7 +554,7 @@ fn py_min_braking_time<'py>(
         )?,
     )?;
     d.set_item("solves", result.solves)?;
-    Ok(d)
+    crate::results::make(py, "MinBrakingTime", d)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -16,17 +16,17 @@ def lqr(wip: ballbot.Wip) -> ballbot.LqrController:
 def test_lqr_step_matches_the_rust_doc_example(lqr: ballbot.LqrController) -> None:
     out = lqr.step(np.array([0.1, 0.0, 0.0, 0.0]), np.zeros(4), 0.0025)
     assert out.torque_nm == pytest.approx(23.48, rel=1e-3)
-    assert out.status == "nominal"
+    assert out.status is ballbot.StepStatus.NOMINAL
     assert out.tilt_term_nm == pytest.approx(out.torque_nm)
     # Lists and tuples work too; the command defaults to upright at rest.
     assert lqr.step([0.1, 0.0, 0.0, 0.0]).torque_nm == out.torque_nm
     sat = lqr.step((1.0, 0.0, 0.0, 0.0))
-    assert sat.status == "saturated" and sat.torque_nm == pytest.approx(83.9)
+    assert sat.status is ballbot.StepStatus.SATURATED and sat.torque_nm == pytest.approx(83.9)
     assert sat.saturation_nm == pytest.approx(83.9 - 234.8, rel=1e-3)
     bad = lqr.step([float("nan"), 0.0, 0.0, 0.0])
-    assert (bad.torque_nm, bad.status) == (0.0, "invalid_input")
-    assert lqr.step([float("inf"), 0.0, 0.0, 0.0]).status == "invalid_input"
-    assert out.to_dict()["status"] == "nominal"
+    assert (bad.torque_nm, bad.status) == (0.0, ballbot.StepStatus.INVALID_INPUT)
+    assert lqr.step([float("inf"), 0.0, 0.0, 0.0]).status is ballbot.StepStatus.INVALID_INPUT
+    assert out.to_dict()["status"] is ballbot.StepStatus.NOMINAL
 
 
 def test_gains_classes(wip: ballbot.Wip) -> None:
@@ -85,12 +85,12 @@ def test_every_controller_recovers_from_a_ten_degree_lean(wip: ballbot.Wip) -> N
         run = ballbot.closed_loop_rollout(
             wip, controller, [tilt, 0.0, 0.0, 0.0], n_steps=4000, inner=inner, substeps=20
         )
-        state = run["state"]
-        assert state.shape == (4001, 4) and run["torque_nm"].shape == (4000,)
-        assert run["time_secs"][-1] == pytest.approx(10.0)
+        state = run.state
+        assert state.shape == (4001, 4) and run.torque_nm.shape == (4000,)
+        assert run.time_secs[-1] == pytest.approx(10.0)
         assert abs(state[-1, 0]) < 1e-3, type(controller).__name__
         assert abs(state[-1, 3]) < 1e-2, type(controller).__name__
-        assert np.all(run["status"] != 2)
+        assert np.all(run.status != ballbot.StepStatus.INVALID_INPUT.code)
     # The rollout copies the controller: the caller's outer loop was not stepped.
     assert outer.reference_ball_rate_rad_per_s is None
 
@@ -106,7 +106,7 @@ def test_lqr_pi_without_disturbance_is_the_lqr(wip: ballbot.Wip) -> None:
     pi = ballbot.closed_loop_rollout(
         wip, outer, s0, n_steps=800, substeps=20, inner=ballbot.SpeedPi(inner_gains)
     )
-    assert np.max(np.abs(pi["state"][:, 0] - lqr["state"][:, 0])) < 2e-3
+    assert np.max(np.abs(pi.state[:, 0] - lqr.state[:, 0])) < 2e-3
 
 
 def test_batch_rollout_equals_single_rollouts(lqr: ballbot.LqrController, wip: ballbot.Wip) -> None:
@@ -114,12 +114,12 @@ def test_batch_rollout_equals_single_rollouts(lqr: ballbot.LqrController, wip: b
     s0 = rng.normal(scale=0.05, size=(8, 4))
     command = np.tile([0.0, 0.0, 0.0, 2.0], (2000, 1))
     batch = ballbot.closed_loop_rollout(wip, lqr, s0, n_steps=2000, command=command)
-    assert batch["state"].shape == (8, 2001, 4) and batch["torque_nm"].shape == (8, 2000)
+    assert batch.state.shape == (8, 2001, 4) and batch.torque_nm.shape == (8, 2000)
     for i in (0, 7):
         one = ballbot.closed_loop_rollout(wip, lqr, s0[i], n_steps=2000, command=command)
-        assert one["state"] == pytest.approx(batch["state"][i], rel=0, abs=0)
+        assert one.state == pytest.approx(batch.state[i], rel=0, abs=0)
     # Tracking a ball-rate command: the ball ends up rolling at about 2 rad/s.
-    assert np.all(np.abs(batch["state"][:, -1, 3] - 2.0) < 1e-3)
+    assert np.all(np.abs(batch.state[:, -1, 3] - 2.0) < 1e-3)
 
 
 def test_bad_controller_input(lqr: ballbot.LqrController, wip: ballbot.Wip) -> None:

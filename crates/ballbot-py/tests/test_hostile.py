@@ -33,9 +33,9 @@ def test_empty_batches_give_empty_results(wip: ballbot.Wip, kin: ballbot.OmniKin
     out = lqr.step_many(np.zeros((0, 4)))
     assert out["torque_nm"].shape == (0,)
     run = ballbot.closed_loop_rollout(wip, lqr, np.zeros((0, 4)), n_steps=5)
-    assert run["state"].shape == (0, 6, 4)
+    assert run.state.shape == (0, 6, 4)
     run = ballbot.closed_loop_rollout(wip, lqr, np.zeros(4), n_steps=0)
-    assert run["state"].shape == (1, 4) and run["torque_nm"].shape == (0,)
+    assert run.state.shape == (1, 4) and run.torque_nm.shape == (0,)
 
 
 def test_kinematics_with_non_finite_input(kin: ballbot.OmniKinematics, wip: ballbot.Wip) -> None:
@@ -70,7 +70,7 @@ def test_controllers_flag_non_finite_input(wip: ballbot.Wip) -> None:
         )
     )
     run = ballbot.closed_loop_rollout(wip, weak, [0.1, 0, 0, 0], n_steps=2000, dt_secs=0.01)
-    assert run["state"].shape == (2001, 4)
+    assert run.state.shape == (2001, 4)
 
 
 def test_lqr_functions_with_hostile_matrices() -> None:

@@ -48,13 +48,13 @@ def test_riccati_solvers_on_the_double_integrator() -> None:
     a = np.array([[0.0, 1.0], [0.0, 0.0]])
     b = np.array([0.0, 1.0])
     care = ballbot.solve_care(a, b, np.eye(2), 1.0)
-    assert care.status == "converged" and care.is_converged()
+    assert care.status is ballbot.RiccatiStatus.CONVERGED and care.is_converged()
     assert care.gain == pytest.approx(np.array([[1.0, math.sqrt(3.0)]]), rel=1e-12)
     ad, bd = ballbot.zoh(a, b, 0.1)
     assert ad == pytest.approx(np.array([[1.0, 0.1], [0.0, 1.0]]), abs=1e-15)
     assert bd == pytest.approx([0.005, 0.1], abs=1e-15)
     dare = ballbot.solve_dare(ad, bd, np.eye(2), 1.0)
-    assert dare.status == "converged" and dare.residual < 1e-12
+    assert dare.status is ballbot.RiccatiStatus.CONVERGED and dare.residual < 1e-12
     # Two inputs: full actuation.
     two = ballbot.solve_care(a, np.eye(2), np.eye(2), np.eye(2))
     assert two.gain.shape == (2, 2) and two.is_converged()
@@ -65,7 +65,7 @@ def test_unstabilisable_plants_report_a_status_or_solver_error() -> None:
     a = np.diag([1.0, 2.0])
     b = np.array([1.0, 0.0])  # the mode at +2 cannot be moved
     sol = ballbot.solve_care(a, b, np.eye(2), 1.0)
-    assert sol.status == "not_stabilizable"
+    assert sol.status is ballbot.RiccatiStatus.NOT_STABILIZABLE
     with pytest.raises(ballbot.SolverError, match="no stabilising gain"):
         ballbot.Lqr.continuous(a, b, np.eye(2), 1.0)
     assert issubclass(ballbot.SolverError, ballbot.BallbotError)

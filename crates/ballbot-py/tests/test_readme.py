@@ -27,6 +27,7 @@ def test_readme_example_runs_and_prints_the_model_md_numbers() -> None:
     assert "['-19.5', '-4.78', '-2.06']" in printed
     worst = float(re.search(r"worst final tilt (\S+) rad", printed).group(1))  # type: ignore[union-attr]
     assert worst < 1e-3
+    assert re.search(r"^True 0\.0\d\d m/s$", printed, flags=re.M), "the braking run stops"
 
 
 def test_root_readme_python_example_prints_the_model_md_gains() -> None:

@@ -26,13 +26,13 @@ def test_scenario_runs_and_its_log_reads_back(tmp_path: Path) -> None:
     assert scenario.seed == 7 and scenario.controller == "lqr_pi"
     log = tmp_path / "run.mcap"
     run = scenario.run(log_path=log)
-    n = run["time_secs"].size
+    n = run.time_secs.size
     assert n == pytest.approx(2.0 * 400, abs=2)
-    assert run["state"].shape == (n, 4) and run["command"].shape == (n, 3)
-    assert run["fault"] is None and run["end_time_secs"] == pytest.approx(2.0)
-    assert Path(run["log_path"]) == log
+    assert run.state.shape == (n, 4) and run.command.shape == (n, 3)
+    assert run.fault is None and run.end_time_secs == pytest.approx(2.0)
+    assert Path(run.log_path) == log
     # Deterministic: the same seed gives the same trajectory.
-    assert np.array_equal(scenario.run()["state"], run["state"])
+    assert np.array_equal(scenario.run().state, run.state)
     read = ballbot.McapLog(log)
     assert read.is_complete and read.message_count > 0
     topics = read.topics()
@@ -48,7 +48,7 @@ def test_scenario_runs_and_its_log_reads_back(tmp_path: Path) -> None:
 
 def test_piptb_experiment_returns_the_reports_numbers(tmp_path: Path) -> None:
     result = ballbot.piptb_experiment(quick=True, log_dir=tmp_path)
-    c = result["controllers"]
+    c = result.controllers
     assert set(c) == {"lqr", "pi_pd", "lqr_pi"}
     for entry in c.values():
         assert np.isfinite(entry["j_p"]) and entry["j_p"] > 0.0
@@ -60,11 +60,11 @@ def test_piptb_experiment_returns_the_reports_numbers(tmp_path: Path) -> None:
     assert c["pi_pd"]["paper_stopped"] is False and c["lqr"]["paper_j_p_n2mm2s"] is None
     # Seeded: the same call gives the same effort.
     again = ballbot.piptb_experiment(quick=True, controllers=["lqr_pi"])
-    assert again["controllers"]["lqr_pi"]["j_p"] == c["lqr_pi"]["j_p"]
+    assert again.controllers["lqr_pi"]["j_p"] == c["lqr_pi"]["j_p"]
     trial = c["lqr_pi"]["trials"][0]
     assert trial["series"]["time_secs"].shape == trial["series"]["torque_nm"].shape
     assert Path(trial["log_path"]).exists()
-    assert result["brake_end_secs"] - result["brake_start_secs"] == pytest.approx(1.4)
+    assert result.brake_end_secs - result.brake_start_secs == pytest.approx(1.4)
 
 
 def test_bad_scenarios_and_logs_raise_documented_errors(tmp_path: Path) -> None:

@@ -68,7 +68,7 @@ def test_worlds_in_threads_give_the_same_results_as_in_sequence() -> None:
     def run(heading_deg: float) -> float:
         return ballbot.max_speed_ramp(
             heading_deg=heading_deg, accel_m_per_s2=1.0, max_command_m_per_s=0.5, settle_s=0.1
-        )["max_speed_m_per_s"]
+        ).max_speed_m_per_s
 
     alone = [run(0.0), run(90.0)]
     with ThreadPoolExecutor(max_workers=2) as pool:

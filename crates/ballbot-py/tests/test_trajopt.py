@@ -11,7 +11,7 @@ import ballbot
 
 def test_miapure_braking_optimum_matches_the_rust_tests() -> None:
     sol = ballbot.BrakingProblem.miapure().solve()
-    assert sol.status == "solved" and sol.is_solved()
+    assert sol.status is ballbot.SolveStatus.SOLVED and sol.is_solved()
     # MODEL.md: about 114 N^2 m^2 s; the Rust tests pin 113.558 (converged in N).
     assert sol.cost_n2m2s == pytest.approx(113.558, abs=0.05)
     states = sol.knot_states
@@ -38,7 +38,7 @@ def test_piptb_braking_costs_0_83() -> None:
 def test_limits_and_infeasibility() -> None:
     limits = ballbot.BrakingLimits(torque_nm=20.0, tilt_rad=0.2)
     short = ballbot.BrakingProblem(duration_secs=0.3, intervals=50, limits=limits)
-    assert short.solve().status == "infeasible"
+    assert short.solve().status is ballbot.SolveStatus.INFEASIBLE
     traction = ballbot.BrakingLimits(drivetrain=ballbot.DrivetrainParams(), traction=True)
     sol = ballbot.BrakingProblem(intervals=40, limits=traction).solve()
     assert sol.normal_force_n.shape == (41, 3)
@@ -50,12 +50,12 @@ def test_minimum_braking_time_brackets_the_boundary() -> None:
         intervals=40, limits=ballbot.BrakingLimits.miapure_actuators(math.pi)
     )
     r = ballbot.min_braking_time(p, lower_secs=0.1, upper_secs=3.0, resolution_secs=0.02)
-    t_min, t_bad = r["min_duration_secs"], r["infeasible_below_secs"]
+    t_min, t_bad = r.min_duration_secs, r.infeasible_below_secs
     assert t_min is not None and t_bad is not None
     assert 0.0 < t_min - t_bad <= 0.02
     assert 0.3 < t_min < 0.6
-    assert r["solution"].is_solved()
-    assert np.abs(r["solution"].knot_torques_nm).max() > 90.0
+    assert r.solution.is_solved()
+    assert np.abs(r.solution.knot_torques_nm).max() > 90.0
 
 
 def test_bad_problems_raise_parameter_error() -> None:

@@ -38,14 +38,14 @@ def test_resting_normal_forces_match_static_load() -> None:
     world = ballbot.World(params)
     # 1 s: the ball first settles into rapier's soft floor (as in the Rust test).
     run = world.run(8000)
-    assert run["steps"] == 8000 and run["time_s"].shape == (8000,)
-    assert run["normal_force_n"].shape == (8000, 3) and run["torque_nm"].shape == (8000, 3)
-    assert run["normal_force_n"][-1] == pytest.approx([expected] * 3, rel=2e-3)
-    assert np.all(np.abs(run["traction_n"][-1]) < 1.0)
+    assert run.steps == 8000 and run.time_s.shape == (8000,)
+    assert run.normal_force_n.shape == (8000, 3) and run.torque_nm.shape == (8000, 3)
+    assert run.normal_force_n[-1] == pytest.approx([expected] * 3, rel=2e-3)
+    assert np.all(np.abs(run.traction_n[-1]) < 1.0)
     # The floor carries ball and body.
     robot = params.robot
     total = (robot.sagittal.ball_mass_kg + robot.sagittal.body_mass_kg) * 9.81
-    assert run["floor_force_n"][-1] == pytest.approx(total, rel=1e-2)
+    assert run.floor_force_n[-1] == pytest.approx(total, rel=1e-2)
     # One more step through `step` agrees with the run and with `telemetry`.
     t = world.step([0.0, 0.0, 0.0])
     assert [w.normal_force_n for w in t.wheels] == pytest.approx([expected] * 3, rel=2e-3)
@@ -67,13 +67,13 @@ def test_slip_starts_at_mu_times_normal_force() -> None:
     ramp = np.zeros((30_000, 3))
     ramp[:, 0] = 0.001 * np.arange(30_000)
     run = world.run(30_000, ramp)
-    slipping = run["slipping"][:, 0]
-    assert run["slipping"].dtype == np.bool_ and slipping.any()
+    slipping = run.slipping[:, 0]
+    assert run.slipping.dtype == np.bool_ and slipping.any()
     onset = int(np.argmax(slipping))
-    assert np.all(np.abs(run["wheel_speed_rad_per_s"][:onset, 0]) < 1e-2)
+    assert np.all(np.abs(run.wheel_speed_rad_per_s[:onset, 0]) < 1e-2)
     threshold_nm = mu * n * r_w
     assert abs(ramp[onset, 0] - threshold_nm) < 0.01 + 1e-3 * threshold_nm
-    assert abs(run["traction_demand_n"][onset, 0]) > mu * run["normal_force_n"][onset, 0]
+    assert abs(run.traction_demand_n[onset, 0]) > mu * run.normal_force_n[onset, 0]
 
 
 def test_free_flight_conserves_momentum() -> None:
@@ -92,7 +92,7 @@ def test_free_flight_conserves_momentum() -> None:
     p0, l0 = world.linear_momentum_ns(), world.angular_momentum_nms()
     e0 = world.kinetic_energy_j() + world.contact_energy_j()
     run = world.run(8000)
-    assert np.sum(np.any(run["normal_force_n"] > 0.0, axis=1)) > 10, "they must collide"
+    assert np.sum(np.any(run.normal_force_n > 0.0, axis=1)) > 10, "they must collide"
     assert np.linalg.norm(world.linear_momentum_ns() - p0) < 1e-9
     assert np.linalg.norm(world.angular_momentum_nms() - l0) < 1e-3 * np.linalg.norm(l0)
     e1 = world.kinetic_energy_j() + world.contact_energy_j()
@@ -117,15 +117,15 @@ def test_wheel_speeds_match_kinematics_under_the_core_controller() -> None:
     command[:, 0] = 0.2 * np.minimum(t, 1.0)
     command[:, 1] = 0.1 * np.minimum(t, 1.0)
     run = sim.run(n, command)
-    assert run["failure"] is None and sim.mode == "balancing"
-    late = run["time_s"] > 1.5
-    rot = rotation_matrix(run["body_orientation"][late])
-    w_ball_body = np.einsum("nji,nj->ni", rot, run["ball_angular_velocity_rad_per_s"][late])
-    w_rel = w_ball_body - run["body_rate_rad_per_s"][late]
+    assert run.failure is None and sim.mode is ballbot.Mode.BALANCING
+    late = run.time_s > 1.5
+    rot = rotation_matrix(run.body_orientation[late])
+    w_ball_body = np.einsum("nji,nj->ni", rot, run.ball_angular_velocity_rad_per_s[late])
+    w_rel = w_ball_body - run.body_rate_rad_per_s[late]
     b = drive.wheel_azimuths_rad
     u = np.stack([-math.cos(a) * np.cos(b), -math.cos(a) * np.sin(b), np.full(3, math.sin(a))])
     predicted = params.dt_secs * r / r_w * np.sum(w_rel @ u, axis=0)
-    angles = run["wheel_angle_rad"][late]
+    angles = run.wheel_angle_rad[late]
     turned = angles[-1] - angles[0]
     # The first late sample's own increment is inside `predicted` but not in `turned`.
     first = params.dt_secs * r / r_w * (w_rel[0] @ u)
@@ -135,12 +135,12 @@ def test_wheel_speeds_match_kinematics_under_the_core_controller() -> None:
 
 def test_core_loop_cruises_at_the_commanded_speed() -> None:
     sim = ballbot.WorldLoop()
-    assert sim.mode == "idle"
+    assert sim.mode is ballbot.Mode.IDLE
     for _ in range(10):
         sim.step(0.3, 0.0, 0.0)
     run = sim.run(7990, [0.3, 0.0, 0.0], record_every=100)
-    assert run["command"].shape == (80, 3) and np.all(run["command"][:, 0] == 0.3)
-    assert run["time_s"][1] - run["time_s"][0] == pytest.approx(100 / 8000)
+    assert run.command.shape == (80, 3) and np.all(run.command[:, 0] == 0.3)
+    assert run.time_s[1] - run.time_s[0] == pytest.approx(100 / 8000)
     assert sim.failure is None
     assert sim.telemetry.ball_velocity_m_per_s[0] == pytest.approx(0.3, abs=0.1)
     m = sim.measure()
@@ -152,35 +152,33 @@ def test_core_loop_cruises_at_the_commanded_speed() -> None:
 
 
 def test_same_seed_gives_identical_arrays() -> None:
-    def run(seed: int) -> dict[str, object]:
+    def run(seed: int) -> ballbot.WorldLoopRun:
         params = ballbot.WorldParams(sensors={"seed": seed})
         ramp = np.zeros((4000, 3))
         ramp[:, 0] = 0.5 * np.arange(4000) / 8000
-        return dict(ballbot.WorldLoop(params).run(4000, ramp))
+        return ballbot.WorldLoop(params).run(4000, ramp)
 
     a, b, c = run(7), run(7), run(8)
-    for key, value in a.items():
+    b_fields = b.to_dict()
+    for key, value in a.to_dict().items():
         if isinstance(value, np.ndarray):
-            assert np.array_equal(value, b[key]), key
-    assert not np.array_equal(a["body_rate_rad_per_s"], c["body_rate_rad_per_s"]), "seed"
+            assert np.array_equal(value, b_fields[key]), key
+    assert not np.array_equal(a.body_rate_rad_per_s, c.body_rate_rad_per_s), "seed"
 
 
 def test_ramp_unloads_driving_wheels_more_towards_ow1() -> None:
     def min_driving_normal_n(heading_deg: float) -> float:
-        r = ballbot.max_speed_ramp(
-            heading_deg=heading_deg,
-            accel_m_per_s2=1.0,
-            max_command_m_per_s=1.0,
-            settle_s=0.2,
-            sample_every_s=0.0025,
+        settings = ballbot.RampSettings(
+            accel_m_per_s2=1.0, max_command_m_per_s=1.0, settle_s=0.2, sample_every_s=0.0025
         )
-        assert r["failure"] is None and r["max_speed_m_per_s"] > 0.9
-        assert r["heading_deg"] == heading_deg
-        n = r["time_s"].size
-        assert r["normal_force_n"].shape == (n, 3) and r["speed_m_per_s"].shape == (n,)
-        assert np.array_equal(r["max_cone_utilisation"], r["cone_utilisation"].max(axis=1))
-        assert np.all(r["shaped_command_m_per_s"] <= r["command_m_per_s"] + 1e-12)
-        return float(np.min(r["normal_force_n"][:, 1:]))
+        r = ballbot.max_speed_ramp(heading_deg=heading_deg, settings=settings)
+        assert r.failure is None and r.max_speed_m_per_s > 0.9
+        assert r.heading_deg == heading_deg
+        n = r.time_s.size
+        assert r.normal_force_n.shape == (n, 3) and r.speed_m_per_s.shape == (n,)
+        assert np.array_equal(r.max_cone_utilisation, r.cone_utilisation.max(axis=1))
+        assert np.all(r.shaped_command_m_per_s <= r.command_m_per_s + 1e-12)
+        return float(np.min(r.normal_force_n[:, 1:]))
 
     assert min_driving_normal_n(0.0) < min_driving_normal_n(180.0) - 5.0
 
@@ -190,10 +188,14 @@ def test_falling_robot_fails_and_the_run_stops_there() -> None:
     world.tilt_body((0.0, 0.05))
     run = world.run(40_000, stop_on_failure=True, record_every=1000)
     failure = world.failure
-    assert failure is not None and run["failure"] == failure
-    assert failure.kind in ("tilt", "body_touched_floor", "lift_off")
-    assert run["steps"] < 40_000
-    assert run["time_s"][-1] == pytest.approx(failure.time_s)
+    assert failure is not None and run.failure == failure
+    assert failure.kind in (
+        ballbot.FailureKind.TILT,
+        ballbot.FailureKind.BODY_TOUCHED_FLOOR,
+        ballbot.FailureKind.LIFT_OFF,
+    )
+    assert run.steps < 40_000
+    assert run.time_s[-1] == pytest.approx(failure.time_s)
     assert "Failure(kind=" in repr(failure)
 
 

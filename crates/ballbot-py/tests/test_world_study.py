@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import ballbot
+from ballbot import _core
 
 
 def test_failing_acceleration_towards_ow1_is_1_75() -> None:
@@ -14,54 +15,56 @@ def test_failing_acceleration_towards_ow1_is_1_75() -> None:
     found = ballbot.failing_acceleration(
         heading_deg=0.0, accel_bracket_m_per_s2=(1.5, 2.0), accel_resolution_m_per_s2=0.05
     )
-    assert found["largest_surviving_m_per_s2"] == pytest.approx(1.75)
-    assert found["smallest_failing_m_per_s2"] == pytest.approx(1.8)
-    assert found["text"] == "1.75" and not found["censored"] and found["runs"] >= 3
-    failing = found["failing"]
-    assert failing is not None and failing["failure"] is not None
-    assert failing["failure"].kind == "sustained_slip" and failing["failure"].wheel in (1, 2)
-    run = found["failing_run"]
-    assert run is not None and run["failure"] == failing["failure"]
-    surviving = found["surviving"]
-    assert surviving is not None and surviving["censored"]
-    assert surviving["peak_cone_utilisation"] < 1.0
+    assert found.largest_surviving_m_per_s2 == pytest.approx(1.75)
+    assert found.smallest_failing_m_per_s2 == pytest.approx(1.8)
+    assert found.text == "1.75" and not found.censored and found.runs >= 3
+    failing = found.failing
+    assert failing is not None and failing.failure is not None
+    assert failing.failure.kind is ballbot.FailureKind.SUSTAINED_SLIP
+    assert failing.failure.wheel in ("OW2", "OW3") and failing.failure.wheel_index in (1, 2)
+    run = found.failing_run
+    assert run is not None and run.failure == failing.failure
+    surviving = found.surviving
+    assert surviving is not None and surviving.censored
+    assert surviving.peak_cone_utilisation < 1.0
 
 
 def test_slow_ramp_trial_is_seeded_and_reports_its_outcome() -> None:
     a = ballbot.slow_ramp_trial(heading_deg=180.0, seed=2)
     b = ballbot.slow_ramp_trial(heading_deg=180.0, seed=2)
-    assert np.array_equal(a["speed_m_per_s"], b["speed_m_per_s"])
-    outcome = a["outcome"]
-    assert outcome["seed"] == 2 and outcome["accel_m_per_s2"] == 0.25
-    assert outcome["max_speed_m_per_s"] == a["max_speed_m_per_s"] > 2.0
-    assert outcome["censored"] == (a["failure"] is None)
-    assert outcome["min_normal_force_n"] == pytest.approx(float(np.min(a["normal_force_n"])))
+    assert np.array_equal(a.speed_m_per_s, b.speed_m_per_s)
+    outcome = a.outcome
+    assert outcome.seed == 2 and outcome.accel_m_per_s2 == 0.25
+    assert outcome.max_speed_m_per_s == a.max_speed_m_per_s > 2.0
+    assert outcome.censored == (a.failure is None)
+    assert outcome.min_normal_force_n == pytest.approx(float(np.min(a.normal_force_n)))
 
 
 def test_max_speed_study_returns_the_summary_record() -> None:
-    study = ballbot.max_speed_study(
+    settings = ballbot.MaxSpeedSettings(
         quick=True,
-        trial_headings_deg=[180.0],
-        map_headings_deg=[180.0],
+        trial_headings_deg=(180.0,),
+        map_headings_deg=(180.0,),
         accel_bracket_m_per_s2=(2.0, 2.4),
         accel_resolution_m_per_s2=0.2,
     )
-    assert study["protocol"]["seeds"] == [1]
-    assert [t["heading_deg"] for t in study["trials"]] == [180.0]
-    trial = study["trials"][0]["trials"][0]
-    assert study["max_speed_by_heading"]["180"] == trial["max_speed_m_per_s"]
-    series = study["first_runs"][180.0]
-    assert series["max_speed_m_per_s"] == trial["max_speed_m_per_s"]
-    assert series["normal_force_n"].shape == (series["time_s"].size, 3)
-    assert "180" in study["table"]
-    assert study["sensitivity"] == [] and len(study["map"]) == 1
+    study = ballbot.max_speed_study(settings=settings)
+    assert study.protocol["seeds"] == [1]
+    assert [t["heading_deg"] for t in study.trials] == [180.0]
+    trial = study.trials[0]["trials"][0]
+    assert study.max_speed_by_heading["180"] == trial["max_speed_m_per_s"]
+    series = study.first_runs[180.0]
+    assert series.max_speed_m_per_s == trial["max_speed_m_per_s"]
+    assert series.normal_force_n.shape == (series.time_s.size, 3)
+    assert "180" in study.table
+    assert study.sensitivity == [] and len(study.map) == 1
 
 
 def test_world_runs_write_mcap_logs_that_read_back(tmp_path: Path) -> None:
     path = tmp_path / "loop.mcap"
     sim = ballbot.WorldLoop()
     run = sim.run(800, [0.3, 0.0, 0.0], log_path=path)
-    assert Path(run["log_path"]) == path
+    assert Path(run.log_path) == path
     log = ballbot.McapLog(path)
     assert log.is_complete
     counts = {c["topic"]: c["message_count"] for c in log.channels()}
@@ -73,10 +76,10 @@ def test_world_runs_write_mcap_logs_that_read_back(tmp_path: Path) -> None:
     compact = tmp_path / "open.mcap"
     world = ballbot.World()
     out = world.run(800, log_path=compact, log_compact=True)
-    assert Path(out["log_path"]) == compact
+    assert Path(out.log_path) == compact
     counts = {c["topic"]: c["message_count"] for c in ballbot.McapLog(compact).channels()}
     assert max(counts.values()) == 100, counts
-    assert world.run(10)["log_path"] is None
+    assert world.run(10).log_path is None
 
 
 def test_bad_study_input_raises_documented_errors(tmp_path: Path) -> None:
@@ -85,47 +88,59 @@ def test_bad_study_input_raises_documented_errors(tmp_path: Path) -> None:
     with pytest.raises(ballbot.ParameterError, match="accel_resolution_m_per_s2"):
         ballbot.failing_acceleration(accel_resolution_m_per_s2=0.0)
     with pytest.raises(ballbot.ParameterError, match="fast_top_m_per_s"):
-        ballbot.max_speed_study(quick=True, fast_top_m_per_s=float("nan"))
+        ballbot.MaxSpeedSettings(quick=True, fast_top_m_per_s=float("nan"))
     with pytest.raises(ballbot.ParameterError, match="seeds"):
-        ballbot.max_speed_study(quick=True, seeds=[])
+        ballbot.max_speed_study(settings=ballbot.MaxSpeedSettings(quick=True, seeds=[]))
     with pytest.raises(ballbot.ParameterError, match="sensitivity_mu"):
         ballbot.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
+    # The settings classes check first; the native functions keep their own checks.
+    with pytest.raises(ballbot.ParameterError, match="accel_bracket_m_per_s2"):
+        _core.failing_acceleration(accel_bracket_m_per_s2=(2.0, 1.0))
+    with pytest.raises(ballbot.ParameterError, match="accel_resolution_m_per_s2"):
+        _core.failing_acceleration(accel_resolution_m_per_s2=0.0)
+    with pytest.raises(ballbot.ParameterError, match="fast_top_m_per_s"):
+        _core.max_speed_study(quick=True, fast_top_m_per_s=float("nan"))
+    with pytest.raises(ballbot.ParameterError, match="sensitivity_mu"):
+        _core.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
+    with pytest.raises(ballbot.ParameterError, match="seeds"):
+        _core.max_speed_study(quick=True, seeds=[])
     with pytest.raises(ballbot.FileError, match="missing"):
         ballbot.World().run(10, log_path=tmp_path / "missing" / "dir" / "x.mcap")
 
 
-FAST_BRAKING = {"approach_accel_m_per_s2": 1.0, "settle_s": 0.2, "cruise_s": 1.0}
-FAST_PUSH = {"settle_s": 0.5, "observe_s": 3.0, "rest_within_s": 2.5}
+FAST_BRAKING = ballbot.BrakingSettings(approach_accel_m_per_s2=1.0, settle_s=0.2, cruise_s=1.0)
+FAST_PUSH = ballbot.PushSettings(settle_s=0.5, observe_s=3.0, rest_within_s=2.5)
 
 
 def test_braking_study_descends_then_bisects() -> None:
     # The Rust test's numbers (tests/world_brake.rs): at 180 deg from 1.4 m/s, 3 s stops, 1 s
     # fails in the world although a plan exists, the bisection tries 2 s once.
     r = ballbot.braking_study(
-        heading_deg=180.0, durations_s=[3.0, 1.0, 0.5], bisection_resolution_s=1.0, **FAST_BRAKING
+        heading_deg=180.0, durations_s=[3.0, 1.0, 0.5], bisection_resolution_s=1.0, settings=FAST_BRAKING
     )
-    assert r["shortest_success_s"] == 3.0 and r["first_failure_s"] == 1.0
-    assert [run["duration_s"] for run in r["descent"]] == [3.0, 1.0]
-    assert [run["duration_s"] for run in r["bisection"]] == [2.0]
-    ok, bad = r["descent"]
-    assert ok["outcome"] == "stopped" and ok["success"] and ok["rest_speed_m_per_s"] is not None
-    assert abs(ok["speed_m_per_s"][-1]) < 0.05 and abs(ok["command_m_per_s"][-1]) < 1e-9
-    assert ok["peaks"]["speed_error_m_per_s"] < 0.15
-    assert max(ok["peaks"]["cone_utilisation"]) < 0.9
-    assert ok["normal_force_n"].shape == (ok["time_s"].size, 3)
-    assert bad["outcome"] == "failed" and bad["failure"] is not None
-    assert bad["plan_cost_n2m2s"] is not None
-    limit, below = r["limit_s"], r["limit_failure_s"]
+    assert r.shortest_success_s == 3.0 and r.first_failure_s == 1.0
+    assert [run.duration_s for run in r.descent] == [3.0, 1.0]
+    assert [run.duration_s for run in r.bisection] == [2.0]
+    ok, bad = r.descent
+    assert ok.outcome is ballbot.BrakingOutcome.STOPPED and ok.success and ok.rest_speed_m_per_s is not None
+    assert abs(ok.speed_m_per_s[-1]) < 0.05 and abs(ok.command_m_per_s[-1]) < 1e-9
+    assert ok.peaks.speed_error_m_per_s < 0.15
+    assert max(ok.peaks.cone_utilisation) < 0.9
+    assert ok.normal_force_n.shape == (ok.time_s.size, 3)
+    assert bad.outcome is ballbot.BrakingOutcome.FAILED and bad.failure is not None
+    assert bad.plan_cost_n2m2s is not None
+    limit, below = r.limit_s, r.limit_failure_s
     assert limit is not None and below is not None and limit - below == 1.0
 
 
 def test_braking_run_without_a_plan_and_is_deterministic() -> None:
-    none = ballbot.braking_run(heading_deg=180.0, duration_s=0.3, **FAST_BRAKING)
-    assert none["outcome"] == "no_trajectory" and not none["success"]
-    assert none["solve_status"] is not None and none["time_s"].size == 0
-    a = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, **FAST_BRAKING)
-    b = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, **FAST_BRAKING)
-    assert a["telemetry_hash"] == b["telemetry_hash"] and a["success"]
+    none = ballbot.braking_run(heading_deg=180.0, duration_s=0.3, settings=FAST_BRAKING)
+    assert none.outcome is ballbot.BrakingOutcome.NO_TRAJECTORY and not none.success
+    assert isinstance(none.solve_status, ballbot.SolveStatus) and none.time_s.size == 0
+    a = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, settings=FAST_BRAKING)
+    # The settings' fields as keyword arguments (one to one) give the same run.
+    b = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, **FAST_BRAKING.to_dict())
+    assert a.telemetry_hash == b.telemetry_hash and a.success
     with pytest.raises(ballbot.ParameterError, match="feedforward"):
         ballbot.braking_run(duration_s=2.0, feedforward="magic")
     with pytest.raises(ballbot.ParameterError, match="cruise_speed_m_per_s"):
@@ -135,20 +150,20 @@ def test_braking_run_without_a_plan_and_is_deterministic() -> None:
 
 
 def test_push_recovery() -> None:
-    small = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, **FAST_PUSH)
-    assert small["outcome"] == "recovered" and small["recovered"]
-    assert 0.0 < np.degrees(small["peak_tilt_rad"]) < 3.0
-    assert small["ball_velocity_m_per_s"].shape == (small["time_s"].size, 2)
-    huge = ballbot.push_trial(heading_deg=90.0, impulse_ns=150.0, **FAST_PUSH)
-    assert not huge["recovered"]
-    again = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, **FAST_PUSH)
-    assert again["telemetry_hash"] == small["telemetry_hash"]
-    r = ballbot.push_recovery_limit(heading_deg=90.0, upper_ns=160.0, resolution_ns=20.0, **FAST_PUSH)
-    failing = r["smallest_failing_ns"]
-    assert failing is not None and r["largest_recovered_ns"] >= 5.0
-    assert failing - r["largest_recovered_ns"] <= 20.0
-    ok = [t["impulse_ns"] for t in r["trials"] if t["recovered"]]
-    bad = [t["impulse_ns"] for t in r["trials"] if not t["recovered"]]
+    small = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH)
+    assert small.outcome is ballbot.PushOutcome.RECOVERED and small.recovered
+    assert 0.0 < np.degrees(small.peak_tilt_rad) < 3.0
+    assert small.ball_velocity_m_per_s.shape == (small.time_s.size, 2)
+    huge = ballbot.push_trial(heading_deg=90.0, impulse_ns=150.0, settings=FAST_PUSH)
+    assert not huge.recovered
+    again = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH)
+    assert again.telemetry_hash == small.telemetry_hash
+    r = ballbot.push_recovery_limit(heading_deg=90.0, upper_ns=160.0, resolution_ns=20.0, settings=FAST_PUSH)
+    failing = r.smallest_failing_ns
+    assert failing is not None and r.largest_recovered_ns >= 5.0
+    assert failing - r.largest_recovered_ns <= 20.0
+    ok = [t.impulse_ns for t in r.trials if t.recovered]
+    bad = [t.impulse_ns for t in r.trials if not t.recovered]
     assert max(ok, default=0.0) < min(bad)
     with pytest.raises(ballbot.ParameterError, match="rest_within_s"):
         ballbot.push_trial(impulse_ns=5.0, observe_s=2.0)

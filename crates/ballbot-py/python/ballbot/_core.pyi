@@ -1,13 +1,59 @@
-"""Type stubs of the native module ``ballbot._core`` (checked by ``mypy.stubtest``)."""
+"""Type stubs of the native module ``ballbot._core`` (checked by ``mypy.stubtest``).
+
+One file on purpose, although longer than the 700-line guide: ``stubtest`` compares only the
+classes and functions declared in this file with the runtime module; names re-exported from
+other stub files are not checked (tried: a misspelt method there passed), so splitting it
+would silently switch the check off.
+"""
 
 from os import PathLike
 from pathlib import Path
-from typing import Any, Literal, Optional, TypedDict, Union, final
+from typing import Any, Literal, Optional, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
+from ballbot._enums import FailureKind, Mode, RiccatiStatus, SolveStatus, StepStatus
+from ballbot._results import (
+    BrakingRun,
+    BrakingStudy,
+    FailingAcceleration,
+    MaxSpeedStudy,
+    MinBrakingTime,
+    PiptbExperiment,
+    PushRecovery,
+    PushTrial,
+    RampRun,
+    Rollout,
+    ScenarioRun,
+    SlowRampTrial,
+    WorldLoopRun,
+    WorldRun,
+)
+
+_WipPreset = Literal["miapure_60kg", "miapure_unloaded", "piptb"]
+_SpinPreset = Literal["miapure_60kg", "miapure_unloaded"]
+_ActuatorPreset = Literal["miapure"]
+_DrivetrainPreset = Literal["miapure"]
+_BallbotPreset = Literal["miapure_60kg", "miapure_unloaded"]
+_PlanarRobotPreset = Literal["piptb"]
+_DefaultPreset = Literal["default"]
+_WorldPreset = Literal["miapure_60kg", "miapure_unloaded"]
+
+OUTER_LOOP_RATE_HZ: float
+OUTER_LOOP_DT_SECS: float
+INNER_LOOP_RATE_HZ: float
+INNER_LOOP_DT_SECS: float
+STEP_STATUS_NAMES: list[str]  # by int8 code: nominal, saturated, invalid_input
+FAILURE_KIND_NAMES: list[str]  # FailureKind::NAMES
+
 __all__ = [
+    "FAILURE_KIND_NAMES",
+    "INNER_LOOP_DT_SECS",
+    "INNER_LOOP_RATE_HZ",
+    "OUTER_LOOP_DT_SECS",
+    "OUTER_LOOP_RATE_HZ",
+    "STEP_STATUS_NAMES",
     "ActuatorParams",
     "BallbotParams",
     "BrakingLimits",
@@ -78,8 +124,6 @@ __version__: str
 _Floats = Union[float, npt.ArrayLike]
 _Path = Union[str, "PathLike[str]"]
 _F64 = npt.NDArray[np.float64]
-_Status = Literal["nominal", "saturated", "invalid_input"]
-_RiccatiStatus = Literal["converged", "max_iterations", "not_stabilizable", "non_finite"]
 
 @final
 class WipParams:
@@ -100,9 +144,9 @@ class WipParams:
         gravity_m_per_s2: float = ...,
     ) -> WipParams: ...
     @staticmethod
-    def preset(name: str) -> WipParams: ...
+    def preset(name: _WipPreset) -> WipParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_WipPreset]: ...
     def replace(self, **kwargs: float) -> WipParams: ...
     def to_dict(self) -> dict[str, float]: ...
     @staticmethod
@@ -139,9 +183,9 @@ class SpinParams:
         cls, *, inertia_kg_m2: float = ..., damping_nm_s_per_rad: float = ...
     ) -> SpinParams: ...
     @staticmethod
-    def preset(name: str) -> SpinParams: ...
+    def preset(name: _SpinPreset) -> SpinParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_SpinPreset]: ...
     def replace(self, **kwargs: float) -> SpinParams: ...
     def to_dict(self) -> dict[str, float]: ...
     @staticmethod
@@ -166,9 +210,9 @@ class ActuatorParams:
         no_load_speed_rad_per_s: float = ...,
     ) -> ActuatorParams: ...
     @staticmethod
-    def preset(name: str) -> ActuatorParams: ...
+    def preset(name: _ActuatorPreset) -> ActuatorParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_ActuatorPreset]: ...
     def replace(self, **kwargs: float) -> ActuatorParams: ...
     def to_dict(self) -> dict[str, float]: ...
     @staticmethod
@@ -201,9 +245,9 @@ class DrivetrainParams:
         ball_floor_friction: float = ...,
     ) -> DrivetrainParams: ...
     @staticmethod
-    def preset(name: str) -> DrivetrainParams: ...
+    def preset(name: _DrivetrainPreset) -> DrivetrainParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_DrivetrainPreset]: ...
     def replace(self, **kwargs: Any) -> DrivetrainParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod
@@ -238,9 +282,9 @@ class BallbotParams:
         drivetrain: Union[DrivetrainParams, dict[str, Any]] = ...,
     ) -> BallbotParams: ...
     @staticmethod
-    def preset(name: str) -> BallbotParams: ...
+    def preset(name: _BallbotPreset) -> BallbotParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_BallbotPreset]: ...
     def replace(self, **kwargs: Any) -> BallbotParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod
@@ -270,9 +314,9 @@ class PlanarRobotParams:
         actuator: Union[ActuatorParams, dict[str, Any]] = ...,
     ) -> PlanarRobotParams: ...
     @staticmethod
-    def preset(name: str) -> PlanarRobotParams: ...
+    def preset(name: _PlanarRobotPreset) -> PlanarRobotParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_PlanarRobotPreset]: ...
     def replace(self, **kwargs: Any) -> PlanarRobotParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod
@@ -460,7 +504,7 @@ class RiccatiSolution:
     @property
     def gain(self) -> _F64: ...
     @property
-    def status(self) -> _RiccatiStatus: ...
+    def status(self) -> RiccatiStatus: ...
     @property
     def iterations(self) -> int: ...
     @property
@@ -469,7 +513,10 @@ class RiccatiSolution:
 
 def wip_lqr(wip: Wip, q: Optional[npt.ArrayLike] = None, r: float = 0.1) -> Lqr: ...
 def wip_lqr_discrete(
-    wip: Wip, dt_secs: float = 0.0025, q: Optional[npt.ArrayLike] = None, r: float = 0.1
+    wip: Wip,
+    dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
+    q: Optional[npt.ArrayLike] = None,
+    r: float = 0.1,
 ) -> Lqr: ...
 def spin_lqr(spin: Spin, q: npt.ArrayLike, r: float) -> Lqr: ...
 def spin_lqr_discrete(spin: Spin, q: npt.ArrayLike, r: float, dt_secs: float) -> Lqr: ...
@@ -619,7 +666,7 @@ class LqrOutput:
     @property
     def saturation_nm(self) -> float: ...
     @property
-    def status(self) -> _Status: ...
+    def status(self) -> StepStatus: ...
     def to_dict(self) -> dict[str, Any]: ...
 
 @final
@@ -645,7 +692,7 @@ class PiPdOutput:
     @property
     def saturation_nm(self) -> float: ...
     @property
-    def status(self) -> _Status: ...
+    def status(self) -> StepStatus: ...
     def to_dict(self) -> dict[str, Any]: ...
 
 @final
@@ -669,7 +716,7 @@ class LqrPiOuterOutput:
     @property
     def anchor_correction_rad_per_s(self) -> float: ...
     @property
-    def status(self) -> _Status: ...
+    def status(self) -> StepStatus: ...
     def to_dict(self) -> dict[str, Any]: ...
 
 @final
@@ -689,7 +736,7 @@ class SpeedPiOutput:
     @property
     def speed_error_rad_per_s(self) -> float: ...
     @property
-    def status(self) -> _Status: ...
+    def status(self) -> StepStatus: ...
     def to_dict(self) -> dict[str, Any]: ...
 
 @final
@@ -704,13 +751,13 @@ class LqrController:
         self,
         measured: npt.ArrayLike,
         command: Optional[npt.ArrayLike] = None,
-        dt_secs: float = 0.0025,
+        dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
     ) -> LqrOutput: ...
     def step_many(
         self,
         measured: npt.ArrayLike,
         command: Optional[npt.ArrayLike] = None,
-        dt_secs: float = 0.0025,
+        dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
     ) -> dict[str, npt.NDArray[Any]]: ...
 
 @final
@@ -727,13 +774,13 @@ class PiPdController:
         self,
         measured: npt.ArrayLike,
         command: Optional[npt.ArrayLike] = None,
-        dt_secs: float = 0.0025,
+        dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
     ) -> PiPdOutput: ...
     def step_many(
         self,
         measured: npt.ArrayLike,
         command: Optional[npt.ArrayLike] = None,
-        dt_secs: float = 0.0025,
+        dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
     ) -> dict[str, npt.NDArray[Any]]: ...
 
 @final
@@ -750,7 +797,7 @@ class LqrPiOuter:
         self,
         measured: npt.ArrayLike,
         command: Optional[npt.ArrayLike] = None,
-        dt_secs: float = 0.0025,
+        dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
     ) -> LqrPiOuterOutput: ...
 
 @final
@@ -768,7 +815,7 @@ class SpeedPi:
         measured_speed_rad_per_s: float,
         speed_rad_per_s: float,
         feedforward_torque_nm: float = 0.0,
-        dt_secs: float = 0.000125,
+        dt_secs: float = ...,  # INNER_LOOP_DT_SECS (1/8000 s)
         lower_nm: Optional[float] = None,
         upper_nm: Optional[float] = None,
     ) -> SpeedPiOutput: ...
@@ -777,12 +824,6 @@ def accelerating_command(
     wip: Wip, ball_rate_rad_per_s: float, ball_accel_rad_per_s2: float
 ) -> Optional[tuple[_F64, float]]: ...
 
-class _Rollout(TypedDict):
-    time_secs: _F64
-    state: _F64
-    torque_nm: _F64
-    status: npt.NDArray[np.int8]
-    compute_secs: float
 
 def closed_loop_rollout(
     plant: Wip,
@@ -790,11 +831,11 @@ def closed_loop_rollout(
     initial_state: npt.ArrayLike,
     *,
     n_steps: int,
-    dt_secs: float = 0.0025,
+    dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
     command: Optional[npt.ArrayLike] = None,
     inner: Optional[SpeedPi] = None,
     substeps: int = 1,
-) -> _Rollout: ...
+) -> Rollout: ...
 
 # ---- logs ---------------------------------------------------------------------------------
 
@@ -819,9 +860,6 @@ class McapLog:
 # ---- trajectory optimisation --------------------------------------------------------------
 
 _Method = Literal["hermite_simpson", "trapezoidal"]
-_SolveStatus = Literal[
-    "solved", "max_iterations", "infeasible", "line_search_failed", "numerical_error"
-]
 
 @final
 class BrakingLimits:
@@ -902,7 +940,7 @@ class BrakingSolution:
     """The result of a braking solve; only status "solved" certifies the trajectory."""
 
     @property
-    def status(self) -> _SolveStatus: ...
+    def status(self) -> SolveStatus: ...
     def is_solved(self) -> bool: ...
     @property
     def problem(self) -> BrakingProblem: ...
@@ -934,11 +972,6 @@ class BrakingSolution:
     def torque_at(self, t_secs: _Floats) -> _F64: ...
     def sample(self, dt_secs: float) -> dict[str, _F64]: ...
 
-class _MinTime(TypedDict):
-    min_duration_secs: Optional[float]
-    infeasible_below_secs: Optional[float]
-    solution: BrakingSolution
-    solves: int
 
 def min_braking_time(
     problem: BrakingProblem,
@@ -949,7 +982,7 @@ def min_braking_time(
     max_iterations: int = 50,
     primal_tolerance: float = 1e-8,
     dual_tolerance: float = 1e-6,
-) -> _MinTime: ...
+) -> MinBrakingTime: ...
 
 # ---- planar simulator ---------------------------------------------------------------------
 
@@ -967,7 +1000,7 @@ class Scenario:
     def duration_secs(self) -> float: ...
     @property
     def controller(self) -> Literal["lqr", "pi_pd", "lqr_pi"]: ...
-    def run(self, log_path: Optional[_Path] = None) -> dict[str, Any]: ...
+    def run(self, log_path: Optional[_Path] = None) -> ScenarioRun: ...
 
 def piptb_experiment(
     *,
@@ -976,7 +1009,7 @@ def piptb_experiment(
     base_seed: Optional[int] = None,
     controllers: Optional[list[str]] = None,
     log_dir: Optional[_Path] = None,
-) -> dict[str, Any]: ...
+) -> PiptbExperiment: ...
 
 # ---- 3D world -----------------------------------------------------------------------------
 
@@ -997,9 +1030,9 @@ class ContactParams:
         kinetic_friction_ratio: float = ...,
     ) -> ContactParams: ...
     @staticmethod
-    def preset(name: str) -> ContactParams: ...
+    def preset(name: _DefaultPreset) -> ContactParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_DefaultPreset]: ...
     def replace(self, **kwargs: Any) -> ContactParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod
@@ -1032,9 +1065,9 @@ class SensorParams:
         encoder_counts_per_rev: int = ...,
     ) -> SensorParams: ...
     @staticmethod
-    def preset(name: str) -> SensorParams: ...
+    def preset(name: _DefaultPreset) -> SensorParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_DefaultPreset]: ...
     def replace(self, **kwargs: Any) -> SensorParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod
@@ -1065,9 +1098,9 @@ class FailureParams:
         max_lift_off_duration_s: float = ...,
     ) -> FailureParams: ...
     @staticmethod
-    def preset(name: str) -> FailureParams: ...
+    def preset(name: _DefaultPreset) -> FailureParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_DefaultPreset]: ...
     def replace(self, **kwargs: Any) -> FailureParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod
@@ -1108,9 +1141,9 @@ class WorldParams:
         failure: Union[FailureParams, dict[str, Any]] = ...,
     ) -> WorldParams: ...
     @staticmethod
-    def preset(name: str) -> WorldParams: ...
+    def preset(name: _WorldPreset) -> WorldParams: ...
     @staticmethod
-    def presets() -> list[str]: ...
+    def presets() -> list[_WorldPreset]: ...
     @staticmethod
     def with_robot(robot: BallbotParams) -> WorldParams: ...
     def replace(self, **kwargs: Any) -> WorldParams: ...
@@ -1168,6 +1201,7 @@ class WheelTelemetry:
     def speed_rad_per_s(self) -> float: ...
     @property
     def angle_rad(self) -> float: ...
+    def to_dict(self) -> dict[str, Union[float, bool]]: ...
 
 @final
 class StepTelemetry:
@@ -1216,7 +1250,6 @@ class Measurement:
     @property
     def wheel_speed_rad_per_s(self) -> _F64: ...
 
-_FailureKind = Literal["tilt", "body_touched_floor", "sustained_slip", "lift_off"]
 
 @final
 class Failure:
@@ -1224,44 +1257,16 @@ class Failure:
     tilted."""
 
     @property
-    def kind(self) -> _FailureKind: ...
+    def kind(self) -> FailureKind: ...
     @property
     def time_s(self) -> float: ...
     @property
-    def wheel(self) -> Optional[int]: ...
+    def wheel(self) -> Optional[str]: ...
+    @property
+    def wheel_index(self) -> Optional[int]: ...
     @property
     def tilt_rad(self) -> Optional[float]: ...
 
-class _WorldTrace(TypedDict):
-    time_s: _F64
-    normal_force_n: _F64
-    traction_n: _F64
-    traction_demand_n: _F64
-    cone_utilisation: _F64
-    slip_speed_m_per_s: _F64
-    slipping: npt.NDArray[np.bool_]
-    motor_torque_nm: _F64
-    wheel_speed_rad_per_s: _F64
-    wheel_angle_rad: _F64
-    ball_position_m: _F64
-    ball_velocity_m_per_s: _F64
-    ball_angular_velocity_rad_per_s: _F64
-    body_position_m: _F64
-    body_orientation: _F64
-    body_rate_rad_per_s: _F64
-    tilt_rad: _F64
-    tilt_from_vertical_rad: _F64
-    yaw_rad: _F64
-    floor_force_n: _F64
-    steps: int
-    failure: Optional[Failure]
-    log_path: Optional[Path]
-
-class _WorldRun(_WorldTrace):
-    torque_nm: _F64
-
-class _WorldLoopRun(_WorldTrace):
-    command: _F64
 
 @final
 class World:
@@ -1279,7 +1284,7 @@ class World:
         stop_on_failure: bool = False,
         log_path: Optional[_Path] = None,
         log_compact: bool = False,
-    ) -> _WorldRun: ...
+    ) -> WorldRun: ...
     @property
     def params(self) -> WorldParams: ...
     @property
@@ -1311,7 +1316,6 @@ class World:
     def angular_momentum_nms(self) -> _F64: ...
     def chassis_clearance_m(self) -> float: ...
 
-_Mode = Literal["idle", "balancing", "controlled_stop", "fault"]
 
 @final
 class WorldLoop:
@@ -1329,7 +1333,7 @@ class WorldLoop:
         max_tilt_rate_command_rad_per_s: Optional[float] = None,
     ) -> WorldLoop: ...
     @property
-    def mode(self) -> _Mode: ...
+    def mode(self) -> Mode: ...
     def step(
         self,
         vx_m_per_s: float = 0.0,
@@ -1345,7 +1349,7 @@ class WorldLoop:
         stop_on_failure: bool = False,
         log_path: Optional[_Path] = None,
         log_compact: bool = False,
-    ) -> _WorldLoopRun: ...
+    ) -> WorldLoopRun: ...
     @property
     def params(self) -> WorldParams: ...
     @property
@@ -1377,19 +1381,6 @@ class WorldLoop:
     def angular_momentum_nms(self) -> _F64: ...
     def chassis_clearance_m(self) -> float: ...
 
-class _Ramp(TypedDict):
-    heading_deg: float
-    max_speed_m_per_s: float
-    failure: Optional[Failure]
-    supervisor_stop_s: Optional[float]
-    time_s: _F64
-    command_m_per_s: _F64
-    shaped_command_m_per_s: _F64
-    speed_m_per_s: _F64
-    tilt_rad: _F64
-    max_cone_utilisation: _F64
-    normal_force_n: _F64
-    cone_utilisation: _F64
 
 def max_speed_ramp(
     params: Optional[WorldParams] = None,
@@ -1404,37 +1395,12 @@ def max_speed_ramp(
     max_jerk_m_per_s3: Optional[float] = None,
     max_tilt_command_rad: Optional[float] = None,
     max_tilt_rate_command_rad_per_s: Optional[float] = None,
-) -> _Ramp: ...
-
-class _TrialOutcome(TypedDict):
-    heading_deg: float
-    seed: int
-    accel_m_per_s2: float
-    max_speed_m_per_s: float
-    censored: bool
-    failure: Optional[Failure]
-    peak_cone_utilisation: float
-    min_normal_force_n: float
-    peak_tilt_rad: float
-    supervisor_stop_s: Optional[float]
-
-class _Trial(_Ramp):
-    outcome: _TrialOutcome
+) -> RampRun: ...
 
 def slow_ramp_trial(
     params: Optional[WorldParams] = None, *, heading_deg: float = 0.0, seed: int = 1
-) -> _Trial: ...
+) -> SlowRampTrial: ...
 
-class _FailingAccel(TypedDict):
-    heading_deg: float
-    largest_surviving_m_per_s2: Optional[float]
-    smallest_failing_m_per_s2: Optional[float]
-    censored: bool
-    text: str
-    runs: int
-    failing: Optional[_TrialOutcome]
-    surviving: Optional[_TrialOutcome]
-    failing_run: Optional[_Ramp]
 
 def failing_acceleration(
     params: Optional[WorldParams] = None,
@@ -1444,7 +1410,7 @@ def failing_acceleration(
     fast_top_m_per_s: Optional[float] = None,
     accel_bracket_m_per_s2: Optional[tuple[float, float]] = None,
     accel_resolution_m_per_s2: Optional[float] = None,
-) -> _FailingAccel: ...
+) -> FailingAcceleration: ...
 def max_speed_study(
     params: Optional[WorldParams] = None,
     *,
@@ -1459,31 +1425,7 @@ def max_speed_study(
     fast_top_m_per_s: Optional[float] = None,
     accel_bracket_m_per_s2: Optional[tuple[float, float]] = None,
     accel_resolution_m_per_s2: Optional[float] = None,
-) -> dict[str, Any]: ...
-
-_BrakingOutcome = Literal["stopped", "no_trajectory", "failed", "not_at_rest"]
-
-class _BrakingRun(TypedDict):
-    heading_deg: float
-    duration_s: float
-    outcome: _BrakingOutcome
-    success: bool
-    failure: Optional[Failure]
-    rest_speed_m_per_s: Optional[float]
-    solve_status: Optional[str]
-    brake_start_s: float
-    plan_peak_tilt_rad: Optional[float]
-    plan_cost_n2m2s: Optional[float]
-    peaks: dict[str, Any]
-    time_s: _F64
-    command_m_per_s: _F64
-    speed_m_per_s: _F64
-    command_tilt_rad: _F64
-    tilt_rad: _F64
-    cone_utilisation: _F64
-    normal_force_n: _F64
-    actuator_utilisation: _F64
-    telemetry_hash: int
+) -> MaxSpeedStudy: ...
 
 def braking_run(
     params: Optional[WorldParams] = None,
@@ -1498,16 +1440,8 @@ def braking_run(
     intervals: Optional[int] = None,
     sample_every_s: Optional[float] = None,
     feedforward: Literal["full", "core"] = "full",
-) -> _BrakingRun: ...
+) -> BrakingRun: ...
 
-class _BrakingStudy(TypedDict):
-    heading_deg: float
-    shortest_success_s: Optional[float]
-    first_failure_s: Optional[float]
-    limit_s: Optional[float]
-    limit_failure_s: Optional[float]
-    descent: list[_BrakingRun]
-    bisection: list[_BrakingRun]
 
 def braking_study(
     params: Optional[WorldParams] = None,
@@ -1523,23 +1457,8 @@ def braking_study(
     intervals: Optional[int] = None,
     sample_every_s: Optional[float] = None,
     feedforward: Literal["full", "core"] = "full",
-) -> _BrakingStudy: ...
+) -> BrakingStudy: ...
 
-class _PushTrial(TypedDict):
-    heading_deg: float
-    impulse_ns: float
-    outcome: Literal["recovered", "tilt_exceeded", "failed", "not_at_rest"]
-    recovered: bool
-    failure: Optional[Failure]
-    peak_tilt_rad: float
-    peak_speed_m_per_s: float
-    rest_speed_m_per_s: float
-    time_s: _F64
-    tilt_rad: _F64
-    speed_m_per_s: _F64
-    max_cone_utilisation: _F64
-    ball_velocity_m_per_s: _F64
-    telemetry_hash: int
 
 def push_trial(
     params: Optional[WorldParams] = None,
@@ -1551,13 +1470,8 @@ def push_trial(
     observe_s: Optional[float] = None,
     rest_within_s: Optional[float] = None,
     sample_every_s: Optional[float] = None,
-) -> _PushTrial: ...
+) -> PushTrial: ...
 
-class _PushRecovery(TypedDict):
-    heading_deg: float
-    largest_recovered_ns: float
-    smallest_failing_ns: Optional[float]
-    trials: list[_PushTrial]
 
 def push_recovery_limit(
     params: Optional[WorldParams] = None,
@@ -1570,4 +1484,4 @@ def push_recovery_limit(
     observe_s: Optional[float] = None,
     rest_within_s: Optional[float] = None,
     sample_every_s: Optional[float] = None,
-) -> _PushRecovery: ...
+) -> PushRecovery: ...

@@ -1,0 +1,40 @@
+"""The 3D world (rapier3d).
+
+``World`` is the ballbot driven by wheel torques, ``WorldLoop`` the world with the core's
+controller in the loop (``mode`` is a ``Mode``). Their parameters (``WorldParams`` and its
+parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``), failures
+(``Failure`` with a ``FailureKind``; wheels named ``"OW1"``..``"OW3"``) and run results
+(``WorldRun``, ``WorldLoopRun``).
+"""
+
+from ballbot._core import (
+    ContactParams,
+    Failure,
+    FailureParams,
+    Measurement,
+    SensorParams,
+    StepTelemetry,
+    WheelTelemetry,
+    World,
+    WorldLoop,
+    WorldParams,
+)
+from ballbot._enums import FailureKind, Mode
+from ballbot._results import WorldLoopRun, WorldRun
+
+__all__ = [
+    "ContactParams",
+    "Failure",
+    "FailureKind",
+    "FailureParams",
+    "Measurement",
+    "Mode",
+    "SensorParams",
+    "StepTelemetry",
+    "WheelTelemetry",
+    "World",
+    "WorldLoop",
+    "WorldLoopRun",
+    "WorldParams",
+    "WorldRun",
+]

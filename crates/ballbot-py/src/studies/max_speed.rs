@@ -1,0 +1,273 @@
+//! The maximum-speed study (`ballbot_sim::world::max_speed`, what `ballbot reproduce` runs for
+//! the paper's Sec. V): seeded slow-ramp trials per heading, the failing ramp acceleration per
+//! heading, the capability map and the mu / COM-height sensitivity.
+
+use crate::errors::{Kind, error, world_error};
+use crate::log::json_to_py;
+use crate::params::PyWorldParams;
+use crate::world::{PyFailure, params_or_default, ramp_dict};
+use ballbot_sim::world::max_speed::{
+    FailingAccel, MaxSpeedProtocol, MaxSpeedStudySettings, TrialOutcome, failing_acceleration,
+    run_study, slow_ramp_trial,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The study's protocol with the search overrides, checked (the search divides by the
+/// resolution and assumes `0 < low < high`).
+fn protocol(
+    py: Python<'_>,
+    base: MaxSpeedProtocol,
+    fast_top_m_per_s: Option<f64>,
+    accel_bracket_m_per_s2: Option<(f64, f64)>,
+    accel_resolution_m_per_s2: Option<f64>,
+) -> PyResult<MaxSpeedProtocol> {
+    let mut p = base;
+    if let Some(v) = fast_top_m_per_s {
+        p.fast_top_m_per_s = v;
+    }
+    if let Some((low, high)) = accel_bracket_m_per_s2 {
+        p.accel_bracket_m_per_s2 = [low, high];
+    }
+    if let Some(v) = accel_resolution_m_per_s2 {
+        p.accel_resolution_m_per_s2 = v;
+    }
+    let [low, high] = p.accel_bracket_m_per_s2;
+    let res = p.accel_resolution_m_per_s2;
+    if !(low.is_finite() && high.is_finite() && low > 0.0 && high > low) {
+        return Err(error(
+            py,
+            Kind::Parameter,
+            format!(
+                "invalid parameter `accel_bracket_m_per_s2`: need 0 < low < high, got ({low}, {high})"
+            ),
+        ));
+    }
+    if !(res.is_finite() && res > 0.0 && (high - low) / res <= 1e6) {
+        return Err(error(
+            py,
+            Kind::Parameter,
+            format!(
+                "invalid parameter `accel_resolution_m_per_s2`: must be > 0 and leave at most \
+                 1e6 grid points in the bracket, got {res}"
+            ),
+        ));
+    }
+    if !(p.fast_top_m_per_s.is_finite() && p.fast_top_m_per_s > 0.0) {
+        return Err(error(
+            py,
+            Kind::Parameter,
+            format!(
+                "invalid parameter `fast_top_m_per_s`: must be finite and > 0, got {}",
+                p.fast_top_m_per_s
+            ),
+        ));
+    }
+    Ok(p)
+}
+
+fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, PyAny>> {
+    let d = PyDict::new(py);
+    d.set_item("heading_deg", o.heading_deg)?;
+    d.set_item("seed", o.seed)?;
+    d.set_item("accel_m_per_s2", o.accel_m_per_s2)?;
+    d.set_item("max_speed_m_per_s", o.max_speed_m_per_s)?;
+    d.set_item("censored", o.censored())?;
+    d.set_item("failure", o.failure.map(PyFailure::from))?;
+    d.set_item("peak_cone_utilisation", o.peak_cone_utilisation)?;
+    d.set_item("min_normal_force_n", o.min_normal_force_n)?;
+    d.set_item("peak_tilt_rad", o.peak_tilt_rad)?;
+    d.set_item("supervisor_stop_s", o.supervisor_stop_s)?;
+    crate::results::make(py, "TrialOutcome", d)
+}
+
+fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, PyAny>> {
+    let d = PyDict::new(py);
+    d.set_item("heading_deg", f.heading_deg)?;
+    d.set_item("largest_surviving_m_per_s2", f.largest_surviving_m_per_s2)?;
+    d.set_item("smallest_failing_m_per_s2", f.smallest_failing_m_per_s2)?;
+    d.set_item("censored", f.smallest_failing_m_per_s2.is_none())?;
+    d.set_item("text", f.text())?;
+    d.set_item("runs", f.runs)?;
+    let failing = f.failing.map(|o| outcome_dict(py, &o)).transpose()?;
+    d.set_item("failing", failing)?;
+    let surviving = f.surviving.map(|o| outcome_dict(py, &o)).transpose()?;
+    d.set_item("surviving", surviving)?;
+    let run = f
+        .failing_run
+        .map(|r| crate::results::make(py, "RampRun", ramp_dict(py, r)?))
+        .transpose()?;
+    d.set_item("failing_run", run)?;
+    crate::results::make(py, "FailingAcceleration", d)
+}
+
+/// One slow-ramp trial of the maximum-speed study
+/// (`ballbot_sim::world::max_speed::slow_ramp_trial`): the protocol's slow ramp (0.25 m/s^2 to
+/// 6 m/s after 0.5 s, then 1 s hold) at `heading_deg` with the sensor noise seeded by `seed`,
+/// the command shaper's caps lifted as in the study. Returns a `SlowRampTrial`: the ramp (as
+/// `max_speed_ramp`) plus `outcome`: `max_speed_m_per_s`, `censored` (no failure: the speed is
+/// only a lower bound), `failure`, `peak_cone_utilisation`, `min_normal_force_n`,
+/// `peak_tilt_rad`, `supervisor_stop_s`, `seed`, `accel_m_per_s2`, `heading_deg`.
+#[pyfunction(name = "slow_ramp_trial")]
+#[pyo3(signature = (params = None, *, heading_deg = 0.0, seed = 1))]
+pub(crate) fn py_slow_ramp_trial<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    heading_deg: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params_or_default(params);
+    let protocol = MaxSpeedProtocol::default();
+    let (run, outcome) = py
+        .detach(|| slow_ramp_trial(params, &protocol, heading_deg, seed))
+        .map_err(|e| world_error(py, e))?;
+    let d = ramp_dict(py, run)?;
+    d.set_item("outcome", outcome_dict(py, &outcome)?)?;
+    crate::results::make(py, "SlowRampTrial", d)
+}
+
+/// The failing-acceleration search at `heading_deg`
+/// (`ballbot_sim::world::max_speed::failing_acceleration`): bisection on the grid of
+/// `accel_resolution_m_per_s2` inside `accel_bracket_m_per_s2` for the largest ramp acceleration
+/// whose ramp to `fast_top_m_per_s` (and 1 s hold) survives. Defaults: the study's protocol
+/// (3.0 m/s, (0.5, 3.0) m/s^2, 0.05 m/s^2). Returns a `FailingAcceleration`: `largest_surviving_m_per_s2`
+/// (`None` if the bracket's low end failed), `smallest_failing_m_per_s2` (`None` if its high end
+/// survived: `censored`), `text` (`1.75`, `>= 3.00`, `< 0.50`), `runs`, `failing` and
+/// `surviving` (the two runs' outcomes, as in `slow_ramp_trial`), `failing_run` (the failing
+/// ramp's series, as `max_speed_ramp` returns them).
+#[pyfunction(name = "failing_acceleration")]
+#[pyo3(signature = (
+    params = None, *, heading_deg = 0.0, seed = 0, fast_top_m_per_s = None,
+    accel_bracket_m_per_s2 = None, accel_resolution_m_per_s2 = None,
+))]
+pub(crate) fn py_failing_acceleration<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    heading_deg: f64,
+    seed: u64,
+    fast_top_m_per_s: Option<f64>,
+    accel_bracket_m_per_s2: Option<(f64, f64)>,
+    accel_resolution_m_per_s2: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params_or_default(params);
+    let protocol = protocol(
+        py,
+        MaxSpeedProtocol::default(),
+        fast_top_m_per_s,
+        accel_bracket_m_per_s2,
+        accel_resolution_m_per_s2,
+    )?;
+    let found = py
+        .detach(|| failing_acceleration(params, &protocol, heading_deg, seed))
+        .map_err(|e| world_error(py, e))?;
+    failing_dict(py, found)
+}
+
+/// The whole maximum-speed study as `ballbot reproduce` runs it
+/// (`ballbot_sim::world::max_speed::run_study`), on Rust worker threads (`threads`, 0: every
+/// core) without the GIL. `quick` starts from the CI variant (one trial at 0 and 180 deg, a
+/// coarse search, no sensitivity) instead of the paper's (3 seeds at 0, 90, 180 deg, the map
+/// every 15 deg, mu 0.4/0.6/0.8 and COM height 0.4/0.5/0.7 m; a few minutes on two cores); the
+/// other keywords override its lists and the search.
+///
+/// Returns a `MaxSpeedStudy`: the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
+/// `mu`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
+/// plus `max_speed_by_heading` (mean slow-ramp maximum speed per heading), `table` (the text
+/// table `reproduce` prints) and `first_runs` (per trial heading, the first trial's series as
+/// `max_speed_ramp` returns them, for the paper's Fig. "acc").
+#[pyfunction(name = "max_speed_study")]
+#[pyo3(signature = (
+    params = None, *, quick = false, trial_headings_deg = None, seeds = None,
+    map_headings_deg = None, sensitivity_headings_deg = None, sensitivity_mu = None,
+    sensitivity_com_height_m = None, threads = 0, fast_top_m_per_s = None,
+    accel_bracket_m_per_s2 = None, accel_resolution_m_per_s2 = None,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn py_max_speed_study<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    quick: bool,
+    trial_headings_deg: Option<Vec<f64>>,
+    seeds: Option<Vec<u64>>,
+    map_headings_deg: Option<Vec<f64>>,
+    sensitivity_headings_deg: Option<Vec<f64>>,
+    sensitivity_mu: Option<Vec<f64>>,
+    sensitivity_com_height_m: Option<Vec<f64>>,
+    threads: usize,
+    fast_top_m_per_s: Option<f64>,
+    accel_bracket_m_per_s2: Option<(f64, f64)>,
+    accel_resolution_m_per_s2: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params_or_default(params);
+    let mut settings = if quick {
+        MaxSpeedStudySettings::quick()
+    } else {
+        MaxSpeedStudySettings::paper()
+    };
+    settings.protocol = protocol(
+        py,
+        settings.protocol,
+        fast_top_m_per_s,
+        accel_bracket_m_per_s2,
+        accel_resolution_m_per_s2,
+    )?;
+    for (list, value, name) in [
+        (
+            &mut settings.trial_headings_deg,
+            trial_headings_deg,
+            "trial_headings_deg",
+        ),
+        (
+            &mut settings.map_headings_deg,
+            map_headings_deg,
+            "map_headings_deg",
+        ),
+        (
+            &mut settings.sensitivity_headings_deg,
+            sensitivity_headings_deg,
+            "sensitivity_headings_deg",
+        ),
+        (
+            &mut settings.sensitivity_mu,
+            sensitivity_mu,
+            "sensitivity_mu",
+        ),
+        (
+            &mut settings.sensitivity_com_height_m,
+            sensitivity_com_height_m,
+            "sensitivity_com_height_m",
+        ),
+    ] {
+        if let Some(values) = value {
+            if !values.iter().all(|x| x.is_finite()) {
+                return Err(error(
+                    py,
+                    Kind::Parameter,
+                    format!("invalid parameter `{name}`: must be finite, got {values:?}"),
+                ));
+            }
+            *list = values;
+        }
+    }
+    if let Some(seeds) = seeds {
+        settings.seeds = seeds;
+    }
+    settings.threads = threads;
+    let study = py
+        .detach(|| run_study(params, &settings, &|_| {}))
+        .map_err(|e| world_error(py, e))?;
+    let detail = json_to_py(py, &study.detail_json())?;
+    let d = detail.cast_into::<PyDict>().map_err(PyErr::from)?;
+    d.set_item(
+        "max_speed_by_heading",
+        json_to_py(py, &study.max_speed_by_heading_json())?,
+    )?;
+    d.set_item("table", study.table())?;
+    let first = PyDict::new(py);
+    for h in study.trials {
+        let run = crate::results::make(py, "RampRun", ramp_dict(py, h.first_run)?)?;
+        first.set_item(h.heading_deg, run)?;
+    }
+    d.set_item("first_runs", first)?;
+    crate::results::make(py, "MaxSpeedStudy", d)
+}

@@ -1,0 +1,175 @@
+//! The push-recovery experiments (`ballbot_sim::world::push`): one trial and the recovery
+//! limit.
+
+use crate::errors::{Kind, error, world_error};
+use crate::params::PyWorldParams;
+use crate::world::{PyFailure, params_or_default};
+use ballbot_sim::world::push::{
+    PushOutcome, PushParams, PushSample, PushSearch, PushTrial, push_recovery_limit, push_trial,
+};
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+fn push_params(
+    push_duration_s: Option<f64>,
+    settle_s: Option<f64>,
+    observe_s: Option<f64>,
+    rest_within_s: Option<f64>,
+    sample_every_s: Option<f64>,
+) -> PushParams {
+    let mut p = PushParams::default();
+    if let Some(v) = rest_within_s {
+        p.rest_within_s = v;
+    }
+    if let Some(v) = push_duration_s {
+        p.push_duration_s = v;
+    }
+    if let Some(v) = settle_s {
+        p.settle_s = v;
+    }
+    if let Some(v) = observe_s {
+        p.observe_s = v;
+    }
+    if let Some(v) = sample_every_s {
+        p.sample_every_s = v;
+    }
+    p
+}
+
+fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, PyAny>> {
+    let d = PyDict::new(py);
+    d.set_item("heading_deg", t.heading_deg)?;
+    d.set_item("impulse_ns", t.impulse_ns)?;
+    d.set_item("outcome", crate::enums::push_outcome(py, &t.outcome)?)?;
+    d.set_item("recovered", t.recovered())?;
+    let failure = match t.outcome {
+        PushOutcome::Failed(f) => Some(PyFailure::from(f)),
+        _ => None,
+    };
+    d.set_item("failure", failure)?;
+    d.set_item("peak_tilt_rad", t.peak_tilt_rad)?;
+    d.set_item("peak_speed_m_per_s", t.peak_speed_m_per_s)?;
+    d.set_item("rest_speed_m_per_s", t.rest_speed_m_per_s)?;
+    let s = &t.samples;
+    let column = |f: fn(&PushSample) -> f64| PyArray1::from_vec(py, s.iter().map(f).collect());
+    d.set_item("time_s", column(|x| x.time_s))?;
+    d.set_item("tilt_rad", column(|x| x.tilt_rad))?;
+    d.set_item("speed_m_per_s", column(|x| x.speed_m_per_s))?;
+    d.set_item("max_cone_utilisation", column(|x| x.max_cone_utilisation))?;
+    let v: Vec<[f64; 2]> = s.iter().map(|x| x.ball_velocity_m_per_s).collect();
+    d.set_item("ball_velocity_m_per_s", crate::world::table(py, v)?)?;
+    d.set_item("telemetry_hash", t.telemetry_hash)?;
+    crate::results::make(py, "PushTrial", d)
+}
+
+/// One push-recovery trial (`ballbot_sim::world::push::push_trial`): the robot stands still
+/// under the core's controller for `settle_s`, a horizontal impulse `impulse_ns` towards
+/// `heading_deg` (body frame) spread over `push_duration_s` hits the body's centre of mass,
+/// and the run is watched for `observe_s` (defaults 1.0, 0.1, 4.0 s); recovered means no
+/// failure, tilt below 15 deg, and at rest (ball under 0.1 m/s, tilt under 3 deg) from
+/// `rest_within_s` (default 3.0 s) after the push on. Runs without the GIL.
+/// Returns a `PushTrial`: `outcome` (a `PushOutcome`),
+/// `recovered`, `failure`, `peak_tilt_rad`, `peak_speed_m_per_s`, `rest_speed_m_per_s`,
+/// `telemetry_hash`, and samples: `time_s` (since the push), `tilt_rad`, `speed_m_per_s`,
+/// `max_cone_utilisation` (n,), `ball_velocity_m_per_s` (n, 2).
+#[pyfunction(name = "push_trial")]
+#[pyo3(signature = (
+    params = None, *, impulse_ns, heading_deg = 0.0, push_duration_s = None, settle_s = None,
+    observe_s = None, rest_within_s = None, sample_every_s = None,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn py_push_trial<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    impulse_ns: f64,
+    heading_deg: f64,
+    push_duration_s: Option<f64>,
+    settle_s: Option<f64>,
+    observe_s: Option<f64>,
+    rest_within_s: Option<f64>,
+    sample_every_s: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let world = params_or_default(params);
+    let protocol = push_params(
+        push_duration_s,
+        settle_s,
+        observe_s,
+        rest_within_s,
+        sample_every_s,
+    );
+    protocol.validate().map_err(|e| world_error(py, e))?;
+    if !(impulse_ns.is_finite() && heading_deg.is_finite()) {
+        return Err(error(
+            py,
+            Kind::Parameter,
+            "invalid parameter `impulse_ns`/`heading_deg`: must be finite",
+        ));
+    }
+    let trial = py
+        .detach(|| push_trial(world, &protocol, heading_deg, impulse_ns))
+        .map_err(|e| world_error(py, e))?;
+    push_trial_dict(py, &trial)
+}
+
+/// The largest push recovered at `heading_deg` (`ballbot_sim::world::push::push_recovery_limit`):
+/// tries `upper_ns` first, then bisects `[0, upper_ns]` down to `resolution_ns` (defaults 100
+/// and 0.5 N s). Trial keywords as `push_trial`. Returns a `PushRecovery`: `largest_recovered_ns`,
+/// `smallest_failing_ns` (`None` if `upper_ns` was recovered) and `trials`, each as
+/// `push_trial` returns it.
+#[pyfunction(name = "push_recovery_limit")]
+#[pyo3(signature = (
+    params = None, *, heading_deg = 0.0, upper_ns = 100.0, resolution_ns = 0.5,
+    push_duration_s = None, settle_s = None, observe_s = None, rest_within_s = None,
+    sample_every_s = None,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn py_push_recovery_limit<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    heading_deg: f64,
+    upper_ns: f64,
+    resolution_ns: f64,
+    push_duration_s: Option<f64>,
+    settle_s: Option<f64>,
+    observe_s: Option<f64>,
+    rest_within_s: Option<f64>,
+    sample_every_s: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let world = params_or_default(params);
+    let protocol = push_params(
+        push_duration_s,
+        settle_s,
+        observe_s,
+        rest_within_s,
+        sample_every_s,
+    );
+    protocol.validate().map_err(|e| world_error(py, e))?;
+    if !(resolution_ns.is_finite() && resolution_ns > 0.0 && upper_ns / resolution_ns <= 1e9) {
+        return Err(error(
+            py,
+            Kind::Parameter,
+            format!(
+                "invalid parameter `resolution_ns`: must be > 0 and >= upper_ns / 1e9, got {resolution_ns}"
+            ),
+        ));
+    }
+    let search = PushSearch {
+        upper_ns,
+        resolution_ns,
+    };
+    let found = py
+        .detach(|| push_recovery_limit(world, &protocol, &search, heading_deg, &mut |_| {}))
+        .map_err(|e| world_error(py, e))?;
+    let d = PyDict::new(py);
+    d.set_item("heading_deg", found.heading_deg)?;
+    d.set_item("largest_recovered_ns", found.largest_recovered_ns)?;
+    d.set_item("smallest_failing_ns", found.smallest_failing_ns)?;
+    let trials: Vec<Bound<'py, PyAny>> = found
+        .trials
+        .iter()
+        .map(|t| push_trial_dict(py, t))
+        .collect::<PyResult<_>>()?;
+    d.set_item("trials", trials)?;
+    crate::results::make(py, "PushRecovery", d)
+}

@@ -1,0 +1,119 @@
+//! The maximum-speed ramp (`max_speed_ramp`) and its result.
+
+use super::telemetry::PyFailure;
+use super::trace::table;
+use super::world_loop::Shaping;
+use super::{finite, non_negative, params_or_default};
+use crate::errors::world_error;
+use crate::errors::{Kind, error};
+use crate::params::PyWorldParams;
+use ballbot_sim::world::experiments::{RampParams, RampResult, max_speed_ramp_with_config};
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("heading_deg", r.heading_deg)?;
+    d.set_item("max_speed_m_per_s", r.max_speed_m_per_s)?;
+    d.set_item("failure", r.failure.map(PyFailure::from))?;
+    d.set_item("supervisor_stop_s", r.supervisor_stop_s)?;
+    let column = |f: fn(&ballbot_sim::world::experiments::RampSample) -> f64| {
+        r.samples.iter().map(f).collect::<Vec<f64>>()
+    };
+    d.set_item("time_s", PyArray1::from_vec(py, column(|s| s.time_s)))?;
+    d.set_item(
+        "command_m_per_s",
+        PyArray1::from_vec(py, column(|s| s.command_m_per_s)),
+    )?;
+    d.set_item(
+        "shaped_command_m_per_s",
+        PyArray1::from_vec(py, column(|s| s.shaped_command_m_per_s)),
+    )?;
+    d.set_item(
+        "speed_m_per_s",
+        PyArray1::from_vec(py, column(|s| s.speed_m_per_s)),
+    )?;
+    d.set_item("tilt_rad", PyArray1::from_vec(py, column(|s| s.tilt_rad)))?;
+    d.set_item(
+        "max_cone_utilisation",
+        PyArray1::from_vec(py, column(|s| s.max_cone_utilisation)),
+    )?;
+    let normal: Vec<[f64; 3]> = r.samples.iter().map(|s| s.normal_force_n).collect();
+    d.set_item("normal_force_n", table(py, normal)?)?;
+    let cone: Vec<[f64; 3]> = r.samples.iter().map(|s| s.cone_utilisation).collect();
+    d.set_item("cone_utilisation", table(py, cone)?)?;
+    Ok(d)
+}
+
+/// The maximum-speed experiment of the paper's Sec. V in the 3D world
+/// (`ballbot_sim::world::experiments::max_speed_ramp`): the core's controller follows a
+/// velocity ramp towards `heading_deg` (body frame; 0 is towards OW1) after `settle_s`, rising
+/// at `accel_m_per_s2` to `max_command_m_per_s`, until the world detects a failure or the top
+/// speed has been held for 1 s. Runs in Rust without the GIL. The shaping keywords lift the
+/// controller's caps as in `WorldLoop` (by default the shaper caps the command at 2.0 m/s
+/// and 1.0 m/s^2).
+///
+/// Returns a `RampRun`: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
+/// before failure), `failure` (`Failure` or `None` if the ramp ended first),
+/// `supervisor_stop_s` (when the core's safety supervisor stopped balancing, e.g. at its
+/// wheel-speed limit, or `None`), and samples every
+/// `sample_every_s`: `time_s`, `command_m_per_s` (the ramp), `shaped_command_m_per_s` (after
+/// the controller's command shaper), `speed_m_per_s`, `tilt_rad` (from the vertical),
+/// `max_cone_utilisation` (n,); `normal_force_n`, `cone_utilisation` (n, 3).
+#[pyfunction]
+#[pyo3(signature = (
+    params = None, *, heading_deg = 0.0, accel_m_per_s2 = 0.25, max_command_m_per_s = 3.5,
+    settle_s = 0.5, sample_every_s = 0.01, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
+    max_jerk_m_per_s3 = None, max_tilt_command_rad = None, max_tilt_rate_command_rad_per_s = None,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn max_speed_ramp<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    heading_deg: f64,
+    accel_m_per_s2: f64,
+    max_command_m_per_s: f64,
+    settle_s: f64,
+    sample_every_s: f64,
+    max_speed_m_per_s: Option<f64>,
+    max_accel_m_per_s2: Option<f64>,
+    max_jerk_m_per_s3: Option<f64>,
+    max_tilt_command_rad: Option<f64>,
+    max_tilt_rate_command_rad_per_s: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params_or_default(params);
+    let config = Shaping {
+        max_speed_m_per_s,
+        max_accel_m_per_s2,
+        max_jerk_m_per_s3,
+        max_tilt_command_rad,
+        max_tilt_rate_command_rad_per_s,
+    }
+    .config(py, &params)?;
+    finite(py, &[heading_deg], "heading_deg")?;
+    for (value, name) in [
+        (accel_m_per_s2, "accel_m_per_s2"),
+        (max_command_m_per_s, "max_command_m_per_s"),
+        (sample_every_s, "sample_every_s"),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(error(
+                py,
+                Kind::Parameter,
+                format!("invalid parameter `{name}`: must be finite and > 0, got {value}"),
+            ));
+        }
+    }
+    non_negative(py, settle_s, "settle_s")?;
+    let ramp = RampParams {
+        accel_m_per_s2,
+        max_command_m_per_s,
+        settle_s,
+        sample_every_s,
+    };
+    let result = py
+        .detach(|| max_speed_ramp_with_config(params, config, heading_deg, &ramp))
+        .map_err(|e| world_error(py, e))?;
+    crate::results::make(py, "RampRun", ramp_dict(py, result)?)
+}

@@ -1,0 +1,290 @@
+//! Per-step records of the world: `WheelTelemetry`, `StepTelemetry`, `Measurement`,
+//! `Failure`.
+
+use ballbot_sim::world::failure::tilt_from_vertical_rad;
+use ballbot_sim::world::{Failure, Measurement, StepTelemetry, WheelTelemetry};
+use nalgebra::Vector3;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// One omniwheel in one step (`ballbot_sim::world::WheelTelemetry`, wrapped).
+#[pyclass(name = "WheelTelemetry", module = "ballbot", frozen)]
+#[derive(Clone, Debug)]
+pub struct PyWheelTelemetry {
+    pub(crate) inner: WheelTelemetry,
+}
+
+/// Getters delegating to the wrapped record's fields (documented there).
+macro_rules! wheel_getters {
+    ($($field:ident: $ty:ty),* $(,)?) => {
+        #[pymethods]
+        impl PyWheelTelemetry {
+            $(
+                #[getter]
+                fn $field(&self) -> $ty {
+                    self.inner.$field
+                }
+            )*
+
+            /// The fields as a dict.
+            fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+                let d = PyDict::new(py);
+                $(d.set_item(stringify!($field), self.inner.$field)?;)*
+                Ok(d)
+            }
+
+            fn __repr__(&self) -> String {
+                let w = &self.inner;
+                format!(
+                    "WheelTelemetry(normal_force_n={:.3}, traction_n={:.3}, cone_utilisation={:.3}, \
+                     slip_speed_m_per_s={:.4}, slipping={}, motor_torque_nm={:.3}, \
+                     speed_rad_per_s={:.3})",
+                    w.normal_force_n,
+                    w.traction_n,
+                    w.cone_utilisation,
+                    w.slip_speed_m_per_s,
+                    if w.slipping { "True" } else { "False" },
+                    w.motor_torque_nm,
+                    w.speed_rad_per_s
+                )
+            }
+        }
+    };
+}
+
+wheel_getters! {
+    normal_force_n: f64,
+    traction_n: f64,
+    traction_demand_n: f64,
+    cone_utilisation: f64,
+    slip_speed_m_per_s: f64,
+    slipping: bool,
+    motor_torque_nm: f64,
+    speed_rad_per_s: f64,
+    angle_rad: f64,
+}
+
+pub(crate) fn vec_out<'py>(py: Python<'py>, v: &Vector3<f64>) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, v.as_slice())
+}
+
+/// Everything the world reports after one step, in world coordinates, z up
+/// (`ballbot_sim::world::StepTelemetry`). Vectors are numpy arrays of shape (3,);
+/// orientations are unit quaternions `(x, y, z, w)` (scalar last, as scipy's `Rotation`).
+#[pyclass(name = "StepTelemetry", module = "ballbot", frozen)]
+pub struct PyStepTelemetry {
+    pub(crate) inner: StepTelemetry,
+}
+
+#[pymethods]
+impl PyStepTelemetry {
+    /// Simulated time at the end of the step (s).
+    #[getter]
+    fn time_s(&self) -> f64 {
+        self.inner.time_s
+    }
+
+    /// The three omniwheels (OW1, OW2, OW3).
+    #[getter]
+    fn wheels(&self) -> Vec<PyWheelTelemetry> {
+        self.inner
+            .wheels
+            .iter()
+            .map(|w| PyWheelTelemetry { inner: *w })
+            .collect()
+    }
+
+    /// Ball centre (m).
+    #[getter]
+    fn ball_position_m<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec_out(py, &self.inner.ball_position_m)
+    }
+
+    /// Ball orientation, world from ball, `(x, y, z, w)`.
+    #[getter]
+    fn ball_orientation<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.inner.ball_orientation.coords.as_slice())
+    }
+
+    /// Ball velocity (m/s).
+    #[getter]
+    fn ball_velocity_m_per_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec_out(py, &self.inner.ball_velocity_m_per_s)
+    }
+
+    /// Ball angular velocity (rad/s).
+    #[getter]
+    fn ball_angular_velocity_rad_per_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec_out(py, &self.inner.ball_angular_velocity_rad_per_s)
+    }
+
+    /// Body frame origin, the nominal ball centre in the body (m).
+    #[getter]
+    fn body_position_m<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec_out(py, &self.inner.body_position_m)
+    }
+
+    /// Body orientation, world from body, `(x, y, z, w)`.
+    #[getter]
+    fn body_orientation<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.inner.body_orientation.coords.as_slice())
+    }
+
+    /// Body angular velocity in the body frame (rad/s).
+    #[getter]
+    fn body_rate_rad_per_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec_out(py, &self.inner.body_rate_rad_per_s)
+    }
+
+    /// Body tilt about the body-aligned horizontal axes, `(theta_x, theta_y)` (rad).
+    #[getter]
+    fn tilt_rad<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.tilt_rad)
+    }
+
+    /// Angle between the body axis and the vertical (rad).
+    #[getter]
+    fn tilt_from_vertical_rad(&self) -> f64 {
+        tilt_from_vertical_rad(&self.inner)
+    }
+
+    /// Normal force of the floor on the ball (N).
+    #[getter]
+    fn floor_force_n(&self) -> f64 {
+        self.inner.floor_force_n
+    }
+
+    fn __repr__(&self) -> String {
+        let t = &self.inner;
+        format!(
+            "StepTelemetry(time_s={:.6}, normal_force_n={:?}, ball_velocity_m_per_s={:?}, \
+             tilt_rad={:?})",
+            t.time_s,
+            t.wheels.map(|w| w.normal_force_n),
+            [
+                t.ball_velocity_m_per_s.x,
+                t.ball_velocity_m_per_s.y,
+                t.ball_velocity_m_per_s.z
+            ],
+            t.tilt_rad
+        )
+    }
+}
+
+/// One sample of every sensor (`ballbot_sim::world::Measurement`): IMU tilt as ZYX Euler
+/// angles (as the core's `ImuSample`), gyro, quantised encoders and their windowed speeds.
+#[pyclass(name = "Measurement", module = "ballbot", frozen)]
+pub struct PyMeasurement {
+    pub(crate) inner: Measurement,
+}
+
+#[pymethods]
+impl PyMeasurement {
+    /// Time of the sample (s).
+    #[getter]
+    fn time_s(&self) -> f64 {
+        self.inner.time_s
+    }
+
+    /// IMU `(roll, pitch)` (rad); pitch > 0 leans towards +x (OW1).
+    #[getter]
+    fn tilt_rad<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.tilt_rad)
+    }
+
+    /// IMU yaw (rad).
+    #[getter]
+    fn yaw_rad(&self) -> f64 {
+        self.inner.yaw_rad
+    }
+
+    /// Gyro: body angular velocity in the body frame (rad/s).
+    #[getter]
+    fn body_rate_rad_per_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.body_rate_rad_per_s)
+    }
+
+    /// Encoder angles of the three wheels relative to the body, quantised (rad).
+    #[getter]
+    fn wheel_angle_rad<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.wheel_angle_rad)
+    }
+
+    /// Wheel speeds as a motor driver measures them, over the encoder window (rad/s).
+    #[getter]
+    fn wheel_speed_rad_per_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.wheel_speed_rad_per_s)
+    }
+
+    fn __repr__(&self) -> String {
+        let m = &self.inner;
+        format!(
+            "Measurement(time_s={:.6}, tilt_rad={:?}, yaw_rad={:?}, body_rate_rad_per_s={:?}, \
+             wheel_speed_rad_per_s={:?})",
+            m.time_s, m.tilt_rad, m.yaw_rad, m.body_rate_rad_per_s, m.wheel_speed_rad_per_s
+        )
+    }
+}
+
+/// A detected failure of a world run (`ballbot_sim::world::Failure`, wrapped): `kind` is a
+/// `FailureKind`; `wheel` (`"OW1"`..`"OW3"`) for slip and lift-off, `tilt_rad` for a tilt
+/// failure.
+#[pyclass(name = "Failure", module = "ballbot", frozen, eq)]
+#[derive(Clone, Debug, PartialEq)]
+pub struct PyFailure {
+    pub(crate) inner: Failure,
+}
+
+impl From<Failure> for PyFailure {
+    fn from(inner: Failure) -> Self {
+        Self { inner }
+    }
+}
+
+#[pymethods]
+impl PyFailure {
+    /// What failed: `FailureKind.TILT`, `BODY_TOUCHED_FLOOR`, `SUSTAINED_SLIP` or `LIFT_OFF`.
+    #[getter]
+    fn kind<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::enums::failure_kind(py, &self.inner.kind)
+    }
+
+    /// Simulated time of detection (s).
+    #[getter]
+    fn time_s(&self) -> f64 {
+        self.inner.time_s
+    }
+
+    /// The wheel, `"OW1"`, `"OW2"` or `"OW3"`, for slip and lift-off.
+    #[getter]
+    fn wheel(&self) -> Option<&'static str> {
+        self.inner.kind.wheel_name()
+    }
+
+    /// The wheel's 0-based index (OW1 is 0), for slip and lift-off.
+    #[getter]
+    fn wheel_index(&self) -> Option<usize> {
+        self.inner.kind.wheel()
+    }
+
+    /// Tilt from the vertical when detected (rad), for a tilt failure.
+    #[getter]
+    fn tilt_rad(&self) -> Option<f64> {
+        self.inner.kind.tilt_rad()
+    }
+
+    fn __repr__(&self) -> String {
+        let kind = &self.inner.kind;
+        let detail = match (kind.wheel_name(), kind.tilt_rad()) {
+            (Some(w), _) => format!(", wheel={w:?}"),
+            (_, Some(t)) => format!(", tilt_rad={t:.4}"),
+            _ => String::new(),
+        };
+        format!(
+            "Failure(kind=FailureKind.{}, time_s={:.4}{detail})",
+            kind.as_str().to_uppercase(),
+            self.inner.time_s
+        )
+    }
+}

@@ -1,0 +1,208 @@
+//! `WorldLoop`: the world with the core's controller in the loop, and its command-shaping
+//! overrides.
+
+use super::class::world_class;
+use super::telemetry::{PyFailure, PyMeasurement, PyStepTelemetry, vec_out};
+use super::trace::{RunOptions, Trace, finish_log, finish_run, logger, run_steps};
+use super::{Arr, finite, non_negative, params_or_default, step_rows, vec3};
+use crate::errors::world_error;
+use crate::errors::{Kind, core_error, error};
+use crate::log::log_error;
+use crate::params::PyWorldParams;
+use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_core::command::{Command, VelocityCommand};
+use ballbot_sim::world::{BallbotWorld, CoreLoop, WorldParams};
+use nalgebra::Vector3;
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+
+/// Overrides of the controller's command shaping (`BallbotControllerConfig.shaping`), e.g. to
+/// lift the translation caps so that a ramp, not the shaper, sets the command.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Shaping {
+    pub(crate) max_speed_m_per_s: Option<f64>,
+    pub(crate) max_accel_m_per_s2: Option<f64>,
+    pub(crate) max_jerk_m_per_s3: Option<f64>,
+    pub(crate) max_tilt_command_rad: Option<f64>,
+    pub(crate) max_tilt_rate_command_rad_per_s: Option<f64>,
+}
+
+impl Shaping {
+    /// The controller designed from the robot with these overrides.
+    pub(crate) fn config(
+        &self,
+        py: Python<'_>,
+        params: &WorldParams,
+    ) -> PyResult<BallbotControllerConfig<f64>> {
+        let mut config =
+            BallbotControllerConfig::design(&params.robot).map_err(|e| core_error(py, e))?;
+        let shaping = &mut config.shaping;
+        for (value, name, slot) in [
+            (
+                self.max_speed_m_per_s,
+                "max_speed_m_per_s",
+                &mut shaping.translation.max_value,
+            ),
+            (
+                self.max_accel_m_per_s2,
+                "max_accel_m_per_s2",
+                &mut shaping.translation.max_rate_per_s,
+            ),
+            (
+                self.max_jerk_m_per_s3,
+                "max_jerk_m_per_s3",
+                &mut shaping.translation.max_jerk_per_s2,
+            ),
+            (
+                self.max_tilt_command_rad,
+                "max_tilt_command_rad",
+                &mut shaping.max_tilt_command_rad,
+            ),
+            (
+                self.max_tilt_rate_command_rad_per_s,
+                "max_tilt_rate_command_rad_per_s",
+                &mut shaping.max_tilt_rate_command_rad_per_s,
+            ),
+        ] {
+            if let Some(v) = value {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(error(
+                        py,
+                        Kind::Parameter,
+                        format!("invalid parameter `{name}`: must be finite and > 0, got {v}"),
+                    ));
+                }
+                *slot = v;
+            }
+        }
+        Ok(config)
+    }
+}
+
+pub(crate) fn velocity(command: [f64; 3]) -> VelocityCommand<f64> {
+    VelocityCommand {
+        vx_m_per_s: command[0],
+        vy_m_per_s: command[1],
+        yaw_rate_rad_per_s: command[2],
+    }
+}
+
+world_class! {
+    /// The 3D world driven by the core's controller at its two rates
+    /// (`ballbot_sim::world::CoreLoop`): the cascaded LQR-PI outer loop (400 Hz) reads the
+    /// simulated IMU and encoders, the per-motor speed PIs (8 kHz) drive the wheels. Every
+    /// `World` method that inspects or disturbs the world is here too.
+    ///
+    /// The controller is designed from the robot (`BallbotControllerConfig::design`); the
+    /// keyword arguments `max_speed_m_per_s`, `max_accel_m_per_s2`, `max_jerk_m_per_s3`,
+    /// `max_tilt_command_rad`, `max_tilt_rate_command_rad_per_s` override its command
+    /// shaping (defaults 2.0 m/s, 1.0 m/s^2, 2.0 m/s^3, 0.2 rad, 1.0 rad/s).
+    PyWorldLoop("WorldLoop") {
+        inner: CoreLoop,
+        world: |this| this.inner.world(),
+        world_mut: |this| this.inner.world_mut(),
+    }
+    methods {
+        #[new]
+        #[pyo3(signature = (
+            params = None, *, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
+            max_jerk_m_per_s3 = None, max_tilt_command_rad = None,
+            max_tilt_rate_command_rad_per_s = None,
+        ))]
+        fn py_new(
+            py: Python<'_>,
+            params: Option<PyWorldParams>,
+            max_speed_m_per_s: Option<f64>,
+            max_accel_m_per_s2: Option<f64>,
+            max_jerk_m_per_s3: Option<f64>,
+            max_tilt_command_rad: Option<f64>,
+            max_tilt_rate_command_rad_per_s: Option<f64>,
+        ) -> PyResult<Self> {
+            let params = params_or_default(params);
+            let config = Shaping {
+                max_speed_m_per_s,
+                max_accel_m_per_s2,
+                max_jerk_m_per_s3,
+                max_tilt_command_rad,
+                max_tilt_rate_command_rad_per_s,
+            }
+            .config(py, &params)?;
+            let inner = CoreLoop::with_config(params, config).map_err(|e| world_error(py, e))?;
+            Ok(Self { inner })
+        }
+
+        /// The controller's mode: `Mode.IDLE` (before the first step arms it),
+        /// `BALANCING`, `CONTROLLED_STOP` or `FAULT`.
+        #[getter]
+        fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+            crate::enums::mode(py, self.inner.mode())
+        }
+
+        /// One physics step (8 kHz) with the velocity command (m/s, m/s, rad/s; body frame);
+        /// every outer period the controller first runs on a fresh sensor sample.
+        #[pyo3(signature = (vx_m_per_s = 0.0, vy_m_per_s = 0.0, yaw_rate_rad_per_s = 0.0))]
+        fn step(
+            &mut self,
+            py: Python<'_>,
+            vx_m_per_s: f64,
+            vy_m_per_s: f64,
+            yaw_rate_rad_per_s: f64,
+        ) -> PyResult<PyStepTelemetry> {
+            let command = [vx_m_per_s, vy_m_per_s, yaw_rate_rad_per_s];
+            finite(py, &command, "velocity command")?;
+            let inner = *self.inner.step(Command::Velocity(velocity(command)));
+            Ok(PyStepTelemetry { inner })
+        }
+
+        /// Runs `n_steps` physics steps in Rust without the GIL under the velocity command
+        /// `command` = `(vx_m_per_s, vy_m_per_s, yaw_rate_rad_per_s)` (body frame), shape (3,)
+        /// held for every step or (n_steps, 3) one row per step (a ramp, a profile), default
+        /// zeros. Records every `record_every`-th step (the first one included);
+        /// `stop_on_failure` ends the run at the step that detects a failure (recorded too).
+        /// Returns a `WorldLoopRun`, the columns of `World.run` with `command` (n, 3) instead
+        /// of `torque_nm` (`motor_torque_nm` holds what the controller drove). `log_path` and `log_compact`
+        /// as in `World.run`; the log also carries the controller's outer loop and the
+        /// commands (what `ballbot world` writes).
+        #[pyo3(signature = (
+            n_steps, command = None, *, record_every = 1, stop_on_failure = false,
+            log_path = None, log_compact = false,
+        ))]
+        #[allow(clippy::too_many_arguments)]
+        fn run<'py>(
+            &mut self,
+            py: Python<'py>,
+            n_steps: usize,
+            command: Option<Arr<'py>>,
+            record_every: usize,
+            stop_on_failure: bool,
+            log_path: Option<PathBuf>,
+            log_compact: bool,
+        ) -> PyResult<Bound<'py, PyAny>> {
+            let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
+            let inputs = step_rows(py, command, n_steps, "command")?;
+            let trace = Trace::with_capacity(options.records())?;
+            let params = *self.inner.world().params();
+            let mut log = logger(py, log_path.as_deref(), &params, log_compact)?;
+            let sim = &mut self.inner;
+            let result = py.detach(|| {
+                run_steps(options, &inputs, trace, |cmd| {
+                    let command = velocity(cmd);
+                    if let Some(log) = log.as_mut() {
+                        log.record_command(sim.world().time_s(), &command)?;
+                    }
+                    let telemetry = *sim.step(Command::Velocity(command));
+                    if let Some(log) = log.as_mut() {
+                        log.record_core(sim)?;
+                    }
+                    Ok((telemetry, sim.world().failure().is_some()))
+                })
+            });
+            let (trace, steps) = result.map_err(|e| log_error(py, e))?;
+            finish_log(py, log)?;
+            let d = finish_run(py, trace, "command", steps, self.inner.world().failure())?;
+            d.set_item("log_path", log_path)?;
+            crate::results::make(py, "WorldLoopRun", d)
+        }
+    }
+}
