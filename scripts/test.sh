@@ -39,7 +39,7 @@ step "instruction-count budgets (valgrind callgrind)"
 bash scripts/icount.sh
 
 step "reproduce smoke run (ballbot reproduce --quick)"
-cargo run -q -p ballbot-sim --bin ballbot -- reproduce --quick --out target/reproduce-quick
+cargo run -q -p ballbot-cli --bin ballbot -- reproduce --quick --out target/reproduce-quick
 grep -q '"piptb"' target/reproduce-quick/summary.json
 grep -q '"max_speed_by_heading"' target/reproduce-quick/summary.json
 grep -q '"min_braking_time_3d_s": 2' target/reproduce-quick/summary.json

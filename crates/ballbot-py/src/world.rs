@@ -9,7 +9,7 @@ use crate::params::PyWorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_core::safety::Mode;
-use ballbot_sim::world::experiments::{RampParams, RampResult, max_speed_ramp_with_config};
+use ballbot_sim::studies::ramp::{RampParams, RampResult, max_speed_ramp_with_config};
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
 use ballbot_sim::world::{
     BallbotWorld, CoreLoop, Failure, FailureKind, Measurement, StepTelemetry, WheelTelemetry,
@@ -1112,7 +1112,7 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
     d.set_item("max_speed_m_per_s", r.max_speed_m_per_s)?;
     d.set_item("failure", r.failure.map(PyFailure::from))?;
     d.set_item("supervisor_stop_s", r.supervisor_stop_s)?;
-    let column = |f: fn(&ballbot_sim::world::experiments::RampSample) -> f64| {
+    let column = |f: fn(&ballbot_sim::studies::ramp::RampSample) -> f64| {
         r.samples.iter().map(f).collect::<Vec<f64>>()
     };
     d.set_item("time_s", PyArray1::from_vec(py, column(|s| s.time_s)))?;

@@ -8,18 +8,18 @@ use crate::errors::{Kind, error};
 use crate::log::json_to_py;
 use crate::params::PyWorldParams;
 use crate::world::{PyFailure, ramp_dict, world_error};
-use ballbot_sim::world::WorldParams;
-use ballbot_sim::world::braking::{
-    BrakingError, BrakingOutcome, BrakingParams, BrakingRun, BrakingSample, BrakingStudyParams,
-    TrajectoryFeedforward, braking_run, braking_study,
-};
-use ballbot_sim::world::max_speed::{
+use ballbot_sim::studies::max_speed::{
     FailingAccel, MaxSpeedProtocol, MaxSpeedStudySettings, TrialOutcome, failing_acceleration,
     run_study, slow_ramp_trial,
 };
-use ballbot_sim::world::push::{
+use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSample, PushSearch, PushTrial, push_recovery_limit, push_trial,
 };
+use ballbot_sim::studies::world_braking::{
+    BrakingError, BrakingOutcome, BrakingParams, BrakingRun, BrakingSample, BrakingStudyParams,
+    TrajectoryFeedforward, braking_run, braking_study,
+};
+use ballbot_sim::world::WorldParams;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

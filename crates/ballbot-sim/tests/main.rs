@@ -3,15 +3,14 @@
 // Tests may unwrap and panic: a failure is a test failure.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod cli;
 mod log;
 mod piptb;
 mod planar_plant;
 mod planar_sim;
 mod plot;
+mod scenario;
 mod trajopt;
 mod world;
 mod world_brake;
-mod world_log;
 mod world_max_speed;
 mod world_yaw;
