@@ -1,14 +1,13 @@
-//! `ballbot simulate <scenario.toml> [--out DIR]`: one planar run.
+//! `ballbot simulate <scenario.toml> [--out DIR]`: one planar run
+//! (`ballbot_sim::studies::scenario_run`).
 //!
 //! Writes `DIR/<scenario>.mcap` (every channel of `ballbot_sim::planar::McapRecorder`) and
 //! `DIR/<scenario>.json` (the run's summary), and prints the summary.
 
 use anyhow::Context;
-use ballbot_core::WipState;
-use ballbot_core::wip::{BALL_RATE, TILT};
-use ballbot_sim::log::{LoggerOptions, McapLogger};
-use ballbot_sim::planar::{McapRecorder, Observer, OuterTick, PlantStep};
 use ballbot_sim::scenario::Scenario;
+pub use ballbot_sim::studies::scenario_run::RunSummary;
+use ballbot_sim::studies::scenario_run::run_scenario;
 use std::path::PathBuf;
 
 /// Arguments of `ballbot simulate`.
@@ -21,72 +20,9 @@ pub struct SimulateArgs {
     pub out: PathBuf,
 }
 
-/// Whole-run statistics.
-#[derive(Debug, Default, serde::Serialize)]
-pub struct RunSummary {
-    /// The scenario file.
-    pub scenario: String,
-    /// The controller.
-    pub controller: String,
-    /// Noise seed.
-    pub seed: u64,
-    /// Simulated time reached (s).
-    pub end_time_secs: f64,
-    /// Why the run stopped early, if it did.
-    pub fault: Option<String>,
-    /// `integral tau^2 dt` over the whole run, delivered torque (N^2 m^2 s).
-    pub effort_n2m2s: f64,
-    /// Largest tilt magnitude (rad).
-    pub peak_tilt_rad: f64,
-    /// Largest delivered torque magnitude (N m).
-    pub peak_torque_nm: f64,
-    /// Share of plant steps with the actuator saturated.
-    pub saturated_fraction: f64,
-    /// RMS of the ball-speed error against the command, at the controller's ticks (m/s).
-    pub speed_rmse: f64,
-    /// Final ball speed (m/s).
-    pub final_speed_m_per_s: f64,
-    /// Final tilt (rad).
-    pub final_tilt_rad: f64,
-    /// The MCAP log.
-    pub log: String,
-}
-
-struct Stats {
-    radius_m: f64,
-    effort: f64,
-    peak_tilt: f64,
-    peak_torque: f64,
-    steps: u64,
-    saturated: u64,
-    err_sq: f64,
-    ticks: u64,
-}
-
-impl Observer for Stats {
-    fn plant_step(&mut self, _t: f64, dt: f64, s: &WipState<f64>, step: &PlantStep) {
-        self.effort += step.applied_torque_nm * step.applied_torque_nm * dt;
-        self.peak_tilt = self.peak_tilt.max(s[TILT].abs());
-        self.peak_torque = self.peak_torque.max(step.applied_torque_nm.abs());
-        self.steps += 1;
-        self.saturated += u64::from(step.saturated);
-    }
-    fn outer_tick(&mut self, tick: &OuterTick<'_>) {
-        let e = self.radius_m * (tick.state[BALL_RATE] - tick.command.ball_rate_rad_per_s);
-        self.err_sq += e * e;
-        self.ticks += 1;
-    }
-}
-
 /// Runs `ballbot simulate`.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let scenario = Scenario::from_path(&args.scenario)?;
-    let robot = scenario.robot.params()?;
-    let mut sim = scenario.simulator()?;
-    let mut controller = scenario
-        .controller
-        .build(&robot, sim.plant().joint_gain(0.0))?;
-    let profile = scenario.command_profile()?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let stem = args.scenario.file_stem().map_or_else(
@@ -94,44 +30,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         |s| s.to_string_lossy().into_owned(),
     );
     let log_path = args.out.join(format!("{stem}.mcap"));
-    let mut log = McapLogger::create(&log_path, LoggerOptions::default())?;
-    let mut recorder = McapRecorder::new(&mut log, robot.plane.ball_radius_m)?;
-    let mut stats = Stats {
-        radius_m: robot.plane.ball_radius_m,
-        effort: 0.0,
-        peak_tilt: 0.0,
-        peak_torque: 0.0,
-        steps: 0,
-        saturated: 0,
-        err_sq: 0.0,
-        ticks: 0,
-    };
-    let outcome = sim.run(
-        &mut controller,
-        &profile,
-        scenario.duration_secs,
-        &mut (&mut stats, &mut recorder),
-    );
-    recorder.finish()?;
-    log.finish()?;
-    let s = sim.plant().state();
-    let summary = RunSummary {
-        scenario: args.scenario.display().to_string(),
-        controller: scenario.controller.kind.key().to_owned(),
-        seed: scenario.seed,
-        end_time_secs: outcome.end_time_secs,
-        fault: outcome
-            .fault
-            .map(|f| format!("{:?} at {:.4} s", f.kind, f.time_secs)),
-        effort_n2m2s: stats.effort,
-        peak_tilt_rad: stats.peak_tilt,
-        peak_torque_nm: stats.peak_torque,
-        saturated_fraction: stats.saturated as f64 / stats.steps.max(1) as f64,
-        speed_rmse: (stats.err_sq / stats.ticks.max(1) as f64).sqrt(),
-        final_speed_m_per_s: robot.plane.ball_radius_m * s[BALL_RATE],
-        final_tilt_rad: s[TILT],
-        log: log_path.display().to_string(),
-    };
+    let summary = run_scenario(&scenario, &args.scenario.display().to_string(), &log_path)?;
     let json = serde_json::to_string_pretty(&summary)?;
     let json_path = args.out.join(format!("{stem}.json"));
     std::fs::write(&json_path, format!("{json}\n"))

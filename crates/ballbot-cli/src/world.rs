@@ -1,5 +1,5 @@
 //! `ballbot world`: one run of the 3D world (rapier3d) with the core's controller in the loop,
-//! written to an MCAP log for Foxglove ([`WorldLogger`]).
+//! written to an MCAP log for Foxglove (`ballbot_sim::studies::world_run`).
 //!
 //! The command is a velocity ramp at `--accel-m-per-s2` towards `--heading-deg` (body frame, 0
 //! is towards OW1) up to `--top-speed-m-per-s`, after a 0.5 s hold; optionally a push of the
@@ -14,15 +14,11 @@
 
 use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
-use ballbot_core::command::{Command, VelocityCommand};
-use ballbot_sim::world::failure::tilt_from_vertical_rad;
-use ballbot_sim::world::log::{WorldLogOptions, WorldLogger};
-use ballbot_sim::world::{CoreLoop, Failure, FailureKind, WorldParams};
-use nalgebra::{Rotation3, Vector3};
+pub use ballbot_sim::studies::world_run::{SETTLE_S, WorldOutcome};
+use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world};
+use ballbot_sim::world::WorldParams;
+use ballbot_sim::world::log::WorldLogOptions;
 use std::path::PathBuf;
-
-/// Hold before the ramp starts (s).
-pub const SETTLE_S: f64 = 0.5;
 
 /// Examples and log sizes shown after `ballbot world --help`.
 pub const AFTER_HELP: &str = "\
@@ -119,33 +115,6 @@ impl Default for WorldArgs {
             json: false,
         }
     }
-}
-
-/// The outcome of a `ballbot world` run.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct WorldOutcome {
-    /// The failure that ended the run, e.g. `sustained_slip`; `None` if it ran to the end.
-    pub failure: Option<String>,
-    /// The wheel concerned by the failure, 1-based (OW1 is 1), if any.
-    pub failure_wheel: Option<usize>,
-    /// When the failure was detected (s).
-    pub failure_time_s: Option<f64>,
-    /// Highest ball speed along the heading before any failure (m/s).
-    pub max_speed_m_per_s: f64,
-    /// Highest friction-cone utilisation of any wheel before any failure.
-    pub peak_cone_utilisation: f64,
-    /// The wheel with the highest utilisation, 1-based.
-    pub peak_cone_wheel: usize,
-    /// Smallest wheel normal force before any failure (N).
-    pub min_normal_force_n: f64,
-    /// Largest tilt from the vertical before any failure (deg).
-    pub max_tilt_deg: f64,
-    /// Simulated time reached (s).
-    pub end_time_s: f64,
-    /// The MCAP log.
-    pub log: String,
-    /// Size of the log (bytes).
-    pub log_bytes: u64,
 }
 
 fn check(ok: bool, flag: &str, requirement: &str, value: f64) -> anyhow::Result<()> {
@@ -269,24 +238,11 @@ impl WorldArgs {
     }
 }
 
-fn failure_name(kind: &FailureKind) -> (&'static str, Option<usize>) {
-    match kind {
-        FailureKind::Tilt { .. } => ("tilt", None),
-        FailureKind::BodyTouchedFloor => ("body_touched_floor", None),
-        FailureKind::SustainedSlip { wheel } => ("sustained_slip", Some(wheel + 1)),
-        FailureKind::LiftOff { wheel } => ("lift_off", Some(wheel + 1)),
-    }
-}
-
 /// Runs the world as `args` say, writes the log and returns the outcome (without printing).
 pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     args.validate()?;
     let params = args.world_params()?;
     let config = args.controller_config(&params)?;
-    let mut sim = CoreLoop::with_config(params, config).context("cannot build the world")?;
-    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    }
     let scene_interval_secs = 1.0 / args.scene_hz;
     let options = WorldLogOptions {
         telemetry_every_steps: args.decimate,
@@ -294,99 +250,18 @@ pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
         transform_interval_secs: 0.5 * scene_interval_secs,
         ..WorldLogOptions::default()
     };
-    let mut log = WorldLogger::with_options(&args.out, &params, options)
-        .with_context(|| format!("cannot write --out {}", args.out.display()))?;
-
-    let dt = params.dt_secs;
-    let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
-    let heading = Vector3::new(cos_h, sin_h, 0.0);
-    let steps = (args.duration_s / dt).ceil() as u64;
-    let mut pushed = args.push_ns <= 0.0;
-    let mut failure: Option<Failure> = None;
-    let mut outcome = WorldOutcome {
-        failure: None,
-        failure_wheel: None,
-        failure_time_s: None,
-        max_speed_m_per_s: 0.0,
-        peak_cone_utilisation: 0.0,
-        peak_cone_wheel: 1,
-        min_normal_force_n: f64::INFINITY,
-        max_tilt_deg: 0.0,
-        end_time_s: 0.0,
-        log: args.out.display().to_string(),
-        log_bytes: 0,
+    let run = WorldRunSettings {
+        heading_deg: args.heading_deg,
+        accel_m_per_s2: args.accel_m_per_s2,
+        top_speed_m_per_s: args.top_speed_m_per_s,
+        duration_s: args.duration_s,
+        push_ns: args.push_ns,
+        push_at_s: args.push_at_s,
+        push_heading_deg: args.push_heading_deg,
+        after_failure_s: args.after_failure_s,
     };
-    for k in 0..steps {
-        let t = k as f64 * dt;
-        if failure.is_some_and(|f| t > f.time_s + args.after_failure_s) {
-            break;
-        }
-        let v = ((t - SETTLE_S).max(0.0) * args.accel_m_per_s2).min(args.top_speed_m_per_s);
-        let command = VelocityCommand {
-            vx_m_per_s: v * cos_h,
-            vy_m_per_s: v * sin_h,
-            yaw_rate_rad_per_s: 0.0,
-        };
-        if !pushed && t + 0.5 * dt >= args.push_at_s {
-            pushed = true;
-            let telemetry = sim.world().telemetry();
-            let (_, _, yaw) = telemetry.body_orientation.euler_angles();
-            let direction = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
-                * Vector3::new(
-                    args.push_heading_deg.to_radians().cos(),
-                    args.push_heading_deg.to_radians().sin(),
-                    0.0,
-                );
-            let tilt = tilt_from_vertical_rad(telemetry);
-            sim.world_mut().push_body(direction * args.push_ns);
-            log.record_event(
-                t,
-                "push",
-                &format!(
-                    "push of {} N s towards {} deg (body frame)",
-                    args.push_ns, args.push_heading_deg
-                ),
-                tilt,
-            )?;
-        }
-        log.record_command(t, &command)?;
-        let telemetry = *sim.step(Command::Velocity(command));
-        log.record_core(&sim)?;
-        outcome.end_time_s = telemetry.time_s;
-        if failure.is_none() {
-            failure = sim.world().failure();
-        }
-        if failure.is_some() {
-            continue;
-        }
-        // Ball velocity in the body's yaw frame, along the heading.
-        let (_, _, yaw) = telemetry.body_orientation.euler_angles();
-        let v_yaw =
-            Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * telemetry.ball_velocity_m_per_s;
-        outcome.max_speed_m_per_s = outcome.max_speed_m_per_s.max(v_yaw.dot(&heading));
-        for (i, w) in telemetry.wheels.iter().enumerate() {
-            if w.cone_utilisation > outcome.peak_cone_utilisation {
-                outcome.peak_cone_utilisation = w.cone_utilisation;
-                outcome.peak_cone_wheel = i + 1;
-            }
-            outcome.min_normal_force_n = outcome.min_normal_force_n.min(w.normal_force_n);
-        }
-        outcome.max_tilt_deg = outcome
-            .max_tilt_deg
-            .max(tilt_from_vertical_rad(&telemetry).to_degrees());
-    }
-    log.finish()
-        .with_context(|| format!("cannot finish {}", args.out.display()))?;
-    if let Some(f) = failure {
-        let (name, wheel) = failure_name(&f.kind);
-        outcome.failure = Some(name.to_owned());
-        outcome.failure_wheel = wheel;
-        outcome.failure_time_s = Some(f.time_s);
-    }
-    outcome.log_bytes = std::fs::metadata(&args.out)
-        .with_context(|| format!("cannot read {}", args.out.display()))?
-        .len();
-    Ok(outcome)
+    run_logged_world(params, config, &run, &args.out, options)
+        .with_context(|| format!("ballbot world --out {}", args.out.display()))
 }
 
 /// Runs `ballbot world` and prints the outcome.

@@ -12,6 +12,8 @@
 //! - [`world_braking`]: optimal braking to rest in the 3D world (Sec. V, issue 6).
 //! - [`push`]: push recovery in the 3D world.
 //! - [`world_suite`]: the world braking and push studies of `ballbot reproduce`, run together.
+//! - [`scenario_run`]: one planar run from a scenario file (`ballbot simulate`).
+//! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
 
 pub mod max_speed;
@@ -21,7 +23,9 @@ pub mod push;
 pub mod ramp;
 pub mod replay;
 pub mod runner;
+pub mod scenario_run;
 pub mod world_braking;
+pub mod world_run;
 pub mod world_suite;
 
 pub use piptb::{ExperimentError, PiptbReport, PiptbSettings};
