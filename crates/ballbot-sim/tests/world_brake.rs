@@ -1,4 +1,4 @@
-//! Minimum braking time and push recovery in the 3D world (`world::braking`, `world::push`).
+//! Minimum braking time and push recovery in the 3D world (`studies::world_braking`, `studies::push`).
 
 use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSearch, push_recovery_limit, push_trial,

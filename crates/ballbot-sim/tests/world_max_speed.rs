@@ -1,4 +1,4 @@
-//! The maximum-speed study of the 3D world (`world::max_speed`) on a small scale.
+//! The maximum-speed study of the 3D world (`studies::max_speed`) on a small scale.
 
 use ballbot_sim::studies::max_speed::{
     MaxSpeedProtocol, MaxSpeedStudySettings, failing_acceleration, job_count, run_study,

@@ -1,4 +1,5 @@
-//! Figures for papers and reports, written as SVG and PNG with plotters.
+//! Figures for papers and reports, written as SVG and PNG with plotters (cargo feature
+//! `plot`). Plain drawing: it imports nothing else of the crate; the reports build figures.
 //!
 //! - [`TimeSeriesFigure`]: stacked [`Subplot`]s sharing the time axis, several [`Series`] per
 //!   subplot with a legend, shaded time intervals (e.g. the braking phase) and vertical marker

@@ -1,4 +1,5 @@
-//! The PIPTB controller comparison (paper Sec. IV-C, MODEL.md section 7).
+//! The PIPTB controller comparison (paper Sec. IV-C, MODEL.md section 7): a study on the
+//! planar physics; its JSON, tables and figures are in [`crate::report::piptb`].
 //!
 //! Command `phi_dot_c = (v / T_a) t / r` for `T_a = 2 s` (0 to 1 m/s), hold `v / r` for 2 s,
 //! then track the braking reference (state `s_c = s*(t)`) to rest in 1.4 s, then hold rest for
