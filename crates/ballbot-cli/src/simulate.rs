@@ -23,8 +23,6 @@ pub struct SimulateArgs {
 /// Runs `ballbot simulate`.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let scenario = Scenario::from_path(&args.scenario)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
     let stem = args.scenario.file_stem().map_or_else(
         || "scenario".to_owned(),
         |s| s.to_string_lossy().into_owned(),

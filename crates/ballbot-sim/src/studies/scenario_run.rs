@@ -7,7 +7,7 @@ use crate::planar::{McapRecorder, Observer, OuterTick, PlanarError, PlantStep};
 use crate::scenario::{Scenario, ScenarioError};
 use ballbot_core::WipState;
 use ballbot_core::wip::{BALL_RATE, TILT};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// What can go wrong in a scenario run.
 #[derive(Debug, thiserror::Error)]
@@ -22,6 +22,14 @@ pub enum ScenarioRunError {
     /// The log could not be written.
     #[error(transparent)]
     Log(#[from] LogError),
+    /// The log's folder could not be created.
+    #[error("cannot create {}: {source}", path.display())]
+    Io {
+        /// The folder.
+        path: PathBuf,
+        /// What went wrong.
+        source: std::io::Error,
+    },
 }
 
 /// Whole-run statistics.
@@ -82,7 +90,8 @@ impl Observer for Stats {
 }
 
 /// Runs `scenario` (named `label` in the summary, e.g. its file), writes every channel to the
-/// MCAP log `log_path`, and returns the run's summary.
+/// MCAP log `log_path` (its folder is created once the scenario has been checked), and
+/// returns the run's summary.
 pub fn run_scenario(
     scenario: &Scenario,
     label: &str,
@@ -94,6 +103,12 @@ pub fn run_scenario(
         .controller
         .build(&robot, sim.plant().joint_gain(0.0))?;
     let profile = scenario.command_profile()?;
+    if let Some(dir) = log_path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|source| ScenarioRunError::Io {
+            path: dir.to_owned(),
+            source,
+        })?;
+    }
     let mut log = McapLogger::create(log_path, LoggerOptions::default())?;
     let mut recorder = McapRecorder::new(&mut log, robot.plane.ball_radius_m)?;
     let mut stats = Stats {
