@@ -14,6 +14,15 @@ cargo clippy --all-targets -- -D warnings
 step "clippy (Python bindings)"
 cargo clippy -p ballbot-py --all-targets -- -D warnings
 
+step "clippy (ballbot-sim without the plot feature, as the Python extension builds it)"
+cargo clippy -p ballbot-sim --no-default-features -- -D warnings
+
+step "layers: the Python extension links no command-line or plotting crate"
+if cargo tree -p ballbot-py -e normal | grep -E 'clap|indicatif|anyhow|plotters'; then
+    echo "ballbot-py must not depend on clap, indicatif, anyhow or plotters" >&2
+    exit 1
+fi
+
 step "docs (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 
@@ -39,7 +48,7 @@ step "instruction-count budgets (valgrind callgrind)"
 bash scripts/icount.sh
 
 step "reproduce smoke run (ballbot reproduce --quick)"
-cargo run -q -p ballbot-sim --bin ballbot -- reproduce --quick --out target/reproduce-quick
+cargo run -q -p ballbot-cli --bin ballbot -- reproduce --quick --out target/reproduce-quick
 grep -q '"piptb"' target/reproduce-quick/summary.json
 grep -q '"max_speed_by_heading"' target/reproduce-quick/summary.json
 grep -q '"min_braking_time_3d_s": 2' target/reproduce-quick/summary.json

@@ -1,6 +1,6 @@
 //! Cost of MCAP logging: the generic [`McapLogger`] writing a typical telemetry message and
 //! [`McapLog`] reading the file back into numeric columns, and the 3D world's [`WorldLogger`]
-//! recording every step of a [`CoreLoop`] (against the same step unlogged).
+//! recording every step of a [`WorldRobot`] (against the same step unlogged).
 //!
 //! - `mcap_write_10k_messages`: create a file, write 10,000 messages of a 3-wheel robot state
 //!   (about 400 bytes of JSON; default options: zstd chunks), finish it. Per message: median /

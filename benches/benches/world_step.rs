@@ -1,5 +1,5 @@
 //! One step of the rapier3d ballbot world at 8 kHz with its controller: the core's 3D cascaded
-//! LQR-PI in the loop (`CoreLoop`: outer loop every 20th step, i.e. 400 Hz, on the seeded
+//! LQR-PI in the loop (`WorldRobot`: outer loop every 20th step, i.e. 400 Hz, on the seeded
 //! simulated IMU and encoders; the three motor speed PIs every step), the omniwheel contact
 //! model, wheel spin states, floor friction, the rapier step, telemetry and failure checks.
 //! The robot balances while it drives a fixed cycle of velocity commands

@@ -5,7 +5,8 @@
 //! accelerating, cruising, turning and slowing down, not a robot at rest.
 
 use ballbot_core::command::{Command, VelocityCommand};
-use ballbot_sim::world::{CoreLoop, StepTelemetry, WorldError, WorldParams};
+use ballbot_sim::rig::WorldRobot;
+use ballbot_sim::world::{StepTelemetry, WorldError, WorldParams};
 
 /// Physics steps (8 kHz) run before measuring: 1 s, the robot armed and accelerating.
 pub const WARM_UP_STEPS: u64 = 8000;
@@ -24,7 +25,7 @@ pub const DRIVE_CYCLE: [(f64, f64, f64); 4] = [
 
 /// The world driven through [`DRIVE_CYCLE`]; rebuilt (and counted) if the robot ever fails.
 pub struct WorldDrive {
-    sim: CoreLoop,
+    sim: WorldRobot,
     step_index: u64,
     /// How often the world had to be rebuilt after a failure (0 in a healthy run).
     pub restarts: u64,
@@ -34,7 +35,7 @@ impl WorldDrive {
     /// A fresh world, warmed up for [`WARM_UP_STEPS`].
     pub fn new() -> Result<Self, WorldError> {
         let mut drive = Self {
-            sim: CoreLoop::new(WorldParams::miapure_60kg())?,
+            sim: WorldRobot::new(WorldParams::miapure_60kg())?,
             step_index: 0,
             restarts: 0,
         };
@@ -47,7 +48,7 @@ impl WorldDrive {
     /// One physics step with the command of the current drive phase.
     pub fn step(&mut self) -> Result<&StepTelemetry, WorldError> {
         if self.sim.world().failure().is_some() {
-            self.sim = CoreLoop::new(WorldParams::miapure_60kg())?;
+            self.sim = WorldRobot::new(WorldParams::miapure_60kg())?;
             self.restarts += 1;
         }
         let phase = (self.step_index / STEPS_PER_COMMAND) as usize % DRIVE_CYCLE.len();
@@ -61,7 +62,7 @@ impl WorldDrive {
     }
 
     /// The simulation.
-    pub fn sim(&self) -> &CoreLoop {
+    pub fn sim(&self) -> &WorldRobot {
         &self.sim
     }
 }

@@ -12,9 +12,9 @@
 use ballbot_core::control::StepStatus;
 use ballbot_core::lqr::RiccatiStatus;
 use ballbot_core::safety::Mode;
+use ballbot_sim::studies::push::PushOutcome;
+use ballbot_sim::studies::world_braking::BrakingOutcome;
 use ballbot_sim::world::FailureKind;
-use ballbot_sim::world::braking::BrakingOutcome;
-use ballbot_sim::world::push::PushOutcome;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 

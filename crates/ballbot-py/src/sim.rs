@@ -1,14 +1,14 @@
 //! The planar simulator (`ballbot_sim::planar`, `ballbot_sim::scenario`) and the PIPTB
-//! controller comparison (`ballbot_sim::experiments::piptb`, what `ballbot reproduce` runs).
+//! controller comparison (`ballbot_sim::studies::piptb`, what `ballbot reproduce` runs).
 //! Runs release the GIL; results come back as dicts of numpy arrays plus the MCAP path.
 
 use crate::arrays::rows_out;
 use crate::errors::{Kind, error};
 use crate::log::json_to_py;
-use ballbot_sim::experiments::piptb::{self, ExperimentError, PiptbSettings, TrialSeries};
 use ballbot_sim::log::{LoggerOptions, McapLogger};
 use ballbot_sim::planar::{ControllerKind, Fault, McapRecorder, Observer, OuterTick};
 use ballbot_sim::scenario::{Scenario, ScenarioError};
+use ballbot_sim::studies::piptb::{self, ExperimentError, PiptbSettings, TrialSeries};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -24,7 +24,7 @@ fn scenario_error(py: Python<'_>, e: ScenarioError) -> PyErr {
 
 fn experiment_error(py: Python<'_>, e: ExperimentError) -> PyErr {
     let kind = match e {
-        ExperimentError::Log(_) | ExperimentError::Plot(_) => Kind::File,
+        ExperimentError::Log(_) => Kind::File,
         ExperimentError::Braking(_) => Kind::Solver,
         _ => Kind::Parameter,
     };

@@ -11,8 +11,8 @@
 //! `JERK` (m/s^3, shaper jerk limit; default: the core's).
 
 use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_sim::studies::ramp::{RampParams, max_speed_ramp_with_config};
 use ballbot_sim::world::WorldParams;
-use ballbot_sim::world::experiments::{RampParams, max_speed_ramp_with_config};
 use std::error::Error;
 
 fn list(name: &str, default: &str) -> Result<Vec<f64>, Box<dyn Error>> {

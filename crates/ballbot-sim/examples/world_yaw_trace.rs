@@ -15,7 +15,8 @@
 
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
-use ballbot_sim::world::{CoreLoop, WorldParams};
+use ballbot_sim::rig::WorldRobot;
+use ballbot_sim::world::WorldParams;
 use nalgebra::{Rotation3, Vector3};
 use std::error::Error;
 
@@ -38,7 +39,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     config.shaping.translation.max_rate_per_s = 20.0;
     config.shaping.max_tilt_command_rad = 0.5;
     config.shaping.max_tilt_rate_command_rad_per_s = 5.0;
-    let mut sim = CoreLoop::with_config(params, config)?;
+    let mut sim = WorldRobot::with_config(params, config)?;
     let (s, c) = heading_deg.to_radians().sin_cos();
     let dt = params.dt_secs;
     let every = (every_s / dt).round().max(1.0) as u64;

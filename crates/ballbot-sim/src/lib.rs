@@ -1,15 +1,20 @@
 //! # ballbot-sim
 //!
-//! Simulation and experiments around [`ballbot_core`]: the multi-rate planar simulator, the
-//! rapier3d ballbot world with friction-cone omniwheel contacts, trajectory optimisation with
-//! clarabel, MCAP logging, and the `ballbot` command line.
+//! Simulation and experiments around [`ballbot_core`], in layers (see `ARCHITECTURE.md`):
+//!
+//! - physics: [`world`] (the rapier3d ballbot world with friction-cone omniwheel contacts) and
+//!   [`planar`] (the multi-rate planar simulator); [`trajopt`] (braking trajectories, clarabel);
+//! - [`studies`]: the paper's experiments on that physics, with one shared job runner;
+//! - [`report`]: their JSON, tables and figures (figures behind the `plot` feature);
+//! - [`log`]: MCAP logging and reading; [`scenario`]: scenario files.
+//!
+//! The `ballbot` command line is the `ballbot-cli` crate.
 
-pub mod cli;
-pub mod experiments;
 pub mod log;
 pub mod planar;
-pub mod plot;
+pub mod report;
 pub mod rig;
 pub mod scenario;
+pub mod studies;
 pub mod trajopt;
 pub mod world;

@@ -26,11 +26,11 @@
 //! # Ok::<(), ballbot_sim::scenario::ScenarioError>(())
 //! ```
 
-use crate::experiments::piptb::{PiptbProfile, PiptbSettings, braking_reference};
 use crate::planar::{
     CommandProfile, ControllerSettings, PlanarCommand, PlanarError, PlanarSim, SensorParams,
     SimConfig, TransmissionFriction,
 };
+use crate::studies::piptb::{PiptbProfile, PiptbSettings, braking_reference};
 use ballbot_core::{ActuatorParams, PlanarRobotParams, WipParams, WipState};
 use std::path::{Path, PathBuf};
 

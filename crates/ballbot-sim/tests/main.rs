@@ -4,7 +4,6 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod balance;
-mod cli;
 mod log;
 mod piptb;
 mod planar_plant;
@@ -12,9 +11,9 @@ mod planar_sim;
 mod plot;
 mod rig;
 mod rollout;
+mod scenario;
 mod trajopt;
 mod world;
 mod world_brake;
-mod world_log;
 mod world_max_speed;
 mod world_yaw;

@@ -1,9 +1,9 @@
 //! The PIPTB experiment end to end (the CI variant), its determinism, and its MCAP logs.
 
-use ballbot_sim::experiments::piptb::{self, PiptbProfile, PiptbSettings, run_trial};
-use ballbot_sim::experiments::{BrakingSource, BrakingTrajectory};
 use ballbot_sim::log::{McapLog, topics};
 use ballbot_sim::planar::{ControllerKind, ControllerSettings, PLANAR_FRICTION};
+use ballbot_sim::studies::piptb::{self, PiptbProfile, PiptbSettings, run_trial};
+use ballbot_sim::studies::{BrakingSource, BrakingTrajectory};
 use std::hash::{DefaultHasher, Hasher};
 use std::path::Path;
 use std::sync::OnceLock;
@@ -183,9 +183,9 @@ fn ablation_separates_friction_and_noise() {
         assert!(get("friction_only", kind).j_p < 0.8 * ideal.j_p, "{kind:?}");
         assert!(get("noise_only", kind).torque_jitter_nm > 3.0 * ideal.torque_jitter_nm);
     }
-    let json = piptb::ablation_json(&variants);
+    let json = ballbot_sim::report::piptb::ablation_json(&variants);
     assert!(json["friction_only"]["lqr_pi"]["j_p"].is_number());
-    assert!(piptb::ablation_table(&variants).contains("friction_and_noise"));
+    assert!(ballbot_sim::report::piptb::ablation_table(&variants).contains("friction_and_noise"));
 }
 
 /// J_P recomputed independently from the logged 400 Hz series: `sum tau^2 / 400 Hz` over the

@@ -355,7 +355,7 @@ fn core_controller_ramp_unloads_driving_wheels_more_towards_ow1() {
     // paper's mechanism: towards OW1 (0 deg) the lean unloads the driving wheels OW2 and OW3,
     // away from it (180 deg) it loads them. So the smallest normal force during the run is
     // lower at 0 deg.
-    use ballbot_sim::world::experiments::{RampParams, max_speed_ramp};
+    use ballbot_sim::studies::ramp::{RampParams, max_speed_ramp};
     let ramp = RampParams {
         accel_m_per_s2: 1.0,
         max_command_m_per_s: 1.0,
@@ -367,7 +367,7 @@ fn core_controller_ramp_unloads_driving_wheels_more_towards_ow1() {
     assert!(fwd.failure.is_none() && back.failure.is_none());
     assert!(fwd.max_speed_m_per_s > 0.9 && back.max_speed_m_per_s > 0.9);
     // The driving wheels OW2 and OW3 (OW1 idles along the sagittal plane).
-    let min_n = |r: &ballbot_sim::world::experiments::RampResult| {
+    let min_n = |r: &ballbot_sim::studies::ramp::RampResult| {
         r.samples
             .iter()
             .map(|s| s.normal_force_n[1].min(s.normal_force_n[2]))
@@ -389,8 +389,8 @@ fn accelerating_towards_ow1_slips_at_a_lower_acceleration_than_away_from_it() {
     // caps are lifted here; its jerk limit (2 m/s^3) stays. Measured (docs/world.md): 0 deg
     // survives 1.7 m/s^2 and slips from 1.8; 180 deg survives 1.9 with cone utilisation 0.58.
     use ballbot_core::ballbot::BallbotControllerConfig;
+    use ballbot_sim::studies::ramp::{RampParams, RampResult, max_speed_ramp_with_config};
     use ballbot_sim::world::FailureKind;
-    use ballbot_sim::world::experiments::{RampParams, RampResult, max_speed_ramp_with_config};
     let run = |heading_deg: f64, accel_m_per_s2: f64| -> RampResult {
         let params = miapure();
         let mut config = BallbotControllerConfig::design(&params.robot).unwrap();

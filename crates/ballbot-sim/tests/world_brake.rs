@@ -1,13 +1,13 @@
-//! Minimum braking time and push recovery in the 3D world (`world::braking`, `world::push`).
+//! Minimum braking time and push recovery in the 3D world (`studies::world_braking`, `studies::push`).
 
-use ballbot_sim::trajopt::SolveStatus;
-use ballbot_sim::world::braking::{
+use ballbot_sim::studies::push::{
+    PushOutcome, PushParams, PushSearch, push_recovery_limit, push_trial,
+};
+use ballbot_sim::studies::world_braking::{
     BrakingOutcome, BrakingParams, BrakingStudyParams, TrajectoryFeedforward, braking_run,
     braking_study, fly_braking,
 };
-use ballbot_sim::world::push::{
-    PushOutcome, PushParams, PushSearch, push_recovery_limit, push_trial,
-};
+use ballbot_sim::trajopt::SolveStatus;
 use ballbot_sim::world::{FailureKind, WorldParams};
 
 /// The protocol with a shorter approach and cruise (the tests run in debug builds).

@@ -1,10 +1,10 @@
-//! The maximum-speed study of the 3D world (`world::max_speed`) on a small scale.
+//! The maximum-speed study of the 3D world (`studies::max_speed`) on a small scale.
 
-use ballbot_sim::world::experiments::RampParams;
-use ballbot_sim::world::max_speed::{
+use ballbot_sim::studies::max_speed::{
     MaxSpeedProtocol, MaxSpeedStudySettings, failing_acceleration, job_count, run_study,
     slow_ramp_trial,
 };
+use ballbot_sim::studies::ramp::RampParams;
 use ballbot_sim::world::{FailureKind, WorldParams};
 
 fn short_ramp(accel_m_per_s2: f64, top_m_per_s: f64) -> MaxSpeedProtocol {
@@ -203,7 +203,7 @@ fn sensitivity_values_equal_to_the_robot_share_its_runs() {
 fn quasi_static_prediction_orders_the_headings_and_grows_with_mu() {
     // The core's steady-lean contact model (crates/ballbot-core/tests/kinematics.rs):
     // 2.25, 2.48, 4.07 m/s^2 at 0, 90, 180 deg with mu 0.6.
-    use ballbot_sim::world::max_speed::{Variant, quasi_static_failing_accel_m_per_s2};
+    use ballbot_sim::studies::max_speed::{Variant, quasi_static_failing_accel_m_per_s2};
     let robot = WorldParams::miapure_60kg().robot;
     let at = |h| quasi_static_failing_accel_m_per_s2(&robot, h).unwrap();
     assert!((at(0.0) - 2.25).abs() < 0.01, "{}", at(0.0));
@@ -219,8 +219,8 @@ fn quasi_static_prediction_orders_the_headings_and_grows_with_mu() {
 fn a_controlled_stop_of_the_supervisor_is_reported() {
     // With the wheel-speed limit lowered to 8 rad/s (about 0.8 m/s towards OW1), a 1 m/s^2 ramp
     // to 1.5 m/s makes the core's supervisor start a controlled stop before the top.
-    use ballbot_sim::world::experiments::max_speed_ramp_with_config;
-    use ballbot_sim::world::max_speed::controller;
+    use ballbot_sim::studies::max_speed::controller;
+    use ballbot_sim::studies::ramp::max_speed_ramp_with_config;
     let params = WorldParams::miapure_60kg();
     let protocol = short_ramp(1.0, 1.5);
     let mut config = controller(&params, &protocol).unwrap();

@@ -4,7 +4,8 @@
 
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
-use ballbot_sim::world::{CoreLoop, WorldParams};
+use ballbot_sim::rig::WorldRobot;
+use ballbot_sim::world::WorldParams;
 
 /// Ramps at 1 m/s^2 to 3 m/s towards `heading_deg` (body frame) and holds 3 m/s until 7.5 s,
 /// with the command shaper's speed and acceleration caps lifted. Returns the largest |yaw|
@@ -17,7 +18,7 @@ fn hold_three_m_per_s(heading_deg: f64) -> (f64, f64, bool) {
     config.shaping.translation.max_rate_per_s = 20.0;
     config.shaping.max_tilt_command_rad = 0.5;
     config.shaping.max_tilt_rate_command_rad_per_s = 5.0;
-    let mut sim = CoreLoop::with_config(params, config).unwrap();
+    let mut sim = WorldRobot::with_config(params, config).unwrap();
     let (s, c) = heading_deg.to_radians().sin_cos();
     let dt = params.dt_secs;
     let mut max_yaw_deg: f64 = 0.0;

@@ -1,10 +1,10 @@
-//! The braking experiments (`ballbot_sim::world::braking`): one braking run and the
+//! The braking experiments (`ballbot_sim::studies::world_braking`): one braking run and the
 //! minimum-braking-time study.
 
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::world::{PyFailure, params_or_default};
-use ballbot_sim::world::braking::{
+use ballbot_sim::studies::world_braking::{
     BrakingError, BrakingOutcome, BrakingParams, BrakingRun, BrakingSample, BrakingStudyParams,
     TrajectoryFeedforward, braking_run, braking_study,
 };
@@ -129,7 +129,7 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
 }
 
 /// One braking run of the paper's Sec. V in the 3D world
-/// (`ballbot_sim::world::braking::braking_run`): settle, a jerk-limited ramp to
+/// (`ballbot_sim::studies::world_braking::braking_run`): settle, a jerk-limited ramp to
 /// `cruise_speed_m_per_s` along `heading_deg`, cruise for `cruise_s`, then the optimal braking
 /// trajectory to rest in `duration_s` (solved here under the actuator, traction and tilt
 /// limits), flown through the core's trajectory command. `feedforward` is `"full"` (the
@@ -183,7 +183,7 @@ pub(crate) fn py_braking_run<'py>(
 }
 
 /// The paper's minimum-braking-time protocol at one heading
-/// (`ballbot_sim::world::braking::braking_study`): braking times `durations_s` (default 5.0,
+/// (`ballbot_sim::studies::world_braking::braking_study`): braking times `durations_s` (default 5.0,
 /// 4.5, ..., 0.5 s) in order until a run fails, then (beyond the paper) bisection between the
 /// shortest success and the first failure down to `bisection_resolution_s` (`None` skips it).
 /// The protocol keywords are `braking_run`'s. Runs without the GIL.

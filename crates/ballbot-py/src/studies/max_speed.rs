@@ -1,4 +1,4 @@
-//! The maximum-speed study (`ballbot_sim::world::max_speed`, what `ballbot reproduce` runs for
+//! The maximum-speed study (`ballbot_sim::studies::max_speed`, what `ballbot reproduce` runs for
 //! the paper's Sec. V): seeded slow-ramp trials per heading, the failing ramp acceleration per
 //! heading, the capability map and the mu / COM-height sensitivity.
 
@@ -6,7 +6,7 @@ use crate::errors::{Kind, error, world_error};
 use crate::log::json_to_py;
 use crate::params::PyWorldParams;
 use crate::world::{PyFailure, params_or_default, ramp_dict};
-use ballbot_sim::world::max_speed::{
+use ballbot_sim::studies::max_speed::{
     FailingAccel, MaxSpeedProtocol, MaxSpeedStudySettings, TrialOutcome, failing_acceleration,
     run_study, slow_ramp_trial,
 };
@@ -102,7 +102,7 @@ fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, Py
 }
 
 /// One slow-ramp trial of the maximum-speed study
-/// (`ballbot_sim::world::max_speed::slow_ramp_trial`): the protocol's slow ramp (0.25 m/s^2 to
+/// (`ballbot_sim::studies::max_speed::slow_ramp_trial`): the protocol's slow ramp (0.25 m/s^2 to
 /// 6 m/s after 0.5 s, then 1 s hold) at `heading_deg` with the sensor noise seeded by `seed`,
 /// the command shaper's caps lifted as in the study. Returns a `SlowRampTrial`: the ramp (as
 /// `max_speed_ramp`) plus `outcome`: `max_speed_m_per_s`, `censored` (no failure: the speed is
@@ -127,7 +127,7 @@ pub(crate) fn py_slow_ramp_trial<'py>(
 }
 
 /// The failing-acceleration search at `heading_deg`
-/// (`ballbot_sim::world::max_speed::failing_acceleration`): bisection on the grid of
+/// (`ballbot_sim::studies::max_speed::failing_acceleration`): bisection on the grid of
 /// `accel_resolution_m_per_s2` inside `accel_bracket_m_per_s2` for the largest ramp acceleration
 /// whose ramp to `fast_top_m_per_s` (and 1 s hold) survives. Defaults: the study's protocol
 /// (3.0 m/s, (0.5, 3.0) m/s^2, 0.05 m/s^2). Returns a `FailingAcceleration`: `largest_surviving_m_per_s2`
@@ -164,7 +164,7 @@ pub(crate) fn py_failing_acceleration<'py>(
 }
 
 /// The whole maximum-speed study as `ballbot reproduce` runs it
-/// (`ballbot_sim::world::max_speed::run_study`), on Rust worker threads (`threads`, 0: every
+/// (`ballbot_sim::studies::max_speed::run_study`), on Rust worker threads (`threads`, 0: every
 /// core) without the GIL. `quick` starts from the CI variant (one trial at 0 and 180 deg, a
 /// coarse search, no sensitivity) instead of the paper's (3 seeds at 0, 90, 180 deg, the map
 /// every 15 deg, mu 0.4/0.6/0.8 and COM height 0.4/0.5/0.7 m; a few minutes on two cores); the

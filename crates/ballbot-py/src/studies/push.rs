@@ -1,10 +1,10 @@
-//! The push-recovery experiments (`ballbot_sim::world::push`): one trial and the recovery
+//! The push-recovery experiments (`ballbot_sim::studies::push`): one trial and the recovery
 //! limit.
 
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::world::{PyFailure, params_or_default};
-use ballbot_sim::world::push::{
+use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSample, PushSearch, PushTrial, push_recovery_limit, push_trial,
 };
 use numpy::PyArray1;
@@ -63,7 +63,7 @@ fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, P
     crate::results::make(py, "PushTrial", d)
 }
 
-/// One push-recovery trial (`ballbot_sim::world::push::push_trial`): the robot stands still
+/// One push-recovery trial (`ballbot_sim::studies::push::push_trial`): the robot stands still
 /// under the core's controller for `settle_s`, a horizontal impulse `impulse_ns` towards
 /// `heading_deg` (body frame) spread over `push_duration_s` hits the body's centre of mass,
 /// and the run is watched for `observe_s` (defaults 1.0, 0.1, 4.0 s); recovered means no
@@ -112,7 +112,7 @@ pub(crate) fn py_push_trial<'py>(
     push_trial_dict(py, &trial)
 }
 
-/// The largest push recovered at `heading_deg` (`ballbot_sim::world::push::push_recovery_limit`):
+/// The largest push recovered at `heading_deg` (`ballbot_sim::studies::push::push_recovery_limit`):
 /// tries `upper_ns` first, then bisects `[0, upper_ns]` down to `resolution_ns` (defaults 100
 /// and 0.5 N s). Trial keywords as `push_trial`. Returns a `PushRecovery`: `largest_recovered_ns`,
 /// `smallest_failing_ns` (`None` if `upper_ns` was recovered) and `trials`, each as

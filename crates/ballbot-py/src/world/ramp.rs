@@ -7,7 +7,7 @@ use super::{finite, non_negative, params_or_default};
 use crate::errors::world_error;
 use crate::errors::{Kind, error};
 use crate::params::PyWorldParams;
-use ballbot_sim::world::experiments::{RampParams, RampResult, max_speed_ramp_with_config};
+use ballbot_sim::studies::ramp::{RampParams, RampResult, max_speed_ramp_with_config};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -18,7 +18,7 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
     d.set_item("max_speed_m_per_s", r.max_speed_m_per_s)?;
     d.set_item("failure", r.failure.map(PyFailure::from))?;
     d.set_item("supervisor_stop_s", r.supervisor_stop_s)?;
-    let column = |f: fn(&ballbot_sim::world::experiments::RampSample) -> f64| {
+    let column = |f: fn(&ballbot_sim::studies::ramp::RampSample) -> f64| {
         r.samples.iter().map(f).collect::<Vec<f64>>()
     };
     d.set_item("time_s", PyArray1::from_vec(py, column(|s| s.time_s)))?;
@@ -47,7 +47,7 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
 }
 
 /// The maximum-speed experiment of the paper's Sec. V in the 3D world
-/// (`ballbot_sim::world::experiments::max_speed_ramp`): the core's controller follows a
+/// (`ballbot_sim::studies::ramp::max_speed_ramp`): the core's controller follows a
 /// velocity ramp towards `heading_deg` (body frame; 0 is towards OW1) after `settle_s`, rising
 /// at `accel_m_per_s2` to `max_command_m_per_s`, until the world detects a failure or the top
 /// speed has been held for 1 s. Runs in Rust without the GIL. The shaping keywords lift the

@@ -11,7 +11,8 @@ use crate::log::log_error;
 use crate::params::PyWorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
-use ballbot_sim::world::{BallbotWorld, CoreLoop, WorldParams};
+use ballbot_sim::rig::WorldRobot;
+use ballbot_sim::world::{BallbotWorld, WorldParams};
 use nalgebra::Vector3;
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -90,7 +91,7 @@ pub(crate) fn velocity(command: [f64; 3]) -> VelocityCommand<f64> {
 
 world_class! {
     /// The 3D world driven by the core's controller at its two rates
-    /// (`ballbot_sim::world::CoreLoop`): the cascaded LQR-PI outer loop (400 Hz) reads the
+    /// (`ballbot_sim::rig::WorldRobot`): the cascaded LQR-PI outer loop (400 Hz) reads the
     /// simulated IMU and encoders, the per-motor speed PIs (8 kHz) drive the wheels. Every
     /// `World` method that inspects or disturbs the world is here too.
     ///
@@ -99,7 +100,7 @@ world_class! {
     /// `max_tilt_command_rad`, `max_tilt_rate_command_rad_per_s` override its command
     /// shaping (defaults 2.0 m/s, 1.0 m/s^2, 2.0 m/s^3, 0.2 rad, 1.0 rad/s).
     PyWorldLoop("WorldLoop") {
-        inner: CoreLoop,
+        inner: WorldRobot,
         world: |this| this.inner.world(),
         world_mut: |this| this.inner.world_mut(),
     }
@@ -128,7 +129,7 @@ world_class! {
                 max_tilt_rate_command_rad_per_s,
             }
             .config(py, &params)?;
-            let inner = CoreLoop::with_config(params, config).map_err(|e| world_error(py, e))?;
+            let inner = WorldRobot::with_config(params, config).map_err(|e| world_error(py, e))?;
             Ok(Self { inner })
         }
 

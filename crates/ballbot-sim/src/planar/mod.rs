@@ -1,6 +1,9 @@
 //! The multi-rate planar simulator: one WIP plane (or the PIPTB) with the things a real
 //! drivetrain has and the controller's model does not.
 //!
+//! Layer rule: this is physics (with its multi-rate scheduler); it imports the core and
+//! [`crate::log`], nothing from [`crate::studies`], [`crate::report`] or the command line.
+//!
 //! - [`PlanarPlant`]: the core's nonlinear [`ballbot_core::Wip`], integrated with RK4 at a fixed
 //!   rate (default 8 kHz), with [`TransmissionFriction`] (stiction, Coulomb, viscous; Karnopp
 //!   stick-slip) on the motor joint and the actuator's peak torque and torque-speed line.

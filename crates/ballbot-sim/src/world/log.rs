@@ -20,13 +20,13 @@
 //! ```
 //! use ballbot_core::command::{Command, VelocityCommand};
 //! use ballbot_sim::log::{McapLog, topics};
-//! use ballbot_sim::world::{CoreLoop, WorldLogger, WorldParams};
+//! use ballbot_sim::world::{WorldRobot, WorldLogger, WorldParams};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let dir = tempfile::tempdir()?;
 //! let path = dir.path().join("world.mcap");
 //! let params = WorldParams::miapure_60kg();
-//! let mut sim = CoreLoop::new(params)?;
+//! let mut sim = WorldRobot::new(params)?;
 //! let mut log = WorldLogger::create(&path, &params)?;
 //! let command = VelocityCommand { vx_m_per_s: 0.3, vy_m_per_s: 0.0, yaw_rate_rad_per_s: 0.0 };
 //! for _ in 0..800 {
@@ -56,7 +56,6 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::CoreLoop;
 use super::failure::{Failure, FailureKind, tilt_from_vertical_rad};
 use super::params::WorldParams;
 use super::sim::BallbotWorld;
@@ -67,6 +66,7 @@ use crate::log::foxglove::{
     TextPrimitive, Vector3 as FoxVector3,
 };
 use crate::log::{Channel, ChannelInfo, LogError, LoggerOptions, McapLogger, topics};
+use crate::rig::WorldRobot;
 
 /// One omniwheel in one step (see [`WheelTelemetry`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -692,7 +692,7 @@ pub fn cone_colour(cone_utilisation: f64, slipping: bool) -> Color {
 /// Writes a world run into an MCAP file (see the module docs for the channels).
 ///
 /// Create it with the run's parameters, call [`record_core`](Self::record_core) (with a
-/// [`CoreLoop`]), [`record`](Self::record) (a [`BallbotWorld`] and any controller output) or
+/// [`WorldRobot`]), [`record`](Self::record) (a [`BallbotWorld`] and any controller output) or
 /// [`record_telemetry`](Self::record_telemetry) after every physics step, and
 /// [`finish`](Self::finish) at the end. A run that is killed leaves a file that
 /// [`McapLog::open`](crate::log::McapLog::open) reads up to the last closed chunk (at most
@@ -785,14 +785,14 @@ impl WorldLogger {
         &mut self.log
     }
 
-    /// Records the step just taken by a [`CoreLoop`]: its world (telemetry, failure) and its
+    /// Records the step just taken by a [`WorldRobot`]: its world (telemetry, failure) and its
     /// controller's last outer-loop output.
-    pub fn record_core(&mut self, sim: &CoreLoop) -> Result<(), LogError> {
+    pub fn record_core(&mut self, sim: &WorldRobot) -> Result<(), LogError> {
         self.record(sim.world(), sim.last_outer())
     }
 
     /// Records the step just taken by `world`, with the output of the controller's outer loop
-    /// that drove it, if any (e.g. [`CoreLoop::last_outer`]).
+    /// that drove it, if any (e.g. [`WorldRobot::last_outer`]).
     pub fn record(
         &mut self,
         world: &BallbotWorld,
@@ -806,7 +806,7 @@ impl WorldLogger {
     ///
     /// The outer output is written once per outer step (every `controller_interval_secs`),
     /// stamped with the time at which the controller computed it: the start of the physics
-    /// step at which an outer step falls due, as in [`CoreLoop::step`].
+    /// step at which an outer step falls due, as in [`WorldRobot::step`].
     pub fn record_telemetry(
         &mut self,
         t: &StepTelemetry,

@@ -2,6 +2,10 @@
 //! whose contacts carry compliant normal forces and friction-cone-bounded traction along
 //! their rolling directions only.
 //!
+//! Layer rule: this is physics; it imports the core and nothing from [`crate::studies`],
+//! [`crate::report`] or the command line (the experiments run in it live in
+//! [`crate::studies`]).
+//!
 //! * [`sim`]: the world ([`BallbotWorld`]): rapier3d integrates ball and body; ball-floor
 //!   contact and friction are rapier's, plus rolling resistance and a torsional spin friction.
 //! * [`contact`]: the omniwheel contact law and its step-size needs.
@@ -14,19 +18,14 @@
 //! at 10 m the position resolution (about 1 um) is already 1 % of the deflection and the normal
 //! forces would become noisy. The core runs in `f64` too, so no conversions are needed.
 
-pub mod braking;
 pub mod contact;
-pub mod experiments;
 pub mod failure;
 pub mod log;
-pub mod max_speed;
 pub mod params;
-pub mod push;
 pub mod sensors;
 pub mod sim;
 pub mod telemetry;
 
-pub use crate::rig::WorldRobot as CoreLoop;
 pub use failure::{Failure, FailureKind, wheel_name};
 pub use log::{WorldLogOptions, WorldLogger};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};

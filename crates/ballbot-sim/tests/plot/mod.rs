@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ballbot_sim::plot::{
+use ballbot_sim::report::plot::{
     LegendPosition, LineStyle, PlotError, PolarFigure, PolarSeries, Rgb, Series, Subplot,
     TimeSeriesFigure,
 };

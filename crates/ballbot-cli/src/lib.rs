@@ -1,0 +1,53 @@
+//! The `ballbot` command line: argument parsing and calls into ballbot-sim, one module per
+//! subcommand (the studies, their reports and figures live in `ballbot_sim::studies` and
+//! `ballbot_sim::report`).
+//!
+//! - `ballbot simulate <scenario.toml>`: one planar run described by a scenario file
+//!   (`ballbot_sim::scenario`); writes its MCAP log and a JSON summary.
+//! - `ballbot reproduce --out DIR [--quick]`: every paper experiment that exists so far;
+//!   prints a comparison table and writes plots, MCAP logs and `DIR/summary.json`.
+//! - `ballbot brake [--preset miapure|piptb] [--json]`: a minimum-effort braking trajectory.
+//! - `ballbot world [--heading-deg D --accel-m-per-s2 A ...] --out FILE.mcap`: one 3D world run
+//!   with the core's controller; prints the outcome and writes an MCAP log for Foxglove.
+
+pub mod brake;
+pub mod reproduce;
+pub mod simulate;
+pub mod world;
+
+use clap::{Parser, Subcommand};
+
+/// Ballbot drivetrain simulation: reproduce the paper's experiments, run scenarios.
+#[derive(Debug, Parser)]
+#[command(name = "ballbot", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run one planar scenario (TOML) and write its MCAP log and summary.
+    Simulate(simulate::SimulateArgs),
+    /// Run the paper's experiments; print the comparison and write plots, logs and
+    /// DIR/summary.json.
+    Reproduce(reproduce::ReproduceArgs),
+    /// Compute a minimum-effort braking trajectory (direct collocation, SQP with clarabel).
+    Brake(brake::BrakeArgs),
+    /// Run the 3D world (rapier3d) with the core's controller: a velocity ramp and an optional
+    /// push; print the outcome and write an MCAP log (telemetry, Foxglove 3D scene).
+    #[command(after_help = world::AFTER_HELP)]
+    World(world::WorldArgs),
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Simulate(args) => simulate::run(&args),
+        Command::Reproduce(args) => reproduce::run(&args),
+        Command::Brake(args) => brake::run(&args),
+        Command::World(args) => world::run(&args),
+    }
+}

@@ -1,0 +1,293 @@
+//! `ballbot world`: one run of the 3D world (rapier3d) with the core's controller in the loop,
+//! written to an MCAP log for Foxglove (`ballbot_sim::studies::world_run`).
+//!
+//! The command is a velocity ramp at `--accel-m-per-s2` towards `--heading-deg` (body frame, 0
+//! is towards OW1) up to `--top-speed-m-per-s`, after a 0.5 s hold; optionally a push of the
+//! body. Prints the outcome (failure kind, wheel and time; highest speed; peak friction-cone
+//! utilisation) and writes the log.
+//!
+//! ```text
+//! ballbot world --heading-deg 0 --accel-m-per-s2 1.0 --top-speed-m-per-s 1.5 \
+//!     --duration-s 4 --out out/world.mcap
+//! ballbot world --push-ns 40 --push-at-s 1.0 --push-heading-deg 90 --duration-s 3
+//! ```
+
+use anyhow::{Context, bail};
+use ballbot_core::ballbot::BallbotControllerConfig;
+pub use ballbot_sim::studies::world_run::{SETTLE_S, WorldOutcome};
+use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world};
+use ballbot_sim::world::WorldParams;
+use ballbot_sim::world::log::WorldLogOptions;
+use std::path::PathBuf;
+
+/// Examples and log sizes shown after `ballbot world --help`.
+pub const AFTER_HELP: &str = "\
+Examples:
+  ballbot world --heading-deg 0 --accel-m-per-s2 1 --top-speed-m-per-s 1.5 --duration-s 4 \\
+      --out out/world.mcap
+  ballbot world --mu 0.05 --accel-m-per-s2 1 --duration-s 1.5 --out out/slip.mcap
+  ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-s 1 --duration-s 3
+
+Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
+normal force, cone utilisation, slip speed). Size: about 4.4 MB per simulated second with
+telemetry at every 8 kHz step, 0.77 MB with --decimate 8 (1 kHz).";
+
+/// Arguments of `ballbot world`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct WorldArgs {
+    /// Heading of travel in the body frame (deg; 0 is towards OW1, counter-clockwise from
+    /// above).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub heading_deg: f64,
+    /// Acceleration of the commanded velocity ramp (m/s^2, > 0). Above the core's shaper cap
+    /// (1.0 m/s^2) the cap is raised to it, with the tilt-command limits raised to 0.5 rad and
+    /// 5 rad/s.
+    #[arg(long, default_value_t = 0.5)]
+    pub accel_m_per_s2: f64,
+    /// Top commanded speed (m/s, >= 0); the ramp holds it. Above the core's shaper cap
+    /// (2.0 m/s) the cap is raised to it.
+    #[arg(long, default_value_t = 1.0)]
+    pub top_speed_m_per_s: f64,
+    /// Simulated time (s, > 0); the ramp starts after a 0.5 s hold.
+    #[arg(long, default_value_t = 5.0)]
+    pub duration_s: f64,
+    /// Seed of the sensor noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Omniwheel-ball friction coefficient mu (> 0); default the robot's (0.6). The
+    /// controller is designed for the same robot.
+    #[arg(long)]
+    pub mu: Option<f64>,
+    /// Height of the body's centre of mass above the ball centre (m, > 0); default the
+    /// robot's (0.5). The controller is designed for the same robot.
+    #[arg(long)]
+    pub com_height_m: Option<f64>,
+    /// Horizontal impulse applied to the body at its centre of mass (N s, >= 0); 0: no push.
+    #[arg(long, default_value_t = 0.0)]
+    pub push_ns: f64,
+    /// When the push is applied (s).
+    #[arg(long, default_value_t = 2.0)]
+    pub push_at_s: f64,
+    /// Direction of the push in the body frame (deg; 0 is towards OW1).
+    #[arg(long, default_value_t = 90.0, allow_negative_numbers = true)]
+    pub push_heading_deg: f64,
+    /// Simulated time kept running after a failure, to see the fall (s, >= 0).
+    #[arg(long, default_value_t = 0.25)]
+    pub after_failure_s: f64,
+    /// Time constant of the command shaper's reference filter (s, >= 0; 0, the core's
+    /// default, is off). About 0.3 s removes the speed overshoot of a velocity ramp
+    /// (`CommandShaperParams::reference_filter_secs`, docs/embedding.md).
+    #[arg(long, default_value_t = 0.0)]
+    pub reference_filter_s: f64,
+    /// The MCAP log to write (its folder is created).
+    #[arg(long, default_value = "out/world.mcap")]
+    pub out: PathBuf,
+    /// Write the telemetry every N physics steps (1: every 8 kHz step).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub decimate: u32,
+    /// Rate of the Foxglove scene (SceneUpdate) messages (Hz, > 0); the frame transforms are
+    /// written at twice this rate.
+    #[arg(long, default_value_t = 50.0)]
+    pub scene_hz: f64,
+    /// Print the outcome as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl Default for WorldArgs {
+    fn default() -> Self {
+        Self {
+            heading_deg: 0.0,
+            accel_m_per_s2: 0.5,
+            top_speed_m_per_s: 1.0,
+            duration_s: 5.0,
+            seed: 0,
+            mu: None,
+            com_height_m: None,
+            push_ns: 0.0,
+            push_at_s: 2.0,
+            push_heading_deg: 90.0,
+            after_failure_s: 0.25,
+            reference_filter_s: 0.0,
+            out: PathBuf::from("out/world.mcap"),
+            decimate: 1,
+            scene_hz: 50.0,
+            json: false,
+        }
+    }
+}
+
+fn check(ok: bool, flag: &str, requirement: &str, value: f64) -> anyhow::Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        bail!("{flag} must be {requirement}, got {value}")
+    }
+}
+
+impl WorldArgs {
+    /// Checks every flag; the error names the first bad one.
+    pub fn validate(&self) -> anyhow::Result<()> {
+        let finite = |x: f64| x.is_finite();
+        check(
+            finite(self.heading_deg),
+            "--heading-deg",
+            "finite",
+            self.heading_deg,
+        )?;
+        check(
+            finite(self.accel_m_per_s2) && self.accel_m_per_s2 > 0.0,
+            "--accel-m-per-s2",
+            "finite and > 0",
+            self.accel_m_per_s2,
+        )?;
+        check(
+            finite(self.top_speed_m_per_s) && self.top_speed_m_per_s >= 0.0,
+            "--top-speed-m-per-s",
+            "finite and >= 0",
+            self.top_speed_m_per_s,
+        )?;
+        check(
+            finite(self.duration_s) && self.duration_s > 0.0 && self.duration_s <= 3600.0,
+            "--duration-s",
+            "in (0, 3600]",
+            self.duration_s,
+        )?;
+        if let Some(mu) = self.mu {
+            check(finite(mu) && mu > 0.0, "--mu", "finite and > 0", mu)?;
+        }
+        if let Some(h) = self.com_height_m {
+            check(finite(h) && h > 0.0, "--com-height-m", "finite and > 0", h)?;
+        }
+        check(
+            finite(self.push_ns) && self.push_ns >= 0.0,
+            "--push-ns",
+            "finite and >= 0",
+            self.push_ns,
+        )?;
+        check(
+            finite(self.push_at_s) && self.push_at_s >= 0.0,
+            "--push-at-s",
+            "finite and >= 0",
+            self.push_at_s,
+        )?;
+        check(
+            finite(self.push_heading_deg),
+            "--push-heading-deg",
+            "finite",
+            self.push_heading_deg,
+        )?;
+        check(
+            finite(self.after_failure_s) && self.after_failure_s >= 0.0,
+            "--after-failure-s",
+            "finite and >= 0",
+            self.after_failure_s,
+        )?;
+        check(
+            finite(self.reference_filter_s) && self.reference_filter_s >= 0.0,
+            "--reference-filter-s",
+            "finite and >= 0",
+            self.reference_filter_s,
+        )?;
+        check(
+            finite(self.scene_hz) && self.scene_hz > 0.0 && self.scene_hz <= 1000.0,
+            "--scene-hz",
+            "in (0, 1000]",
+            self.scene_hz,
+        )?;
+        Ok(())
+    }
+
+    /// The world's parameters: MiaPURE with 60 kg, with `--seed`, `--mu`, `--com-height-m`.
+    pub fn world_params(&self) -> anyhow::Result<WorldParams> {
+        let mut params = WorldParams::miapure_60kg();
+        params.sensors.seed = self.seed;
+        if let Some(mu) = self.mu {
+            params.robot.drivetrain.wheel_ball_friction = mu;
+        }
+        if let Some(h) = self.com_height_m {
+            params.robot.sagittal.com_height_m = h;
+            params.robot.frontal.com_height_m = h;
+        }
+        params
+            .validate()
+            .context("the robot given by --mu/--com-height-m is invalid")?;
+        Ok(params)
+    }
+
+    /// The controller designed for the robot, with the command shaper's speed and
+    /// acceleration caps raised to the requested ramp where it exceeds them.
+    pub fn controller_config(
+        &self,
+        params: &WorldParams,
+    ) -> anyhow::Result<BallbotControllerConfig<f64>> {
+        let mut config = BallbotControllerConfig::design(&params.robot)
+            .context("cannot design the controller for this robot (--mu/--com-height-m)")?;
+        let shaping = &mut config.shaping;
+        shaping.reference_filter_secs = self.reference_filter_s;
+        if self.top_speed_m_per_s > shaping.translation.max_value {
+            shaping.translation.max_value = self.top_speed_m_per_s;
+        }
+        if self.accel_m_per_s2 > shaping.translation.max_rate_per_s {
+            shaping.translation.max_rate_per_s = self.accel_m_per_s2;
+            shaping.max_tilt_command_rad = shaping.max_tilt_command_rad.max(0.5);
+            shaping.max_tilt_rate_command_rad_per_s =
+                shaping.max_tilt_rate_command_rad_per_s.max(5.0);
+        }
+        Ok(config)
+    }
+}
+
+/// Runs the world as `args` say, writes the log and returns the outcome (without printing).
+pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
+    args.validate()?;
+    let params = args.world_params()?;
+    let config = args.controller_config(&params)?;
+    let scene_interval_secs = 1.0 / args.scene_hz;
+    let options = WorldLogOptions {
+        telemetry_every_steps: args.decimate,
+        scene_interval_secs,
+        transform_interval_secs: 0.5 * scene_interval_secs,
+        ..WorldLogOptions::default()
+    };
+    let run = WorldRunSettings {
+        heading_deg: args.heading_deg,
+        accel_m_per_s2: args.accel_m_per_s2,
+        top_speed_m_per_s: args.top_speed_m_per_s,
+        duration_s: args.duration_s,
+        push_ns: args.push_ns,
+        push_at_s: args.push_at_s,
+        push_heading_deg: args.push_heading_deg,
+        after_failure_s: args.after_failure_s,
+    };
+    run_logged_world(params, config, &run, &args.out, options)
+        .with_context(|| format!("ballbot world --out {}", args.out.display()))
+}
+
+/// Runs `ballbot world` and prints the outcome.
+pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
+    let o = simulate(args)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&o)?);
+        return Ok(());
+    }
+    match (&o.failure, o.failure_time_s) {
+        (Some(kind), Some(time_s)) => {
+            let wheel = o
+                .failure_wheel
+                .map_or_else(String::new, |w| format!(" of OW{w}"));
+            println!("failure: {kind}{wheel} at {time_s:.4} s");
+        }
+        _ => println!("failure: none ({:.3} s simulated)", o.end_time_s),
+    }
+    println!(
+        "max speed along {} deg: {:.3} m/s",
+        args.heading_deg, o.max_speed_m_per_s
+    );
+    println!(
+        "peak cone utilisation: {:.3} (OW{}); min normal force {:.1} N; max tilt {:.2} deg",
+        o.peak_cone_utilisation, o.peak_cone_wheel, o.min_normal_force_n, o.max_tilt_deg
+    );
+    println!("log: {} ({:.2} MB)", o.log, o.log_bytes as f64 / 1.0e6);
+    Ok(())
+}

@@ -1,0 +1,8 @@
+//! Integration tests of the `ballbot` command, one module per subcommand.
+
+// Tests may unwrap and panic: a failure is a test failure.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod brake;
+mod simulate;
+mod world_log;

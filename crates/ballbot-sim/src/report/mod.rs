@@ -1,0 +1,28 @@
+//! Reports of the studies: the summary's JSON, plain-text comparison tables, and figures
+//! (`report::plot`, behind the cargo feature `plot`, which pulls in plotters).
+//!
+//! Layer rule: reports import [`crate::studies`] (and the physics types the studies return);
+//! the studies and the physics never import reports.
+//!
+//! - [`reproduce`](mod@reproduce): `ballbot reproduce` as a library call: every study, its table, figures,
+//!   logs and `summary.json`.
+//! - [`piptb`], [`brake`], [`max_speed`], [`world_suite`]: one study's JSON and tables each;
+//!   the `*_figures` modules draw its figures.
+
+pub mod brake;
+mod error;
+pub mod max_speed;
+#[cfg(feature = "plot")]
+pub mod max_speed_figures;
+pub mod piptb;
+#[cfg(feature = "plot")]
+pub mod piptb_figures;
+#[cfg(feature = "plot")]
+pub mod plot;
+pub mod reproduce;
+pub mod world_suite;
+#[cfg(feature = "plot")]
+pub mod world_suite_figures;
+
+pub use error::ReportError;
+pub use reproduce::{ReproduceObserver, ReproduceOptions, reproduce};

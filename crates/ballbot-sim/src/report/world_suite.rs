@@ -1,0 +1,316 @@
+//! The world suite ([`crate::studies::world_suite`]: 3D braking time and push recovery) as the
+//! summary's JSON (`min_braking_time_3d_s`, `push_recovery_ns`, `world_braking`,
+//! `world_push`) and as comparison tables.
+
+use crate::studies::push::{PushOutcome, PushRecovery, PushTrial};
+use crate::studies::world_braking::{BrakingOutcome, BrakingRun, BrakingStudy};
+use crate::studies::world_suite::{PAPER_MIN_BRAKING_TIME_S, SEED, WorldSuite};
+use crate::world::{Failure, FailureKind};
+use serde_json::{Map, Value, json};
+use std::fmt::Write;
+
+fn wheel_name(i: usize) -> String {
+    format!("OW{}", i + 1)
+}
+
+/// A short description of a failure, e.g. `lift-off OW1 at 6.086 s`.
+pub fn failure_label(f: &Failure) -> String {
+    format!("{} at {:.3} s", failure_kind_label(f), f.time_s)
+}
+
+/// What failed, e.g. `lift-off OW1`.
+pub fn failure_kind_label(f: &Failure) -> String {
+    match f.kind {
+        FailureKind::Tilt { tilt_rad } => format!("tilt {:.1} deg", tilt_rad.to_degrees()),
+        FailureKind::BodyTouchedFloor => "chassis on the floor".to_owned(),
+        FailureKind::SustainedSlip { wheel } => format!("slip {}", wheel_name(wheel)),
+        FailureKind::LiftOff { wheel } => format!("lift-off {}", wheel_name(wheel)),
+    }
+}
+
+fn failure_json(f: &Failure) -> Value {
+    let (kind, wheel) = match f.kind {
+        FailureKind::Tilt { .. } => ("tilt", None),
+        FailureKind::BodyTouchedFloor => ("body_touched_floor", None),
+        FailureKind::SustainedSlip { wheel } => ("sustained_slip", Some(wheel_name(wheel))),
+        FailureKind::LiftOff { wheel } => ("lift_off", Some(wheel_name(wheel))),
+    };
+    json!({ "kind": kind, "wheel": wheel, "time_s": f.time_s, "label": failure_label(f) })
+}
+
+/// What bounded a braking run: the failure, or the most used resource.
+pub fn limiting(run: &BrakingRun) -> String {
+    let p = &run.peaks;
+    let argmax = |v: &[f64; 3]| {
+        (0..3)
+            .max_by(|&a, &b| v[a].total_cmp(&v[b]))
+            .unwrap_or_default()
+    };
+    let cone = argmax(&p.cone_utilisation);
+    let act = argmax(&p.actuator_utilisation);
+    let used = format!(
+        "cone {} {:.2}, actuator {} {:.2}, tilt {:.1} deg",
+        wheel_name(cone),
+        p.cone_utilisation[cone],
+        wheel_name(act),
+        p.actuator_utilisation[act],
+        p.tilt_rad.to_degrees()
+    );
+    match run.outcome {
+        BrakingOutcome::Failed(f) => format!(
+            "{} ({:.3} s after braking started); {used}",
+            failure_label(&f),
+            f.time_s - run.brake_start_s
+        ),
+        BrakingOutcome::NoTrajectory { status } => format!("no trajectory ({status})"),
+        BrakingOutcome::NotAtRest {
+            rest_speed_m_per_s, ..
+        } => format!("not at rest ({rest_speed_m_per_s:.3} m/s); {used}"),
+        BrakingOutcome::Stopped { .. } => used,
+    }
+}
+
+fn run_json(run: &BrakingRun) -> Value {
+    let p = &run.peaks;
+    let outcome = match run.outcome {
+        BrakingOutcome::Stopped { rest_speed_m_per_s } => {
+            json!({ "rest_speed_m_per_s": rest_speed_m_per_s })
+        }
+        BrakingOutcome::NoTrajectory { status } => json!({ "solve_status": status.as_str() }),
+        BrakingOutcome::Failed(f) => failure_json(&f),
+        BrakingOutcome::NotAtRest {
+            rest_speed_m_per_s,
+            rest_tilt_rad,
+        } => json!({
+            "rest_speed_m_per_s": rest_speed_m_per_s,
+            "rest_tilt_deg": rest_tilt_rad.to_degrees(),
+        }),
+    };
+    json!({
+        "duration_s": run.duration_s,
+        "outcome": run.outcome.label(),
+        "success": run.outcome.is_success(),
+        "detail": outcome,
+        "limiting": limiting(run),
+        "plan_peak_tilt_deg": run.plan_peak_tilt_rad.map(f64::to_degrees),
+        "plan_cost_n2m2s": run.plan_cost_n2m2s,
+        "peak_cone_utilisation": p.cone_utilisation,
+        "min_normal_force_n": p.min_normal_force_n,
+        "peak_actuator_utilisation": p.actuator_utilisation,
+        "peak_tilt_deg": p.tilt_rad.to_degrees(),
+        "peak_speed_error_m_per_s": p.speed_error_m_per_s,
+        "slip_s": p.slip_s,
+        "brake_start_s": run.brake_start_s,
+    })
+}
+
+fn study_json(study: &BrakingStudy, planar_s: Option<f64>) -> Value {
+    json!({
+        "heading_deg": study.heading_deg,
+        "descent": study.descent.iter().map(run_json).collect::<Vec<_>>(),
+        "bisection": study.bisection.iter().map(run_json).collect::<Vec<_>>(),
+        "shortest_success_s": study.shortest_success_s,
+        "first_failure_s": study.first_failure_s,
+        "limit_s": study.limit_s,
+        "limit_failure_s": study.limit_failure_s,
+        "planar_min_braking_time_s": planar_s,
+    })
+}
+
+fn push_json(r: &PushRecovery) -> Value {
+    let trial = |t: &PushTrial| {
+        json!({
+            "impulse_ns": t.impulse_ns,
+            "outcome": t.outcome.label(),
+            "failure": match t.outcome {
+                PushOutcome::Failed(f) => failure_json(&f),
+                _ => Value::Null,
+            },
+            "peak_tilt_deg": t.peak_tilt_rad.to_degrees(),
+            "peak_speed_m_per_s": t.peak_speed_m_per_s,
+            "rest_speed_m_per_s": t.rest_speed_m_per_s,
+        })
+    };
+    json!({
+        "heading_deg": r.heading_deg,
+        "largest_recovered_ns": r.largest_recovered_ns,
+        "smallest_failing_ns": r.smallest_failing_ns,
+        "trials": r.trials.iter().map(trial).collect::<Vec<_>>(),
+    })
+}
+
+fn key(heading_deg: f64) -> String {
+    format!("{heading_deg:.0}")
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "-".to_owned(), |x| format!("{x:.digits$}"))
+}
+
+impl WorldSuite {
+    fn planar_json(&self) -> Map<String, Value> {
+        let mut planar = Map::new();
+        for &(h, t) in &self.planar_min_braking_time_s {
+            planar.insert(key(h), json!(t));
+        }
+        planar
+    }
+
+    /// Adds `min_braking_time_3d_s` (the shortest successful braking at 180 deg, s),
+    /// `push_recovery_ns` (heading -> largest push recovered, N s), `world_braking` and
+    /// `world_push` (protocols and every run) to `summary`.
+    pub fn add_to_summary(&self, summary: &mut Map<String, Value>) {
+        let planar = self.planar_json();
+        let planar_at = |h: f64| planar.get(&key(h)).and_then(Value::as_f64);
+        let mut headings = Map::new();
+        for study in &self.braking {
+            headings.insert(
+                key(study.heading_deg),
+                study_json(study, planar_at(study.heading_deg)),
+            );
+        }
+        let ablation = self.ablation.as_ref().map_or(Value::Null, |study| {
+            study_json(study, planar_at(study.heading_deg))
+        });
+        let b = &self.settings.braking;
+        summary.insert(
+            "min_braking_time_3d_s".to_owned(),
+            json!(self.paper_heading().and_then(|st| st.shortest_success_s)),
+        );
+        let mut push_map = Map::new();
+        for p in &self.pushes {
+            push_map.insert(key(p.heading_deg), json!(p.largest_recovered_ns));
+        }
+        summary.insert("push_recovery_ns".to_owned(), Value::Object(push_map));
+        summary.insert(
+            "world_braking".to_owned(),
+            json!({
+                "paper_min_braking_time_s": PAPER_MIN_BRAKING_TIME_S,
+                "seed": SEED,
+                "protocol": {
+                    "cruise_speed_m_per_s": b.cruise_speed_m_per_s,
+                    "approach_accel_m_per_s2": b.approach_accel_m_per_s2,
+                    "approach_jerk_m_per_s3": b.approach_jerk_m_per_s3,
+                    "cruise_s": b.cruise_s,
+                    "rest_within_s": b.rest_within_s,
+                    "rest_hold_s": b.rest_hold_s,
+                    "rest_speed_m_per_s": b.rest_speed_m_per_s,
+                    "rest_tilt_deg": b.rest_tilt_rad.to_degrees(),
+                    "trajectory_tilt_limit_deg": b.trajectory_tilt_limit_rad.to_degrees(),
+                    "trajectory_limits": "actuators (peak torque, torque-speed line) and traction mu N at all three omniwheels, tilt bound; tau = 0 at both ends",
+                    "feedforward": b.feedforward.label(),
+                },
+                "headings": headings,
+                "ablation_core_feedforward_180": ablation,
+                "planar_min_braking_time_s": planar,
+            }),
+        );
+        let pp = &self.settings.push;
+        summary.insert(
+            "world_push".to_owned(),
+            json!({
+                "seed": SEED,
+                "protocol": {
+                    "settle_s": pp.settle_s,
+                    "observe_s": pp.observe_s,
+                    "max_tilt_deg": pp.max_tilt_rad.to_degrees(),
+                    "rest_within_s": pp.rest_within_s,
+                    "rest_speed_m_per_s": pp.rest_speed_m_per_s,
+                    "rest_tilt_deg": pp.rest_tilt_rad.to_degrees(),
+                    "push_duration_s": pp.push_duration_s,
+                },
+                "headings": self.pushes.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
+                "impulsive": self.impulsive.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
+            }),
+        );
+    }
+
+    /// The comparison tables (braking, push recovery), as `ballbot reproduce` prints them.
+    pub fn table(&self) -> String {
+        let mut out = String::new();
+        let shove_s = self.settings.push.push_duration_s;
+        let _ = writeln!(
+            out,
+            "world braking (MiaPURE 60 kg, 1.4 m/s at heading h -> rest in T, optimal trajectories \
+             under actuator, traction and 15 deg tilt limits, seed {SEED}):"
+        );
+        let _ = writeln!(
+            out,
+            "  {:>7} | {:>24} | {:>15} | {:>15} | {:>13} | what failed first",
+            "heading",
+            "shortest success (desc.)",
+            "bisection limit",
+            "first failure",
+            "planar min T",
+        );
+        for st in &self.braking {
+            let fail = st.first_failure().map_or_else(|| "-".to_owned(), limiting);
+            let _ = writeln!(
+                out,
+                "  {:>6.0}° | {:>22} s | {:>13} s | {:>13} s | {:>11} s | {}",
+                st.heading_deg,
+                opt(st.shortest_success_s, 2),
+                opt(st.limit_s, 3),
+                opt(st.first_failure_s, 2),
+                opt(self.planar_at(st.heading_deg), 3),
+                fail
+            );
+        }
+        let _ = writeln!(
+            out,
+            "  paper (hardware, 180°): shortest success {PAPER_MIN_BRAKING_TIME_S:.1} s \
+             (descent from 5 s by 0.5 s)"
+        );
+        if let Some(a) = &self.ablation {
+            let _ = writeln!(
+                out,
+                "  ablation, 180° with the equilibrium feedforward only (no c θ̈* term): shortest success \
+                 {} s, first failure {} s",
+                opt(a.shortest_success_s, 2),
+                opt(a.first_failure_s, 2)
+            );
+        }
+        let _ = writeln!(
+            out,
+            "push recovery (standing; impulse at the body's COM as a {shove_s} s force pulse, and in \
+             one step; recovered: tilt < 15°, at rest < 0.1 m/s within 3 s):"
+        );
+        let _ = writeln!(
+            out,
+            "  {:>9} | {:>8} | {:>19} | {:>17} | failing trial",
+            "direction", "push", "largest recovered", "smallest failing"
+        );
+        let rows = self
+            .pushes
+            .iter()
+            .map(|p| (p, format!("{shove_s} s")))
+            .chain(self.impulsive.iter().map(|p| (p, "1 step".to_owned())));
+        for (p, kind) in rows {
+            let how = p.smallest_failing().map_or_else(
+                || "-".to_owned(),
+                |t| match t.outcome {
+                    PushOutcome::Failed(f) => failure_label(&f),
+                    o => format!(
+                        "{} (peak tilt {:.1}°)",
+                        o.label(),
+                        t.peak_tilt_rad.to_degrees()
+                    ),
+                },
+            );
+            let _ = writeln!(
+                out,
+                "  {:>8.0}° | {:>8} | {:>15.1} N·s | {:>13} N·s | {}",
+                p.heading_deg,
+                kind,
+                p.largest_recovered_ns,
+                opt(p.smallest_failing_ns, 1),
+                how
+            );
+        }
+        let _ = writeln!(
+            out,
+            "  paper: not measured (MiaPURE was only pushed gently to steer it, pHRI demo)"
+        );
+        out
+    }
+}

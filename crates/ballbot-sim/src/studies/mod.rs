@@ -1,0 +1,33 @@
+//! The paper's experiments, planar and 3D, as studies: protocols, seeded trials, searches and
+//! their results (plain data; [`crate::report`] turns them into JSON, tables and figures).
+//!
+//! Layer rule: studies import the physics ([`crate::world`], [`crate::planar`]), the robot
+//! loop, [`crate::trajopt`] and [`crate::log`]; never [`crate::report`] or the command line.
+//!
+//! - [`runner`]: the one job runner: independent jobs on every core, results in job order.
+//! - [`piptb`]: the PIPTB controller comparison (paper Sec. IV-C) and [`planar_braking`], the
+//!   braking reference its controllers track.
+//! - [`ramp`]: a velocity ramp in the 3D world until failure (the maximum-speed protocol's run).
+//! - [`max_speed`]: MiaPURE's maximum speed and failing acceleration per heading (Sec. V).
+//! - [`world_braking`]: optimal braking to rest in the 3D world (Sec. V, issue 6).
+//! - [`push`]: push recovery in the 3D world.
+//! - [`world_suite`]: the world braking and push studies of `ballbot reproduce`, run together.
+//! - [`scenario_run`]: one planar run from a scenario file (`ballbot simulate`).
+//! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
+//! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
+
+pub mod max_speed;
+pub mod piptb;
+pub mod planar_braking;
+pub mod push;
+pub mod ramp;
+pub mod replay;
+pub mod runner;
+pub mod scenario_run;
+pub mod world_braking;
+pub mod world_run;
+pub mod world_suite;
+
+pub use piptb::{ExperimentError, PiptbReport, PiptbSettings};
+pub use planar_braking::{BrakingSource, BrakingTrajectory};
+pub use runner::run_jobs;

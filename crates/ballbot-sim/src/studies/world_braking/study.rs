@@ -1,0 +1,137 @@
+//! The paper's braking protocol (descent from 5 s by 0.5 s until failure) and the bisection
+//! that refines the limit beyond it.
+
+use super::*;
+
+/// The paper's protocol and the refinement beyond it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BrakingStudyParams {
+    /// Braking times of the descent, tried in order until one fails (s).
+    pub durations_s: Vec<f64>,
+    /// Bisect between the shortest success and the first failure down to this bracket (s);
+    /// `None` skips the bisection.
+    pub bisection_resolution_s: Option<f64>,
+}
+
+impl BrakingStudyParams {
+    /// The paper's descent, `T = 5, 4.5, ..., 0.5 s`, and a bisection to 0.05 s.
+    pub fn paper() -> Self {
+        Self {
+            durations_s: (0..10).map(|k| 5.0 - 0.5 * f64::from(k)).collect(),
+            bisection_resolution_s: Some(0.05),
+        }
+    }
+}
+
+/// The result of [`braking_study`] at one heading.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BrakingStudy {
+    /// Heading of travel (deg).
+    pub heading_deg: f64,
+    /// The descending runs of the paper's protocol, in order (the last one failed unless the
+    /// descent ran out of durations).
+    pub descent: Vec<BrakingRun>,
+    /// The bisection's runs, in order.
+    pub bisection: Vec<BrakingRun>,
+    /// Shortest successful `T` of the descent (s), the paper's figure; `None` if the first
+    /// already failed.
+    pub shortest_success_s: Option<f64>,
+    /// First failing `T` of the descent (s); `None` if none failed.
+    pub first_failure_s: Option<f64>,
+    /// Shortest successful `T` after the bisection (s).
+    pub limit_s: Option<f64>,
+    /// Longest failing `T` after the bisection (s).
+    pub limit_failure_s: Option<f64>,
+}
+
+impl BrakingStudy {
+    /// The run of the descent at its shortest success.
+    pub fn shortest_success(&self) -> Option<&BrakingRun> {
+        let t = self.shortest_success_s?;
+        self.descent.iter().find(|r| r.duration_s == t)
+    }
+
+    /// The descent's first failing run.
+    pub fn first_failure(&self) -> Option<&BrakingRun> {
+        let t = self.first_failure_s?;
+        self.descent.iter().find(|r| r.duration_s == t)
+    }
+}
+
+/// The paper's protocol at one heading: the durations of `study` in order (the paper: 5 s,
+/// then 0.5 s shorter per success) until a run fails; then, beyond the paper, bisection
+/// between the shortest success and the first failure. Each trajectory is warm-started from
+/// the last solved one. Assumes success is monotone in `T` within the bracket (each
+/// bisection run is reported, so a non-monotone outcome is visible). `on_run` sees every run
+/// as it finishes.
+pub fn braking_study(
+    world_params: WorldParams,
+    params: &BrakingParams,
+    study: &BrakingStudyParams,
+    heading_deg: f64,
+    on_run: &mut dyn FnMut(&BrakingRun),
+) -> Result<BrakingStudy, BrakingError> {
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if study.durations_s.is_empty() || !study.durations_s.iter().all(|&t| ok(t)) {
+        return Err(invalid(
+            "study.durations_s",
+            "must be non-empty, every duration finite and > 0",
+        ));
+    }
+    if study.bisection_resolution_s.is_some_and(|r| !ok(r)) {
+        return Err(invalid(
+            "study.bisection_resolution_s",
+            "must be finite and > 0",
+        ));
+    }
+    let mut out = BrakingStudy {
+        heading_deg,
+        descent: Vec::new(),
+        bisection: Vec::new(),
+        shortest_success_s: None,
+        first_failure_s: None,
+        limit_s: None,
+        limit_failure_s: None,
+    };
+    let mut warm: Option<Trajectory> = None;
+    for &t in &study.durations_s {
+        let run = braking_run(world_params, params, heading_deg, t, warm.as_ref())?;
+        on_run(&run);
+        if run.plan.is_some() {
+            warm.clone_from(&run.plan);
+        }
+        let success = run.outcome.is_success();
+        out.descent.push(run);
+        if success {
+            out.shortest_success_s = Some(t);
+        } else {
+            out.first_failure_s = Some(t);
+            break;
+        }
+    }
+    out.limit_s = out.shortest_success_s;
+    out.limit_failure_s = out.first_failure_s;
+    if let (Some(resolution), Some(mut lo), Some(mut hi)) = (
+        study.bisection_resolution_s,
+        out.first_failure_s,
+        out.shortest_success_s,
+    ) {
+        while (hi - lo).abs() > resolution + 1e-9 && lo < hi {
+            let mid = 0.5 * (lo + hi);
+            let run = braking_run(world_params, params, heading_deg, mid, warm.as_ref())?;
+            on_run(&run);
+            if run.plan.is_some() {
+                warm.clone_from(&run.plan);
+            }
+            if run.outcome.is_success() {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+            out.bisection.push(run);
+        }
+        out.limit_s = Some(hi);
+        out.limit_failure_s = Some(lo);
+    }
+    Ok(out)
+}

@@ -1,0 +1,216 @@
+//! One run of the 3D world with the core's controller in the loop, written to an MCAP log
+//! ([`WorldLogger`]): a velocity ramp towards a heading after a [`SETTLE_S`] hold, optionally a
+//! push of the body; reduced to a [`WorldOutcome`]. What `ballbot world` runs.
+
+use crate::log::LogError;
+use crate::rig::WorldRobot;
+use crate::world::failure::tilt_from_vertical_rad;
+use crate::world::log::{WorldLogOptions, WorldLogger};
+use crate::world::{Failure, FailureKind, WorldError, WorldParams};
+use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_core::command::{Command, VelocityCommand};
+use nalgebra::{Rotation3, Vector3};
+use std::path::{Path, PathBuf};
+
+/// Hold before the ramp starts (s).
+pub const SETTLE_S: f64 = 0.5;
+
+/// The command and the push of a run (checked by the caller: finite, ramp acceleration > 0,
+/// the rest >= 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldRunSettings {
+    /// Heading of travel in the body frame (deg; 0 is towards OW1).
+    pub heading_deg: f64,
+    /// Acceleration of the commanded velocity ramp (m/s^2).
+    pub accel_m_per_s2: f64,
+    /// Top commanded speed (m/s); the ramp holds it.
+    pub top_speed_m_per_s: f64,
+    /// Simulated time (s).
+    pub duration_s: f64,
+    /// Horizontal impulse applied to the body at its centre of mass (N s); 0: no push.
+    pub push_ns: f64,
+    /// When the push is applied (s).
+    pub push_at_s: f64,
+    /// Direction of the push in the body frame (deg).
+    pub push_heading_deg: f64,
+    /// Simulated time kept running after a failure (s).
+    pub after_failure_s: f64,
+}
+
+/// What can go wrong in a logged world run.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum WorldRunError {
+    /// The world or its controller rejected the parameters.
+    #[error("cannot build the world: {0}")]
+    World(#[from] WorldError),
+    /// The log could not be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Log {
+        /// The log.
+        path: PathBuf,
+        /// What went wrong.
+        source: LogError,
+    },
+    /// The log's folder could not be created or the log read back.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// What went wrong.
+        source: std::io::Error,
+    },
+}
+
+/// The outcome of a logged world run (`ballbot world`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WorldOutcome {
+    /// The failure that ended the run, e.g. `sustained_slip`; `None` if it ran to the end.
+    pub failure: Option<String>,
+    /// The wheel concerned by the failure, 1-based (OW1 is 1), if any.
+    pub failure_wheel: Option<usize>,
+    /// When the failure was detected (s).
+    pub failure_time_s: Option<f64>,
+    /// Highest ball speed along the heading before any failure (m/s).
+    pub max_speed_m_per_s: f64,
+    /// Highest friction-cone utilisation of any wheel before any failure.
+    pub peak_cone_utilisation: f64,
+    /// The wheel with the highest utilisation, 1-based.
+    pub peak_cone_wheel: usize,
+    /// Smallest wheel normal force before any failure (N).
+    pub min_normal_force_n: f64,
+    /// Largest tilt from the vertical before any failure (deg).
+    pub max_tilt_deg: f64,
+    /// Simulated time reached (s).
+    pub end_time_s: f64,
+    /// The MCAP log.
+    pub log: String,
+    /// Size of the log (bytes).
+    pub log_bytes: u64,
+}
+
+fn failure_name(kind: &FailureKind) -> (&'static str, Option<usize>) {
+    match kind {
+        FailureKind::Tilt { .. } => ("tilt", None),
+        FailureKind::BodyTouchedFloor => ("body_touched_floor", None),
+        FailureKind::SustainedSlip { wheel } => ("sustained_slip", Some(wheel + 1)),
+        FailureKind::LiftOff { wheel } => ("lift_off", Some(wheel + 1)),
+    }
+}
+
+/// Runs the world with `config` in the loop as `args` say, writes the log `out` with
+/// `options` (its folder is created) and returns the outcome.
+pub fn run_logged_world(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    args: &WorldRunSettings,
+    out: &Path,
+    options: WorldLogOptions,
+) -> Result<WorldOutcome, WorldRunError> {
+    let mut sim = WorldRobot::with_config(params, config)?;
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|source| WorldRunError::Io {
+            path: dir.to_owned(),
+            source,
+        })?;
+    }
+    let log_error = |source| WorldRunError::Log {
+        path: out.to_owned(),
+        source,
+    };
+    let mut log = WorldLogger::with_options(out, &params, options).map_err(log_error)?;
+
+    let dt = params.dt_secs;
+    let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
+    let heading = Vector3::new(cos_h, sin_h, 0.0);
+    let steps = (args.duration_s / dt).ceil() as u64;
+    let mut pushed = args.push_ns <= 0.0;
+    let mut failure: Option<Failure> = None;
+    let mut outcome = WorldOutcome {
+        failure: None,
+        failure_wheel: None,
+        failure_time_s: None,
+        max_speed_m_per_s: 0.0,
+        peak_cone_utilisation: 0.0,
+        peak_cone_wheel: 1,
+        min_normal_force_n: f64::INFINITY,
+        max_tilt_deg: 0.0,
+        end_time_s: 0.0,
+        log: out.display().to_string(),
+        log_bytes: 0,
+    };
+    for k in 0..steps {
+        let t = k as f64 * dt;
+        if failure.is_some_and(|f| t > f.time_s + args.after_failure_s) {
+            break;
+        }
+        let v = ((t - SETTLE_S).max(0.0) * args.accel_m_per_s2).min(args.top_speed_m_per_s);
+        let command = VelocityCommand {
+            vx_m_per_s: v * cos_h,
+            vy_m_per_s: v * sin_h,
+            yaw_rate_rad_per_s: 0.0,
+        };
+        if !pushed && t + 0.5 * dt >= args.push_at_s {
+            pushed = true;
+            let telemetry = sim.world().telemetry();
+            let (_, _, yaw) = telemetry.body_orientation.euler_angles();
+            let direction = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
+                * Vector3::new(
+                    args.push_heading_deg.to_radians().cos(),
+                    args.push_heading_deg.to_radians().sin(),
+                    0.0,
+                );
+            let tilt = tilt_from_vertical_rad(telemetry);
+            sim.world_mut().push_body(direction * args.push_ns);
+            log.record_event(
+                t,
+                "push",
+                &format!(
+                    "push of {} N s towards {} deg (body frame)",
+                    args.push_ns, args.push_heading_deg
+                ),
+                tilt,
+            )
+            .map_err(log_error)?;
+        }
+        log.record_command(t, &command).map_err(log_error)?;
+        let telemetry = *sim.step(Command::Velocity(command));
+        log.record_core(&sim).map_err(log_error)?;
+        outcome.end_time_s = telemetry.time_s;
+        if failure.is_none() {
+            failure = sim.world().failure();
+        }
+        if failure.is_some() {
+            continue;
+        }
+        // Ball velocity in the body's yaw frame, along the heading.
+        let (_, _, yaw) = telemetry.body_orientation.euler_angles();
+        let v_yaw =
+            Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * telemetry.ball_velocity_m_per_s;
+        outcome.max_speed_m_per_s = outcome.max_speed_m_per_s.max(v_yaw.dot(&heading));
+        for (i, w) in telemetry.wheels.iter().enumerate() {
+            if w.cone_utilisation > outcome.peak_cone_utilisation {
+                outcome.peak_cone_utilisation = w.cone_utilisation;
+                outcome.peak_cone_wheel = i + 1;
+            }
+            outcome.min_normal_force_n = outcome.min_normal_force_n.min(w.normal_force_n);
+        }
+        outcome.max_tilt_deg = outcome
+            .max_tilt_deg
+            .max(tilt_from_vertical_rad(&telemetry).to_degrees());
+    }
+    log.finish().map_err(log_error)?;
+    if let Some(f) = failure {
+        let (name, wheel) = failure_name(&f.kind);
+        outcome.failure = Some(name.to_owned());
+        outcome.failure_wheel = wheel;
+        outcome.failure_time_s = Some(f.time_s);
+    }
+    outcome.log_bytes = std::fs::metadata(out)
+        .map_err(|source| WorldRunError::Io {
+            path: out.to_owned(),
+            source,
+        })?
+        .len();
+    Ok(outcome)
+}

@@ -1,0 +1,295 @@
+//! The 3D world's braking-time and push-recovery studies of `ballbot reproduce` (issue 6), run
+//! together on the shared runner ([`crate::studies::runner`]).
+//!
+//! Full run ([`WorldSuiteSettings::paper`]): the paper's braking protocol (T = 5 s, 0.5 s
+//! shorter per success) plus a bisection to 0.05 s at 180 deg (the paper's heading), 0 and
+//! 90 deg; the same descent at 180 deg with the equilibrium-lean feedforward only (ablation,
+//! see [`crate::studies::world_braking`]); the planar model's minimum braking time under the
+//! same limits; push recovery at 0, 90 and 180 deg bisected to 0.5 N s, as a 0.1 s force
+//! pulse and applied in one physics step (see [`crate::studies::push`]). Quick
+//! ([`WorldSuiteSettings::quick`]): T = 5, 3, 2 s at 180 deg with a shorter approach, and a
+//! coarse push bisection (12 N s) at 180 deg.
+
+use crate::studies::push::{PushParams, PushRecovery, PushSearch, push_recovery_limit};
+use crate::studies::runner;
+use crate::studies::world_braking::{
+    BrakingError, BrakingParams, BrakingStudy, BrakingStudyParams, TrajectoryFeedforward,
+    braking_problem, braking_study,
+};
+use crate::trajopt::{MinTimeOptions, SolveOptions, min_braking_time};
+use crate::world::WorldParams;
+
+/// The paper's minimum braking time from 1.4 m/s at 180 deg (s).
+pub const PAPER_MIN_BRAKING_TIME_S: f64 = 2.0;
+
+/// Sensor-noise seed of every world run of the suite.
+pub const SEED: u64 = 6;
+
+/// One independent study of the suite.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SuiteJob {
+    /// A braking study at one heading.
+    Braking {
+        /// Direction of travel (deg).
+        heading_deg: f64,
+        /// Which feedforward the controller gets.
+        feedforward: TrajectoryFeedforward,
+        /// Descent and bisection.
+        study: BrakingStudyParams,
+    },
+    /// A push-recovery search at one heading.
+    Push {
+        /// Direction of the push (deg).
+        heading_deg: f64,
+        /// The bisection's range and resolution.
+        search: PushSearch,
+        /// The push's duration (s); 0: one physics step.
+        duration_s: f64,
+    },
+}
+
+/// The protocol of the suite.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorldSuiteSettings {
+    /// The braking runs' protocol (its feedforward is set per job).
+    pub braking: BrakingParams,
+    /// The push trials' protocol (its duration is set per job).
+    pub push: PushParams,
+    /// The independent studies, longest first so that the cores finish together.
+    pub jobs: Vec<SuiteJob>,
+    /// Headings of the planar model's minimum braking time (deg).
+    pub planar_headings_deg: Vec<f64>,
+    /// Resolution of that minimum braking time (s).
+    pub planar_resolution_s: f64,
+}
+
+impl WorldSuiteSettings {
+    /// The CI smoke variant (`ballbot reproduce --quick`).
+    pub fn quick() -> Self {
+        let braking = BrakingParams {
+            approach_accel_m_per_s2: 1.0,
+            cruise_s: 1.5,
+            ..BrakingParams::default()
+        };
+        Self {
+            braking,
+            push: PushParams::default(),
+            jobs: vec![
+                SuiteJob::Braking {
+                    heading_deg: 180.0,
+                    feedforward: TrajectoryFeedforward::Full,
+                    study: BrakingStudyParams {
+                        durations_s: vec![5.0, 3.0, 2.0],
+                        bisection_resolution_s: None,
+                    },
+                },
+                SuiteJob::Push {
+                    heading_deg: 180.0,
+                    search: PushSearch {
+                        upper_ns: 96.0,
+                        resolution_ns: 12.0,
+                    },
+                    duration_s: PushParams::default().push_duration_s,
+                },
+            ],
+            planar_headings_deg: vec![180.0],
+            planar_resolution_s: 0.05,
+        }
+    }
+
+    /// The full suite (`ballbot reproduce`).
+    pub fn paper() -> Self {
+        let braking = |heading_deg, feedforward, bisect: bool| SuiteJob::Braking {
+            heading_deg,
+            feedforward,
+            study: BrakingStudyParams {
+                bisection_resolution_s: bisect.then_some(0.05),
+                ..BrakingStudyParams::paper()
+            },
+        };
+        let push = |heading_deg, duration_s| SuiteJob::Push {
+            heading_deg,
+            search: PushSearch {
+                upper_ns: 200.0,
+                resolution_ns: 0.5,
+            },
+            duration_s,
+        };
+        let shove = PushParams::default().push_duration_s;
+        Self {
+            braking: BrakingParams::default(),
+            push: PushParams::default(),
+            // Longest first, so the two cores finish together.
+            jobs: vec![
+                braking(180.0, TrajectoryFeedforward::Full, true),
+                braking(0.0, TrajectoryFeedforward::Full, true),
+                braking(90.0, TrajectoryFeedforward::Full, true),
+                push(0.0, shove),
+                push(90.0, shove),
+                push(180.0, shove),
+                braking(180.0, TrajectoryFeedforward::Core, false),
+                push(0.0, 0.0),
+                push(90.0, 0.0),
+                push(180.0, 0.0),
+            ],
+            planar_headings_deg: vec![180.0, 0.0, 90.0],
+            planar_resolution_s: 0.01,
+        }
+    }
+
+    /// A rough number of world runs (for a progress bar's length; the searches decide the
+    /// exact number as they go).
+    pub fn run_estimate(&self) -> u64 {
+        self.jobs
+            .iter()
+            .map(|j| match j {
+                SuiteJob::Braking { study, .. } => {
+                    study.durations_s.len().min(8) as u64
+                        + if study.bisection_resolution_s.is_some() {
+                            4
+                        } else {
+                            0
+                        }
+                }
+                SuiteJob::Push { search, .. } => {
+                    1 + (search.upper_ns / search.resolution_ns)
+                        .log2()
+                        .ceil()
+                        .max(0.0) as u64
+                }
+            })
+            .sum()
+    }
+}
+
+/// What the suite measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorldSuite {
+    /// The settings it ran with.
+    pub settings: WorldSuiteSettings,
+    /// The world it ran in (MiaPURE 60 kg, sensor seed [`SEED`]).
+    pub world: WorldParams,
+    /// The braking studies with the full feedforward, in job order.
+    pub braking: Vec<BrakingStudy>,
+    /// The braking study with the core's equilibrium feedforward only, if it ran.
+    pub ablation: Option<BrakingStudy>,
+    /// The push searches with the protocol's push duration, in job order.
+    pub pushes: Vec<PushRecovery>,
+    /// The push searches with another duration (one physics step), in job order.
+    pub impulsive: Vec<PushRecovery>,
+    /// The planar model's minimum braking time per heading: `(heading_deg, T_s)`, `None` if
+    /// none was found in the searched range.
+    pub planar_min_braking_time_s: Vec<(f64, Option<f64>)>,
+}
+
+impl WorldSuite {
+    /// The braking study at the paper's heading (180 deg), if it ran.
+    pub fn paper_heading(&self) -> Option<&BrakingStudy> {
+        self.braking.iter().find(|st| st.heading_deg == 180.0)
+    }
+
+    /// The planar model's minimum braking time at `heading_deg` (s), if computed and found.
+    pub fn planar_at(&self, heading_deg: f64) -> Option<f64> {
+        self.planar_min_braking_time_s
+            .iter()
+            .find(|(h, _)| format!("{h:.0}") == format!("{heading_deg:.0}"))
+            .and_then(|(_, t)| *t)
+    }
+}
+
+enum JobResult {
+    Braking(BrakingStudy, TrajectoryFeedforward),
+    Push(PushRecovery, f64),
+}
+
+fn run_job(
+    world: WorldParams,
+    s: &WorldSuiteSettings,
+    job: &SuiteJob,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<JobResult, BrakingError> {
+    match job {
+        SuiteJob::Braking {
+            heading_deg,
+            feedforward,
+            study,
+        } => {
+            let params = BrakingParams {
+                feedforward: *feedforward,
+                ..s.braking
+            };
+            let result = braking_study(world, &params, study, *heading_deg, &mut |run| {
+                progress(&format!(
+                    "brake {:.0} deg T {:.2} s: {}",
+                    run.heading_deg,
+                    run.duration_s,
+                    run.outcome.label()
+                ));
+            })?;
+            Ok(JobResult::Braking(result, *feedforward))
+        }
+        SuiteJob::Push {
+            heading_deg,
+            search,
+            duration_s,
+        } => {
+            let params = PushParams {
+                push_duration_s: *duration_s,
+                ..s.push
+            };
+            let result = push_recovery_limit(world, &params, search, *heading_deg, &mut |t| {
+                progress(&format!(
+                    "push {:.0} deg {:.1} N s: {}",
+                    t.heading_deg,
+                    t.impulse_ns,
+                    t.outcome.label()
+                ));
+            })?;
+            Ok(JobResult::Push(result, *duration_s))
+        }
+    }
+}
+
+/// Runs the suite on MiaPURE with 60 kg (sensor seed [`SEED`]) on every core. `progress` is
+/// called after every world run with a short description (from worker threads).
+pub fn run_world_suite(
+    settings: &WorldSuiteSettings,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<WorldSuite, BrakingError> {
+    let mut world = WorldParams::miapure_60kg();
+    world.sensors.seed = SEED;
+    let s = settings;
+    let results = runner::run_jobs(&s.jobs, 0, |job| run_job(world, s, job, progress), &|_| {})?;
+
+    // The planar model's minimum braking time under the same limits (trajopt bisection).
+    let mut planar = Vec::new();
+    for &h in &s.planar_headings_deg {
+        let problem = braking_problem(&world.robot, &s.braking, h, 2.0);
+        let search = MinTimeOptions {
+            resolution_secs: s.planar_resolution_s,
+            ..MinTimeOptions::default()
+        };
+        let r = min_braking_time(&problem, &SolveOptions::default(), &search)?;
+        planar.push((h, r.min_duration_secs));
+    }
+
+    let shove_s = s.push.push_duration_s;
+    let mut suite = WorldSuite {
+        settings: s.clone(),
+        world,
+        braking: Vec::new(),
+        ablation: None,
+        pushes: Vec::new(),
+        impulsive: Vec::new(),
+        planar_min_braking_time_s: planar,
+    };
+    for r in results {
+        match r {
+            JobResult::Braking(study, TrajectoryFeedforward::Full) => suite.braking.push(study),
+            JobResult::Braking(study, TrajectoryFeedforward::Core) => suite.ablation = Some(study),
+            JobResult::Push(p, d) if d == shove_s => suite.pushes.push(p),
+            JobResult::Push(p, _) => suite.impulsive.push(p),
+        }
+    }
+    Ok(suite)
+}
