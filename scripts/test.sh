@@ -14,6 +14,9 @@ cargo clippy --all-targets -- -D warnings
 step "clippy (Python bindings)"
 cargo clippy -p ballbot-py --all-targets -- -D warnings
 
+step "no import cycles"
+python3 scripts/check-cycles.py --self-test && python3 scripts/check-cycles.py
+
 step "docs (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 
