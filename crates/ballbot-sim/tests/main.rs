@@ -14,4 +14,5 @@ mod world;
 mod world_brake;
 mod world_log;
 mod world_max_speed;
+mod world_setters;
 mod world_yaw;
