@@ -8,8 +8,7 @@
 //! - [`McapLog`] reads a log (complete, or what a killed writer left): the channels with their
 //!   message counts, and a channel's messages as JSON values, typed values, or numeric columns.
 //! - [`foxglove`] has the well-known `foxglove.FrameTransform(s)` and `foxglove.SceneUpdate`
-//!   messages, and [`foxglove::BallbotScene`] to see a ballbot in Foxglove's 3D panel;
-//!   [`SceneRecorder`] logs it at bounded rates from a fast simulation loop.
+//!   messages, and [`foxglove::BallbotScene`] to see a ballbot in Foxglove's 3D panel.
 //! - [`check_schema`] and [`check_message`] check schemas and messages against each other.
 //!
 //! Message types derive `serde::Serialize` and `schemars::JsonSchema`; doc comments become the
@@ -20,14 +19,12 @@
 mod error;
 pub mod foxglove;
 mod reader;
-mod scene_recorder;
 mod schema;
 pub mod topics;
 mod writer;
 
 pub use error::LogError;
 pub use reader::{JsonSeries, McapLog, NumericSeries};
-pub use scene_recorder::SceneRecorder;
 pub use schema::{
     MESSAGE_ENCODING, SCHEMA_ENCODING, SchemaViolation, check_message, check_schema, schema_for,
     schema_name_for,
