@@ -25,8 +25,8 @@
 mod common;
 #[path = "common/world_drive.rs"]
 mod world_drive;
-use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger};
-use ballbot_sim::world::{WorldLogger, WorldParams};
+use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger, WorldLogger};
+use ballbot_sim::world::WorldParams;
 use common::bench_both;
 use criterion::{Criterion, criterion_group, criterion_main};
 use schemars::JsonSchema;

@@ -9,11 +9,12 @@ use crate::params::PyWorldParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_core::safety::Mode;
+use ballbot_sim::log::{WorldLogOptions, WorldLogger};
 use ballbot_sim::world::experiments::{RampParams, RampResult, max_speed_ramp_with_config};
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
 use ballbot_sim::world::{
     BallbotWorld, CoreLoop, Failure, FailureKind, Measurement, StepTelemetry, WheelTelemetry,
-    WorldError, WorldLogOptions, WorldLogger, WorldParams,
+    WorldError, WorldParams,
 };
 use nalgebra::Vector3;
 use numpy::{
@@ -852,7 +853,7 @@ world_class! {
         /// `body_rate_rad_per_s` (n, 3); `body_orientation` (n, 4) `(x, y, z, w)`; `tilt_rad`
         /// (n, 2); `tilt_from_vertical_rad`, `yaw_rad`, `floor_force_n` (n,); and `steps`
         /// (steps run), `failure` (`Failure` or `None`), `log_path`. With `log_path` every step
-        /// is also written to that MCAP file (`ballbot_sim::world::WorldLogger`: telemetry,
+        /// is also written to that MCAP file (`ballbot_sim::log::WorldLogger`: telemetry,
         /// the Foxglove 3D scene and transforms, failure events; `log_compact` writes the
         /// telemetry at 1 kHz instead of every step), readable with `McapLog`.
         #[pyo3(signature = (

@@ -10,9 +10,9 @@ use ballbot_sim::cli::world::{WorldArgs, simulate};
 use ballbot_sim::log::foxglove::{
     BallbotScene, FrameTransforms, Quaternion as FoxQuaternion, SceneUpdate,
 };
+use ballbot_sim::log::world::{WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg};
 use ballbot_sim::log::{McapLog, check_message, check_schema, schema_for, topics};
 use ballbot_sim::world::WorldParams;
-use ballbot_sim::world::log::{WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use serde_json::Value;
 

@@ -12,8 +12,8 @@
 //! ballbot world --push-ns 40 --push-at-s 1.0 --push-heading-deg 90 --duration-s 3
 //! ```
 
+use crate::log::{WorldLogOptions, WorldLogger};
 use crate::world::failure::tilt_from_vertical_rad;
-use crate::world::log::{WorldLogOptions, WorldLogger};
 use crate::world::{CoreLoop, Failure, FailureKind, WorldParams};
 use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;

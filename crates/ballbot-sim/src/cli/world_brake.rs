@@ -12,6 +12,7 @@
 //! 180 deg.
 //! Independent studies run on all cores (`std::thread::scope`).
 
+use crate::log::{WorldLogOptions, WorldLogger};
 use crate::plot::{LegendPosition, LineStyle, Series, Subplot, TimeSeriesFigure};
 use crate::trajopt::{MinTimeOptions, SolveOptions, min_braking_time};
 use crate::world::braking::fly_braking;
@@ -22,7 +23,7 @@ use crate::world::braking::{
 use crate::world::push::{
     PushParams, PushRecovery, PushSearch, PushTrial, push_recovery_limit, push_trial_observed,
 };
-use crate::world::{Failure, FailureKind, WorldLogOptions, WorldLogger, WorldParams};
+use crate::world::{Failure, FailureKind, WorldParams};
 use anyhow::Context;
 use indicatif::ProgressBar;
 use serde_json::{Map, Value, json};

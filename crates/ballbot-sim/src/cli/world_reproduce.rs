@@ -11,9 +11,10 @@
 //! `foxglove/world-layout.json`).
 
 use super::reproduce::progress_bar;
+use crate::log::{WorldLogOptions, WorldLogger};
+use crate::world::WorldParams;
 use crate::world::experiments::{RampResult, max_speed_ramp_observed};
 use crate::world::max_speed::{self, MaxSpeedProtocol, MaxSpeedStudySettings, acc_figure};
-use crate::world::{WorldLogOptions, WorldLogger, WorldParams};
 use anyhow::Context;
 use serde_json::{Map, Value};
 use std::path::Path;

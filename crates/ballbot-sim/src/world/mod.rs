@@ -9,8 +9,10 @@
 //!   records.
 //! * [`closed_loop`]: the core's 3D cascaded LQR-PI controller in the loop ([`CoreLoop`]),
 //!   outer loop at 400 Hz, motor speed PIs at 8 kHz.
-//! * [`log`]: MCAP telemetry and a Foxglove 3D scene of a run ([`WorldLogger`]).
 //! * [`balance`]: a minimal balancing loop from the core's planar model (for tests/benches).
+//!
+//! MCAP logs of world runs (telemetry, controller, a Foxglove 3D scene) are written by
+//! [`crate::log::WorldLogger`] ([`crate::log::world`]).
 //!
 //! Why `rapier3d-f64`: the contact deflections are a fraction of a millimetre (0.17 mm under the
 //! static load) and are computed from positions of ball and body that travel metres; in `f32`
@@ -23,7 +25,6 @@ pub mod closed_loop;
 pub mod contact;
 pub mod experiments;
 pub mod failure;
-pub mod log;
 pub mod max_speed;
 pub mod params;
 pub mod push;
@@ -34,7 +35,6 @@ pub mod telemetry;
 pub use balance::{PlanarBalancer, PlanarBalancerParams};
 pub use closed_loop::CoreLoop;
 pub use failure::{Failure, FailureKind, wheel_name};
-pub use log::{WorldLogOptions, WorldLogger};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
 pub use sensors::Measurement;
 pub use sim::BallbotWorld;
