@@ -189,7 +189,7 @@ impl WorldLogger {
             let msg = WorldEventMsg {
                 kind: "mode".to_owned(),
                 description: format!("controller mode {}", mode_name(mode)),
-                wheel_index: None,
+                wheel: None,
                 tilt_rad: tilt_from_vertical_rad(t),
             };
             self.log.write(&self.events, computed_s, &msg)?;
@@ -223,7 +223,7 @@ impl WorldLogger {
         let msg = WorldEventMsg {
             kind: kind.to_owned(),
             description: description.to_owned(),
-            wheel_index: None,
+            wheel: None,
             tilt_rad,
         };
         self.log.write(&self.events, time_s, &msg)

@@ -8,81 +8,25 @@ use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use crate::log::foxglove::Quaternion;
-use crate::world::failure::{Failure, FailureKind, tilt_from_vertical_rad};
-use crate::world::telemetry::{StepTelemetry, WheelTelemetry};
-
-/// One omniwheel in one step (see [`WheelTelemetry`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
-pub struct WheelMsg {
-    /// Normal force `N_i` of the wheel on the ball (N).
-    pub normal_force_n: f64,
-    /// Traction `F_i` the wheel applies to the ball along its rolling direction (N).
-    pub traction_n: f64,
-    /// Traction the contact would need to keep sticking (N).
-    pub traction_demand_n: f64,
-    /// Friction-cone utilisation `|F_i| / (mu N_i)`, 0 when lifted off.
-    pub cone_utilisation: f64,
-    /// Slip speed along the rolling direction, ball surface minus wheel rim (m/s).
-    pub slip_speed_m_per_s: f64,
-    /// Whether the contact slides (traction demand beyond the friction cone).
-    pub slipping: bool,
-    /// Torque the actuator delivered at the wheel (N m).
-    pub motor_torque_nm: f64,
-    /// Wheel speed relative to the body (rad/s).
-    pub speed_rad_per_s: f64,
-    /// Wheel angle relative to the body (rad).
-    pub angle_rad: f64,
-}
-
-impl From<&WheelTelemetry> for WheelMsg {
-    fn from(w: &WheelTelemetry) -> Self {
-        Self {
-            normal_force_n: w.normal_force_n,
-            traction_n: w.traction_n,
-            traction_demand_n: w.traction_demand_n,
-            cone_utilisation: w.cone_utilisation,
-            slip_speed_m_per_s: w.slip_speed_m_per_s,
-            slipping: w.slipping,
-            motor_torque_nm: w.motor_torque_nm,
-            speed_rad_per_s: w.speed_rad_per_s,
-            angle_rad: w.angle_rad,
-        }
-    }
-}
+use crate::world::failure::{Failure, tilt_from_vertical_rad};
+use crate::world::telemetry::StepTelemetry;
 
 /// The world's state after one step, in world coordinates (z up); topic
 /// [`topics::WORLD_TELEMETRY`](crate::log::topics::WORLD_TELEMETRY).
+///
+/// The step's [`StepTelemetry`] as it is (its fields at the top level of the message: the
+/// schema is the telemetry type's own), followed by quantities derived from it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct WorldTelemetryMsg {
-    /// Simulated time at the end of the step (s); equal to the log time.
-    pub time_s: f64,
-    /// The omniwheels OW1, OW2, OW3.
-    pub wheels: [WheelMsg; 3],
-    /// Ball centre `[x, y, z]` (m).
-    pub ball_position_m: [f64; 3],
-    /// Ball orientation, world from ball (rolling shows as its rotation).
-    pub ball_orientation: Quaternion,
-    /// Ball velocity `[x, y, z]` (m/s).
-    pub ball_velocity_m_per_s: [f64; 3],
+    /// The step's telemetry; `time_s` equals the log time.
+    #[serde(flatten)]
+    pub step: StepTelemetry,
     /// Horizontal ball speed `|(v_x, v_y)|` (m/s).
     pub ball_speed_m_per_s: f64,
-    /// Ball angular velocity `[x, y, z]` (rad/s).
-    pub ball_angular_velocity_rad_per_s: [f64; 3],
-    /// Body frame origin (the nominal ball centre in the body) `[x, y, z]` (m).
-    pub body_position_m: [f64; 3],
-    /// Body orientation, world from body.
-    pub body_orientation: Quaternion,
-    /// Body angular velocity in the body frame `[x, y, z]` (rad/s).
-    pub body_rate_rad_per_s: [f64; 3],
-    /// Body tilt about the body-aligned horizontal axes `[theta_x, theta_y]` (rad).
-    pub tilt_rad: [f64; 2],
     /// Angle between the body axis and the vertical (rad).
     pub tilt_from_vertical_rad: f64,
     /// Body yaw (ZYX Euler) (rad).
     pub yaw_rad: f64,
-    /// Normal force of the floor on the ball (N).
-    pub floor_force_n: f64,
     /// Largest cone utilisation of the three wheels.
     pub max_cone_utilisation: f64,
     /// Whether the world has detected a failure at or before this step.
@@ -95,20 +39,10 @@ impl WorldTelemetryMsg {
         let (_, _, yaw_rad) = t.body_orientation.euler_angles();
         let v = &t.ball_velocity_m_per_s;
         Self {
-            time_s: t.time_s,
-            wheels: t.wheels.each_ref().map(WheelMsg::from),
-            ball_position_m: t.ball_position_m.into(),
-            ball_orientation: t.ball_orientation.into(),
-            ball_velocity_m_per_s: (*v).into(),
+            step: *t,
             ball_speed_m_per_s: v.x.hypot(v.y),
-            ball_angular_velocity_rad_per_s: t.ball_angular_velocity_rad_per_s.into(),
-            body_position_m: t.body_position_m.into(),
-            body_orientation: t.body_orientation.into(),
-            body_rate_rad_per_s: t.body_rate_rad_per_s.into(),
-            tilt_rad: t.tilt_rad,
             tilt_from_vertical_rad: tilt_from_vertical_rad(t),
             yaw_rad,
-            floor_force_n: t.floor_force_n,
             max_cone_utilisation: t
                 .wheels
                 .iter()
@@ -268,13 +202,17 @@ impl From<&VelocityCommand<f64>> for WorldCommandMsg {
 /// [`topics::FAULTS`](crate::log::topics::FAULTS).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct WorldEventMsg {
-    /// What happened: a failure (`tilt`, `body_touched_floor`, `sustained_slip`, `lift_off`),
-    /// a safety-mode change (`mode`), or a user event (e.g. `push`).
+    /// What happened: a failure by its canonical name ([`FailureKind::as_str`]: `tilt`,
+    /// `body_touched_floor`, `sustained_slip`, `lift_off`), a safety-mode change (`mode`), or
+    /// a user event (e.g. `push`).
+    ///
+    /// [`FailureKind::as_str`]: crate::world::FailureKind::as_str
     pub kind: String,
-    /// A human-readable description.
+    /// A human-readable description (for a failure its `Display`, e.g.
+    /// `lift-off OW1 at 6.086 s`).
     pub description: String,
-    /// The wheel concerned, 0-based (OW1 is 0), if any.
-    pub wheel_index: Option<u8>,
+    /// The wheel concerned, `OW1`..`OW3` ([`wheel_name`](crate::world::wheel_name)), if any.
+    pub wheel: Option<String>,
     /// Angle between the body axis and the vertical at the event (rad).
     pub tilt_rad: f64,
 }
@@ -282,29 +220,10 @@ pub struct WorldEventMsg {
 impl WorldEventMsg {
     /// The event of a detected failure; `tilt_rad` is the tilt from the vertical at detection.
     pub fn failure(failure: &Failure, tilt_rad: f64) -> Self {
-        let wheel = |i: usize| u8::try_from(i).ok();
-        let (kind, wheel_index, description) = match failure.kind {
-            FailureKind::Tilt { tilt_rad } => (
-                "tilt",
-                None,
-                format!("tilt {:.1} deg beyond the limit", tilt_rad.to_degrees()),
-            ),
-            FailureKind::BodyTouchedFloor => {
-                ("body_touched_floor", None, "body touched the floor".into())
-            }
-            FailureKind::SustainedSlip { wheel: i } => (
-                "sustained_slip",
-                wheel(i),
-                format!("sustained slip of OW{}", i + 1),
-            ),
-            FailureKind::LiftOff { wheel: i } => {
-                ("lift_off", wheel(i), format!("lift-off of OW{}", i + 1))
-            }
-        };
         Self {
-            kind: kind.to_owned(),
-            description: format!("{description} at {:.4} s", failure.time_s),
-            wheel_index,
+            kind: failure.kind.as_str().to_owned(),
+            description: failure.to_string(),
+            wheel: failure.kind.wheel_name().map(str::to_owned),
             tilt_rad,
         }
     }

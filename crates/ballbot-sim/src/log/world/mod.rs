@@ -55,7 +55,7 @@ mod scene;
 
 pub use logger::WorldLogger;
 pub use messages::{
-    PlanarStatesMsg, PlaneStateMsg, WheelMsg, WorldCommandMsg, WorldControllerMsg, WorldEventMsg,
+    PlanarStatesMsg, PlaneStateMsg, WorldCommandMsg, WorldControllerMsg, WorldEventMsg,
     WorldTelemetryMsg,
 };
 pub use options::WorldLogOptions;

@@ -8,6 +8,7 @@ use crate::log::foxglove::{
     FrameTransforms, LinePrimitive, LineType, Point3, Pose, SceneEntity, SceneUpdate,
     TextPrimitive, Vector3 as FoxVector3,
 };
+use crate::world::failure::wheel_name;
 use crate::world::params::WorldParams;
 use crate::world::telemetry::{StepTelemetry, WheelTelemetry};
 
@@ -21,7 +22,7 @@ use crate::world::telemetry::{StepTelemetry, WheelTelemetry};
 pub struct WorldScene {
     /// Ball, body and wheel dimensions and poses in the body frame.
     pub robot: BallbotScene,
-    /// Names of the wheel frames, `ow1`, `ow2`, `ow3`.
+    /// Names of the wheel frames, `ow1`, `ow2`, `ow3` (the [`wheel_name`]s in lower case).
     pub wheel_frames: [String; 3],
     /// Length of a contact-force arrow per newton (m/N).
     pub metres_per_newton: f64,
@@ -34,7 +35,7 @@ impl WorldScene {
     pub fn new(params: &WorldParams, metres_per_newton: f64) -> Self {
         Self {
             robot: BallbotScene::from_params(&params.robot),
-            wheel_frames: ["ow1".to_owned(), "ow2".to_owned(), "ow3".to_owned()],
+            wheel_frames: std::array::from_fn(|i| wheel_name(i).to_ascii_lowercase()),
             metres_per_newton,
             floor_size_m: 20.0,
         }
@@ -101,7 +102,7 @@ impl WorldScene {
                 font_size: 14.0,
                 scale_invariant: true,
                 color: Color::rgba(1.0, 1.0, 1.0, 1.0),
-                text: format!("OW{}", i + 1),
+                text: wheel_name(i).to_owned(),
             });
         }
         labels
