@@ -27,7 +27,8 @@ use crate::world::telemetry::StepTelemetry;
 /// [`record_telemetry`](Self::record_telemetry) after every physics step, and
 /// [`finish`](Self::finish) at the end. A run that is killed leaves a file that
 /// [`McapLog::open`](crate::log::McapLog::open) reads up to the last closed chunk (at most
-/// one second of simulated time is lost with the default [`LoggerOptions`]).
+/// one second of simulated time is lost with the default
+/// [`LoggerOptions`](crate::log::LoggerOptions)).
 #[derive(Debug)]
 pub struct WorldLogger {
     log: McapLogger,

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use crate::log::{LogError, LoggerOptions};
 
-/// What a [`WorldLogger`] writes and how often.
+/// What a [`WorldLogger`](super::WorldLogger) writes and how often.
 ///
 /// Rates are set on a grid of simulated time (a message at the first step at or after each
 /// multiple of the interval), so they do not depend on how often `record` is called beyond
@@ -21,9 +21,11 @@ pub struct WorldLogOptions {
     /// Simulated time between `foxglove.SceneUpdate` messages (s). Default 0.02 (50 Hz).
     /// Must be finite and > 0.
     pub scene_interval_secs: f64,
-    /// The controller's outer-loop period (s): one [`WorldControllerMsg`] per outer step, and
-    /// commands ([`WorldLogger::record_command`]) at most this often. Default 1/400 s, the
-    /// core's outer-loop rate. Must be a whole multiple of the physics step.
+    /// The controller's outer-loop period (s): one
+    /// [`WorldControllerMsg`](super::WorldControllerMsg) per outer step, and commands
+    /// ([`WorldLogger::record_command`](super::WorldLogger::record_command)) at most this
+    /// often. Default 1/400 s, the core's outer-loop rate. Must be a whole multiple of the
+    /// physics step.
     pub controller_interval_secs: f64,
     /// Length of a contact-force arrow per newton (m/N). Default 5e-4 (the 344 N static load
     /// draws 0.17 m). Must be finite and > 0.

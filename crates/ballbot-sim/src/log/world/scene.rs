@@ -15,7 +15,8 @@ use crate::world::telemetry::{StepTelemetry, WheelTelemetry};
 /// The 3D scene of a world run: the robot's dimensions and frames, and the entities drawn.
 ///
 /// Frames: `world` (fixed, z up), `ball` (ball centre, rotating with the ball), `body` (the
-/// body frame of [`BallbotWorld`]: origin at the nominal ball centre, x towards OW1), and
+/// body frame of [`BallbotWorld`](crate::world::BallbotWorld): origin at the nominal ball
+/// centre, x towards OW1), and
 /// `ow1`, `ow2`, `ow3` (each omniwheel's centre, z along its axle `a_i = d_i x n_i`, rotated by
 /// the wheel's angle, so the wheels turn in the 3D panel).
 #[derive(Clone, Debug, PartialEq)]
