@@ -726,17 +726,21 @@ macro_rules! world_class {
                 Ok(())
             }
 
-            /// Sets gravity along -z (m/s^2); 0 gives free flight.
+            /// Sets gravity along -z (m/s^2, >= 0); 0 gives free flight.
             fn set_gravity_m_per_s2(&mut self, py: Python<'_>, gravity_m_per_s2: f64) -> PyResult<()> {
                 finite(py, &[gravity_m_per_s2], "gravity_m_per_s2")?;
-                self.world_mut().set_gravity_m_per_s2(gravity_m_per_s2);
+                self.world_mut()
+                    .set_gravity_m_per_s2(gravity_m_per_s2)
+                    .map_err(|e| world_error(py, e))?;
                 Ok(())
             }
 
             /// Sets the ball-floor friction coefficient (>= 0; 0 is a frictionless floor).
             fn set_floor_friction(&mut self, py: Python<'_>, friction: f64) -> PyResult<()> {
                 non_negative(py, friction, "friction")?;
-                self.world_mut().set_floor_friction(friction);
+                self.world_mut()
+                    .set_floor_friction(friction)
+                    .map_err(|e| world_error(py, e))?;
                 Ok(())
             }
 
@@ -744,7 +748,9 @@ macro_rules! world_class {
             /// one follows with the configured ratio.
             fn set_wheel_friction(&mut self, py: Python<'_>, friction: f64) -> PyResult<()> {
                 non_negative(py, friction, "friction")?;
-                self.world_mut().set_wheel_friction(friction);
+                self.world_mut()
+                    .set_wheel_friction(friction)
+                    .map_err(|e| world_error(py, e))?;
                 Ok(())
             }
 
