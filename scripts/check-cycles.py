@@ -26,6 +26,10 @@ defined in an ancestor (e.g. `super::WorldError` defined in `world/mod.rs`) is a
 so is anything between siblings or across the tree. A cycle is a set of files each reachable
 from the others; the shortest cycle through each such set is printed.
 
+Limits: a glob import (`use super::*`) is an edge to the module globbed, not to the files its
+names come from; macros (`$crate::...`) and paths built inside macro bodies are not followed;
+`#[cfg]` is ignored (test modules count: a cycle through a test is still a cycle).
+
 Standard library only (python3 >= 3.8).
 """
 
