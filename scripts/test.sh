@@ -23,6 +23,9 @@ if cargo tree -p ballbot-py -e normal | grep -E 'clap|indicatif|anyhow|plotters'
     exit 1
 fi
 
+step "no import cycles"
+python3 scripts/check-cycles.py --self-test && python3 scripts/check-cycles.py
+
 step "docs (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 

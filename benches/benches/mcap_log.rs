@@ -9,7 +9,7 @@
 //!   (`McapLog::numeric_series`). Per message: median / 10,000.
 //! - `world_step_8khz_unlogged` and `world_step_8khz_logged`: one 8 kHz step of the world with
 //!   the core's controller driving the cycle of `common/world_drive.rs` (as bench
-//!   `world_step`), without and with `WorldLogger::record_core` at the default options
+//!   `world_step`), without and with `WorldLogger::record_robot` at the default options
 //!   (telemetry every step, transforms 100 Hz, scene 50 Hz, controller 400 Hz). The logged
 //!   step's file is restarted every 10 simulated seconds so the disk use stays bounded; the
 //!   finish and the restart are amortised into the step.
@@ -25,8 +25,8 @@
 mod common;
 #[path = "common/world_drive.rs"]
 mod world_drive;
-use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger};
-use ballbot_sim::world::{WorldLogger, WorldParams};
+use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger, WorldLogger};
+use ballbot_sim::world::WorldParams;
 use common::bench_both;
 use criterion::{Criterion, criterion_group, criterion_main};
 use schemars::JsonSchema;
@@ -140,7 +140,7 @@ fn world(c: &mut Criterion) {
             log = Some(WorldLogger::create(&path, &params).unwrap());
             steps_in_file = 0;
         }
-        log.as_mut().unwrap().record_core(drive.sim()).unwrap();
+        log.as_mut().unwrap().record_robot(drive.sim()).unwrap();
         steps_in_file += 1;
         time_s
     });

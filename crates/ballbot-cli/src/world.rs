@@ -14,10 +14,10 @@
 
 use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_sim::log::WorldLogOptions;
 pub use ballbot_sim::studies::world_run::{SETTLE_S, WorldOutcome};
 use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world};
 use ballbot_sim::world::WorldParams;
-use ballbot_sim::world::log::WorldLogOptions;
 use std::path::PathBuf;
 
 /// Examples and log sizes shown after `ballbot world --help`.

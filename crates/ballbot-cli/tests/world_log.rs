@@ -10,9 +10,9 @@ use ballbot_cli::world::{WorldArgs, simulate};
 use ballbot_sim::log::foxglove::{
     BallbotScene, FrameTransforms, Quaternion as FoxQuaternion, SceneUpdate,
 };
+use ballbot_sim::log::world::{WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg};
 use ballbot_sim::log::{McapLog, check_message, check_schema, schema_for, topics};
-use ballbot_sim::world::WorldParams;
-use ballbot_sim::world::log::{WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg};
+use ballbot_sim::world::{BallbotWorld, StepTelemetry, WheelTelemetry, WorldParams, wheel_name};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use serde_json::Value;
 
@@ -112,12 +112,12 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
                 .unwrap_or_else(|| panic!("no {parent} -> {child}"))
         };
         let ball = find("world", "ball");
-        assert_eq!(vector(&ball.translation), Vector3::from(t.ball_position_m));
-        assert_eq!(ball.rotation, t.ball_orientation);
+        assert_eq!(vector(&ball.translation), t.step.ball_position_m);
+        assert_eq!(ball.rotation, FoxQuaternion::from(t.step.ball_orientation));
         ball_angles.push(unit(&ball.rotation).angle());
         let body = find("world", "body");
-        assert_eq!(vector(&body.translation), Vector3::from(t.body_position_m));
-        assert_eq!(body.rotation, t.body_orientation);
+        assert_eq!(vector(&body.translation), t.step.body_position_m);
+        assert_eq!(body.rotation, FoxQuaternion::from(t.step.body_orientation));
         for (i, name) in ["ow1", "ow2", "ow3"].into_iter().enumerate() {
             let wheel = find("body", name);
             let nominal = robot.body_from_wheels[i];
@@ -125,7 +125,7 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
             // The wheel frame is the mounting pose turned by the wheel's angle about its axle.
             let spin = nominal.rotation.inverse() * unit(&wheel.rotation);
             let expected =
-                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), t.wheels[i].angle_rad);
+                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), t.step.wheels[i].angle_rad);
             assert!(
                 spin.angle_to(&expected) < 1e-9,
                 "{name} at {time_secs}: {} vs {}",
@@ -163,7 +163,7 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
     assert_eq!(forces.arrows.len(), 3);
     // Arrow length = contact force magnitude * 0.5 mm/N (the normal force dominates).
     let t = by_time[&((scenes[20].0 * 1e9).round() as u64)];
-    for (arrow, wheel) in forces.arrows.iter().zip(&t.wheels) {
+    for (arrow, wheel) in forces.arrows.iter().zip(&t.step.wheels) {
         let length = arrow.shaft_length + arrow.head_length;
         let force = wheel.normal_force_n.hypot(wheel.traction_n);
         assert!((length - 5e-4 * force).abs() < 1e-9, "{length} vs {force}");
@@ -194,7 +194,7 @@ fn a_failure_is_logged_once_and_the_run_stops_after_it() {
     assert_eq!(failures.len(), 1, "{events:?}");
     let (time_s, event) = failures[0];
     assert_eq!(event.kind, "sustained_slip");
-    assert_eq!(event.wheel_index, u8::try_from(wheel - 1).ok());
+    assert_eq!(event.wheel.as_deref(), Some(wheel_name(wheel - 1)));
     assert!((time_s - failure_s).abs() < 1e-9);
     assert!(event.description.contains(&format!("OW{wheel}")));
 
@@ -217,7 +217,7 @@ fn a_failure_is_logged_once_and_the_run_stops_after_it() {
             .iter()
             .find(|e| e.id == "contact_forces")
             .unwrap();
-        for (arrow, w) in forces.arrows.iter().zip(&t.wheels) {
+        for (arrow, w) in forces.arrows.iter().zip(&t.step.wheels) {
             let is_red = arrow.color.r > 0.8 && arrow.color.g < 0.1;
             assert_eq!(is_red, w.slipping, "at {time_secs}");
             red += usize::from(is_red);
@@ -369,7 +369,7 @@ fn a_killed_world_run_leaves_a_readable_log() {
     let dt = 1.0 / 8000.0;
     for (k, (time_secs, msg)) in telemetry.iter().enumerate() {
         assert!((time_secs - (k + 1) as f64 * dt).abs() < 1e-9);
-        assert!((time_secs - msg.time_s).abs() < 1e-9);
+        assert!((time_secs - msg.step.time_s).abs() < 1e-9);
     }
     assert!(log.channel(topics::TRANSFORMS).unwrap().message_count >= 1);
 }
@@ -508,6 +508,43 @@ fn world_message_schemas_are_well_formed() {
         schema["properties"]["wheels"]["items"]["properties"]["cone_utilisation"]["type"],
         "number"
     );
+}
+
+/// The telemetry message is the world's `StepTelemetry` itself (flattened) plus derived
+/// fields: every telemetry field appears in the message schema with the telemetry type's own
+/// schema, and a message serialises its record field by field.
+#[test]
+fn telemetry_schema_is_the_step_telemetry_schema() {
+    let step_schema = schema_for::<StepTelemetry>();
+    let msg_schema = schema_for::<WorldTelemetryMsg>();
+    let step_props = step_schema["properties"].as_object().unwrap();
+    assert!(step_props.len() >= 11, "{step_props:?}");
+    for (name, schema) in step_props {
+        assert_eq!(&msg_schema["properties"][name], schema, "{name}");
+    }
+    assert_eq!(
+        schema_for::<WheelTelemetry>()["properties"],
+        msg_schema["properties"]["wheels"]["items"]["properties"],
+    );
+    let mut world = BallbotWorld::new(WorldParams::miapure_60kg()).unwrap();
+    world.tilt_body([0.01, -0.02]);
+    for _ in 0..80 {
+        world.step([0.5, -0.2, 0.1]);
+    }
+    let step = *world.telemetry();
+    let msg = serde_json::to_value(WorldTelemetryMsg::new(&step, false)).unwrap();
+    let record = serde_json::to_value(step).unwrap();
+    for (name, value) in record.as_object().unwrap() {
+        assert_eq!(&msg[name], value, "{name}");
+    }
+    check_message(&msg_schema, &msg).unwrap();
+    let q = &step.body_orientation;
+    assert_eq!(msg["body_orientation"]["w"], q.w);
+    assert_eq!(msg["body_orientation"]["x"], q.i);
+    assert_eq!(msg["ball_position_m"][2], step.ball_position_m.z);
+    // And it reads back bit for bit.
+    let back: WorldTelemetryMsg = serde_json::from_value(msg).unwrap();
+    assert_eq!(back.step, step);
 }
 
 /// `--reference-filter-s` reaches the core's command shaper: in the world a 1 m/s^2 ramp to

@@ -16,4 +16,5 @@ mod trajopt;
 mod world;
 mod world_brake;
 mod world_max_speed;
+mod world_setters;
 mod world_yaw;

@@ -156,8 +156,8 @@ fn free_flight(dt_divisor: f64) -> (f64, f64, f64) {
     p.spin_friction_m = 0.0;
     p.dt_secs /= dt_divisor;
     let mut world = BallbotWorld::new(p).unwrap();
-    world.set_gravity_m_per_s2(0.0);
-    world.set_wheel_friction(0.0);
+    world.set_gravity_m_per_s2(0.0).unwrap();
+    world.set_wheel_friction(0.0).unwrap();
     world.translate_robot(Vector3::new(0.0, 0.0, 1.0));
     world.set_body_velocity(Vector3::new(0.3, -0.2, -0.05), Vector3::new(0.4, -0.3, 1.5));
     world.set_ball_velocity(Vector3::new(-0.2, 0.1, 0.4), Vector3::new(2.0, 1.0, -3.0));
@@ -209,8 +209,8 @@ fn frictionless_floor_conserves_horizontal_momentum_and_energy_falls() {
     p.rolling_resistance = 0.0;
     p.spin_friction_m = 0.0;
     let mut world = BallbotWorld::new(p).unwrap();
-    world.set_floor_friction(0.0);
-    world.set_wheel_friction(0.0);
+    world.set_floor_friction(0.0).unwrap();
+    world.set_wheel_friction(0.0).unwrap();
     world.tilt_body([0.02, 0.05]);
     let energy =
         |w: &BallbotWorld| w.kinetic_energy_j() + w.potential_energy_j() + w.contact_energy_j();

@@ -139,26 +139,29 @@ macro_rules! world_class {
                 Ok(())
             }
 
-            /// Sets gravity along -z (m/s^2); 0 gives free flight.
+            /// Sets gravity along -z (m/s^2, finite and >= 0); 0 gives free flight. `params` follows.
             fn set_gravity_m_per_s2(&mut self, py: Python<'_>, gravity_m_per_s2: f64) -> PyResult<()> {
                 finite(py, &[gravity_m_per_s2], "gravity_m_per_s2")?;
-                self.world_mut().set_gravity_m_per_s2(gravity_m_per_s2);
-                Ok(())
+                self.world_mut()
+                    .set_gravity_m_per_s2(gravity_m_per_s2)
+                    .map_err(|e| world_error(py, e))
             }
 
             /// Sets the ball-floor friction coefficient (>= 0; 0 is a frictionless floor).
             fn set_floor_friction(&mut self, py: Python<'_>, friction: f64) -> PyResult<()> {
                 non_negative(py, friction, "friction")?;
-                self.world_mut().set_floor_friction(friction);
-                Ok(())
+                self.world_mut()
+                    .set_floor_friction(friction)
+                    .map_err(|e| world_error(py, e))
             }
 
             /// Sets the omniwheel-ball static friction coefficient `mu` (>= 0); the kinetic
             /// one follows with the configured ratio.
             fn set_wheel_friction(&mut self, py: Python<'_>, friction: f64) -> PyResult<()> {
                 non_negative(py, friction, "friction")?;
-                self.world_mut().set_wheel_friction(friction);
-                Ok(())
+                self.world_mut()
+                    .set_wheel_friction(friction)
+                    .map_err(|e| world_error(py, e))
             }
 
             /// Test rig: clamps the ball in place (`True`) or releases it.
@@ -252,7 +255,7 @@ world_class! {
         /// `body_rate_rad_per_s` (n, 3); `body_orientation` (n, 4) `(x, y, z, w)`; `tilt_rad`
         /// (n, 2); `tilt_from_vertical_rad`, `yaw_rad`, `floor_force_n` (n,); and `steps`
         /// (steps run), `failure` (`Failure` or `None`), `log_path`. With `log_path` every step
-        /// is also written to that MCAP file (`ballbot_sim::world::WorldLogger`: telemetry,
+        /// is also written to that MCAP file (`ballbot_sim::log::WorldLogger`: telemetry,
         /// the Foxglove 3D scene and transforms, failure events; `log_compact` writes the
         /// telemetry at 1 kHz instead of every step), readable with `McapLog`.
         #[pyo3(signature = (

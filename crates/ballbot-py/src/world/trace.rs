@@ -5,10 +5,9 @@ use super::row_at;
 use super::telemetry::PyFailure;
 use crate::errors::{Kind, error};
 use crate::log::log_error;
+use ballbot_sim::log::{WorldLogOptions, WorldLogger};
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
-use ballbot_sim::world::{
-    Failure, StepTelemetry, WheelTelemetry, WorldLogOptions, WorldLogger, WorldParams,
-};
+use ballbot_sim::world::{Failure, StepTelemetry, WheelTelemetry, WorldParams};
 use nalgebra::Vector3;
 use numpy::{Element, PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;

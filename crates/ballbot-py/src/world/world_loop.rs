@@ -194,7 +194,7 @@ world_class! {
                     }
                     let telemetry = *sim.step(Command::Velocity(command));
                     if let Some(log) = log.as_mut() {
-                        log.record_core(sim)?;
+                        log.record_robot(sim)?;
                     }
                     Ok((telemetry, sim.world().failure().is_some()))
                 })

@@ -8,8 +8,9 @@
 //! - [`McapLog`] reads a log (complete, or what a killed writer left): the channels with their
 //!   message counts, and a channel's messages as JSON values, typed values, or numeric columns.
 //! - [`foxglove`] has the well-known `foxglove.FrameTransform(s)` and `foxglove.SceneUpdate`
-//!   messages, and [`foxglove::BallbotScene`] to see a ballbot in Foxglove's 3D panel;
-//!   [`SceneRecorder`] logs it at bounded rates from a fast simulation loop.
+//!   messages, and [`foxglove::BallbotScene`] to see a ballbot in Foxglove's 3D panel.
+//! - [`world`]: the 3D world's log ([`WorldLogger`]): telemetry, controller, commands,
+//!   events and a Foxglove scene of a run.
 //! - [`check_schema`] and [`check_message`] check schemas and messages against each other.
 //!
 //! Message types derive `serde::Serialize` and `schemars::JsonSchema`; doc comments become the
@@ -20,18 +21,18 @@
 mod error;
 pub mod foxglove;
 mod reader;
-mod scene_recorder;
 mod schema;
 pub mod topics;
+pub mod world;
 mod writer;
 
 pub use error::LogError;
 pub use reader::{JsonSeries, McapLog, NumericSeries};
-pub use scene_recorder::SceneRecorder;
 pub use schema::{
     MESSAGE_ENCODING, SCHEMA_ENCODING, SchemaViolation, check_message, check_schema, schema_for,
     schema_name_for,
 };
+pub use world::{WorldLogOptions, WorldLogger};
 pub use writer::{
     Channel, ChannelInfo, LogCompression, LoggerOptions, McapLogger, ns_to_secs, secs_to_ns,
 };

@@ -399,9 +399,11 @@ mod tests {
         #[derive(JsonSchema)]
         struct Plain;
         assert_eq!(schema_name_for::<Plain>(), "ballbot.Plain");
-        assert_eq!(
-            schema_name_for::<crate::log::foxglove::FrameTransform>(),
-            "foxglove.FrameTransform"
-        );
+        // A name with a namespace is kept, as the well-known `foxglove.*` ones are
+        // (`foxglove::frame_transform` checks those).
+        #[derive(JsonSchema)]
+        #[schemars(rename = "foxglove.Named")]
+        struct Named;
+        assert_eq!(schema_name_for::<Named>(), "foxglove.Named");
     }
 }

@@ -205,7 +205,7 @@ pub fn push_trial(
 }
 
 /// [`push_trial`] calling `observe` after every physics step with the loop (e.g. to write an
-/// MCAP log with [`crate::world::WorldLogger`]); the trial is the same with or without it.
+/// MCAP log with [`crate::log::WorldLogger`]); the trial is the same with or without it.
 pub fn push_trial_observed(
     world_params: WorldParams,
     params: &PushParams,

@@ -102,7 +102,7 @@ pub fn max_speed_ramp_with_config(
 
 /// [`max_speed_ramp_with_config`] calling `observe` after every physics step with the loop and
 /// the velocity command of that step (e.g. to write an MCAP log with
-/// [`crate::world::WorldLogger`]). The run is the same with or without an observer.
+/// [`crate::log::WorldLogger`]). The run is the same with or without an observer.
 pub fn max_speed_ramp_observed(
     params: WorldParams,
     config: BallbotControllerConfig<f64>,

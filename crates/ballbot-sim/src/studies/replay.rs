@@ -7,13 +7,14 @@
 //! are the three replays of `ballbot reproduce`.
 
 use crate::log::LogError;
+use crate::log::{WorldLogOptions, WorldLogger};
 use crate::rig::WorldRobot;
 use crate::studies::max_speed::{MaxSpeedProtocol, controller};
 use crate::studies::push::{PushParams, PushTrial, push_trial_observed};
 use crate::studies::ramp::{RampResult, max_speed_ramp_observed};
 use crate::studies::world_braking::{BrakingError, BrakingParams, BrakingRun, fly_braking};
 use crate::world::failure::tilt_from_vertical_rad;
-use crate::world::{WorldError, WorldLogOptions, WorldLogger, WorldParams};
+use crate::world::{WorldError, WorldParams};
 use ballbot_core::command::VelocityCommand;
 use std::path::{Path, PathBuf};
 
@@ -120,7 +121,7 @@ pub fn log_slow_ramp(
             let observe = &mut |sim: &WorldRobot, cmd: &VelocityCommand<f64>| {
                 let time_s = sim.world().time_s();
                 log.record(|l| {
-                    l.record_core(sim)?;
+                    l.record_robot(sim)?;
                     l.record_command(time_s, cmd)
                 });
             };
@@ -160,7 +161,7 @@ pub fn log_braking(
             let observe = &mut |sim: &WorldRobot, cmd: Option<&VelocityCommand<f64>>| {
                 let time_s = sim.world().time_s();
                 log.record(|l| {
-                    l.record_core(sim)?;
+                    l.record_robot(sim)?;
                     if let Some(v) = cmd {
                         l.record_command(time_s, v)?;
                     }
@@ -204,7 +205,7 @@ pub fn log_push(
             let observe = &mut |sim: &WorldRobot| {
                 let time_s = sim.world().time_s();
                 log.record(|l| {
-                    l.record_core(sim)?;
+                    l.record_robot(sim)?;
                     if !pushed && time_s >= params.settle_s {
                         pushed = true;
                         let what = format!(

@@ -3,9 +3,9 @@
 //! push of the body; reduced to a [`WorldOutcome`]. What `ballbot world` runs.
 
 use crate::log::LogError;
+use crate::log::{WorldLogOptions, WorldLogger};
 use crate::rig::WorldRobot;
 use crate::world::failure::tilt_from_vertical_rad;
-use crate::world::log::{WorldLogOptions, WorldLogger};
 use crate::world::{Failure, FailureKind, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
@@ -175,7 +175,7 @@ pub fn run_logged_world(
         }
         log.record_command(t, &command).map_err(log_error)?;
         let telemetry = *sim.step(Command::Velocity(command));
-        log.record_core(&sim).map_err(log_error)?;
+        log.record_robot(&sim).map_err(log_error)?;
         outcome.end_time_s = telemetry.time_s;
         if failure.is_none() {
             failure = sim.world().failure();

@@ -20,13 +20,29 @@
 //! knot variables `[theta, phi, theta_dot, phi_dot, tau]`, through the analytic Jacobian of the
 //! accelerations ([`Wip::linearize`]), for the SQP's linearised traction cones.
 
-use super::TrajoptError;
-use super::problem::Drive;
+use super::error::TrajoptError;
 use ballbot_core::kinematics::{
     self, planar_support_force_n, planar_torque_at_heading, relative_rate_at_heading,
 };
-use ballbot_core::{OmniKinematics, Wip, WipState};
+use ballbot_core::{ActuatorParams, DrivetrainParams, OmniKinematics, Wip, WipState};
 use nalgebra::{Matrix3, Vector3};
+
+/// How the actuators drive the plane, for the motor-side and traction limits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Drive {
+    /// One actuator drives the wheel directly (the PIPTB): motor torque = planar torque,
+    /// motor speed = relative rate `phi_dot - theta_dot`.
+    Direct(ActuatorParams<f64>),
+    /// Three omniwheels on a ball (MiaPURE). The plane is the vertical plane of travel at
+    /// `heading_rad` in the body frame (0 = towards omniwheel 1, MODEL.md section 1). Planar
+    /// torque and relative rate map to each wheel with MODEL.md section 4.
+    Omniwheels {
+        /// The drivetrain: geometry, actuator, roller-ball friction.
+        params: DrivetrainParams<f64>,
+        /// Direction of travel in the body frame (rad), counter-clockwise from +x.
+        heading_rad: f64,
+    },
+}
 
 /// Gradient with respect to the knot variables `[theta, phi, theta_dot, phi_dot, tau]`.
 pub(crate) type KnotGradient = [f64; 5];

@@ -7,7 +7,7 @@
 //! is the quadratic with derivative linear from `f_k` to `f_{k+1}`, the torque linear. Before
 //! the start the trajectory holds the initial state and torque, after the end the final ones.
 
-use super::problem::Method;
+use super::method::Method;
 use ballbot_core::WipState;
 
 /// A collocated state and torque trajectory on a uniform grid, `t` from 0 to `T`.

@@ -5,8 +5,9 @@
 //! from the nearest feasible solution, time-scaled, which keeps the linearisations good near
 //! the boundary.
 
-use super::TrajoptError;
-use super::problem::{BrakingProblem, InitialGuess, SolveOptions, invalid};
+use super::error::TrajoptError;
+use super::error::invalid;
+use super::problem::{BrakingProblem, InitialGuess, SolveOptions};
 use super::sqp::{BrakingSolution, SolveStatus, solve};
 
 /// Search range and resolution.

@@ -25,18 +25,21 @@
 //! ```
 
 mod drive;
+mod error;
 mod interp;
 mod lq;
+mod method;
 mod mintime;
 mod problem;
 mod qp;
 mod sqp;
 mod transcription;
 
+pub use drive::Drive;
+pub use error::TrajoptError;
 pub use interp::Trajectory;
 pub use lq::LqBraking;
+pub use method::Method;
 pub use mintime::{MinTimeOptions, MinTimeResult, min_braking_time};
-pub use problem::{
-    BrakingProblem, Drive, InitialGuess, Limits, Method, SolveOptions, TrajoptError,
-};
+pub use problem::{BrakingProblem, InitialGuess, Limits, SolveOptions};
 pub use sqp::{BrakingSolution, KnotContact, SolveStatus, solve};

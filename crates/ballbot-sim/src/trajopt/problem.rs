@@ -1,61 +1,10 @@
 //! The braking problem, its limits and solver options, validated once.
 
-use super::drive::DriveMap;
+use super::drive::{Drive, DriveMap};
+use super::error::{TrajoptError, invalid};
 use super::interp::Trajectory;
+use super::method::Method;
 use ballbot_core::{ActuatorParams, DrivetrainParams, Wip, WipParams};
-
-/// What went wrong building a braking problem from its inputs. The outcome of a solve
-/// (solved, infeasible, ...) is a [`super::SolveStatus`], not an error.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum TrajoptError {
-    /// A field of the problem, its limits or the options is out of range.
-    #[error("invalid braking problem: `{field}` {requirement}")]
-    InvalidInput {
-        /// The field's name.
-        field: &'static str,
-        /// What it must satisfy.
-        requirement: &'static str,
-    },
-    /// The plant parameters were rejected by the core model.
-    #[error("invalid plant: {0}")]
-    Model(#[from] ballbot_core::Error),
-    /// clarabel refused the quadratic program (a bug: the transcription is malformed).
-    #[error("QP setup failed: {0}")]
-    QpSetup(String),
-}
-
-pub(crate) fn invalid(field: &'static str, requirement: &'static str) -> TrajoptError {
-    TrajoptError::InvalidInput { field, requirement }
-}
-
-/// The collocation scheme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Method {
-    /// Hermite-Simpson (compressed form, with a midpoint torque per interval): cubic states,
-    /// quadratic torque, error O(h^4). The default.
-    #[default]
-    HermiteSimpson,
-    /// Trapezoidal: quadratic states, linear torque, error O(h^2).
-    Trapezoidal,
-}
-
-/// How the actuators drive the plane, for the motor-side and traction limits.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Drive {
-    /// One actuator drives the wheel directly (the PIPTB): motor torque = planar torque,
-    /// motor speed = relative rate `phi_dot - theta_dot`.
-    Direct(ActuatorParams<f64>),
-    /// Three omniwheels on a ball (MiaPURE). The plane is the vertical plane of travel at
-    /// `heading_rad` in the body frame (0 = towards omniwheel 1, MODEL.md section 1). Planar
-    /// torque and relative rate map to each wheel with MODEL.md section 4.
-    Omniwheels {
-        /// The drivetrain: geometry, actuator, roller-ball friction.
-        params: DrivetrainParams<f64>,
-        /// Direction of travel in the body frame (rad), counter-clockwise from +x.
-        heading_rad: f64,
-    },
-}
 
 /// Path limits, each applied at every knot (torque bounds also at Hermite-Simpson midpoints).
 /// `None` leaves a quantity free.

@@ -5,7 +5,7 @@
 //! only refills the values through the recorded permutation and updates clarabel's copy in
 //! place (`update_A`, `update_b`), so clarabel's symbolic analysis is done once per solve.
 
-use super::TrajoptError;
+use super::error::TrajoptError;
 use super::transcription::{Sink, Transcription};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{

@@ -19,7 +19,7 @@
 //! at the new point with the same multipliers, which can save the QP that would only confirm
 //! convergence.
 
-use super::TrajoptError;
+use super::error::TrajoptError;
 use super::interp::Trajectory;
 use super::lq::LqBraking;
 use super::problem::{BrakingProblem, InitialGuess, SolveOptions};

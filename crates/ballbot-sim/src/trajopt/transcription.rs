@@ -19,7 +19,8 @@
 //! `J_c(z) x = J_c(z) z - c(z)`.
 
 use super::drive::DriveMap;
-use super::problem::{BrakingProblem, Method};
+use super::method::Method;
+use super::problem::BrakingProblem;
 use ballbot_core::{Wip, WipState};
 use nalgebra::{Matrix4, Vector4};
 
@@ -71,7 +72,7 @@ struct Point {
 const COUPLING_EPS: f64 = 1e-12;
 
 impl Transcription {
-    pub fn new(problem: &BrakingProblem) -> Result<Self, super::TrajoptError> {
+    pub fn new(problem: &BrakingProblem) -> Result<Self, super::error::TrajoptError> {
         problem.validate()?;
         let wip = Wip::new(problem.plane)?;
         let n = problem.intervals;

@@ -15,7 +15,9 @@
 //! the Hermite-Simpson midpoint's sensitivity alone is off by 0.1 of the row scale.
 
 use super::{Sink, Slacks, Transcription};
-use crate::trajopt::problem::{BrakingProblem, Drive, Limits, Method};
+use crate::trajopt::drive::Drive;
+use crate::trajopt::method::Method;
+use crate::trajopt::problem::{BrakingProblem, Limits};
 use ballbot_core::{DrivetrainParams, WipParams};
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::SeedableRng;

@@ -11,7 +11,9 @@
 //! * [`contact`]: the omniwheel contact law and its step-size needs.
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
-//! * [`log`]: MCAP telemetry and a Foxglove 3D scene of a run ([`WorldLogger`]).
+//!
+//! MCAP logs of world runs (telemetry, controller, a Foxglove 3D scene) are written by
+//! [`crate::log::WorldLogger`] ([`crate::log::world`]).
 //!
 //! Why `rapier3d-f64`: the contact deflections are a fraction of a millimetre (0.17 mm under the
 //! static load) and are computed from positions of ball and body that travel metres; in `f32`
@@ -20,14 +22,12 @@
 
 pub mod contact;
 pub mod failure;
-pub mod log;
 pub mod params;
 pub mod sensors;
 pub mod sim;
 pub mod telemetry;
 
 pub use failure::{Failure, FailureKind, wheel_name};
-pub use log::{WorldLogOptions, WorldLogger};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
 pub use sensors::Measurement;
 pub use sim::BallbotWorld;

@@ -227,7 +227,8 @@ fn positive(value: f64, field: &'static str) -> Result<(), WorldError> {
     }
 }
 
-fn non_negative(value: f64, field: &'static str) -> Result<(), WorldError> {
+/// `Ok` if `value` is finite and >= 0, else the error naming `field`.
+pub(super) fn non_negative(value: f64, field: &'static str) -> Result<(), WorldError> {
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {

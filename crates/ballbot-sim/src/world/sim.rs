@@ -3,7 +3,7 @@
 use super::WorldError;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
 use super::failure::{Failure, FailureMonitor};
-use super::params::WorldParams;
+use super::params::{WorldParams, non_negative};
 use super::sensors::{Measurement, Sensors};
 use super::telemetry::{StepTelemetry, WheelTelemetry};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -292,25 +292,51 @@ impl BallbotWorld {
         self.refresh_poses();
     }
 
-    /// Sets gravity along -z (m/s^2); 0 gives free flight.
-    pub fn set_gravity_m_per_s2(&mut self, gravity_m_per_s2: f64) {
+    /// Sets gravity along -z (m/s^2); 0 gives free flight. `params().robot` follows (both
+    /// planes' `gravity_m_per_s2`), so logs and reports see the value in force.
+    ///
+    /// Unlike [`WorldParams::validate`], which asks for a robot the core can balance (`g > 0`),
+    /// 0 is accepted here: the free-flight test rig. Errors (the world unchanged):
+    /// [`WorldError::InvalidParameter`] naming `robot.sagittal.gravity_m_per_s2` unless the
+    /// value is finite and >= 0.
+    pub fn set_gravity_m_per_s2(&mut self, gravity_m_per_s2: f64) -> Result<(), WorldError> {
+        non_negative(gravity_m_per_s2, "robot.sagittal.gravity_m_per_s2")?;
+        self.params.robot.sagittal.gravity_m_per_s2 = gravity_m_per_s2;
+        self.params.robot.frontal.gravity_m_per_s2 = gravity_m_per_s2;
         self.physics.gravity = DVec3::new(0.0, 0.0, -gravity_m_per_s2);
+        Ok(())
     }
 
-    /// Sets the ball-floor friction coefficient (0: a frictionless floor).
-    pub fn set_floor_friction(&mut self, friction: f64) {
+    /// Sets the ball-floor friction coefficient (0: a frictionless floor);
+    /// `params().robot.drivetrain.ball_floor_friction` follows.
+    ///
+    /// Errors (the world unchanged): [`WorldError::InvalidParameter`] naming
+    /// `robot.drivetrain.ball_floor_friction` unless the value is finite and >= 0 (0 is the
+    /// frictionless test rig; construction asks for > 0).
+    pub fn set_floor_friction(&mut self, friction: f64) -> Result<(), WorldError> {
+        non_negative(friction, "robot.drivetrain.ball_floor_friction")?;
+        self.params.robot.drivetrain.ball_floor_friction = friction;
         for h in [self.ball_collider, self.floor_collider] {
             if let Some(c) = self.physics.colliders.get_mut(h) {
                 c.set_friction(friction);
             }
         }
+        Ok(())
     }
 
     /// Sets the omniwheel-ball static friction coefficient `mu` (0: frictionless wheels);
-    /// the kinetic one follows with the configured ratio.
-    pub fn set_wheel_friction(&mut self, friction: f64) {
+    /// the kinetic one follows with the configured ratio, and so does
+    /// `params().robot.drivetrain.wheel_ball_friction`.
+    ///
+    /// Errors (the world unchanged): [`WorldError::InvalidParameter`] naming
+    /// `robot.drivetrain.wheel_ball_friction` unless the value is finite and >= 0 (0 is the
+    /// frictionless test rig; construction asks for > 0).
+    pub fn set_wheel_friction(&mut self, friction: f64) -> Result<(), WorldError> {
+        non_negative(friction, "robot.drivetrain.wheel_ball_friction")?;
+        self.params.robot.drivetrain.wheel_ball_friction = friction;
         self.law.static_friction = friction;
         self.law.kinetic_friction = friction * self.params.contact.kinetic_friction_ratio;
+        Ok(())
     }
 
     /// Test rig: clamps the ball (`true`) in place, or releases it.

@@ -1,21 +1,28 @@
 //! Per-step telemetry of the world: contact forces, slip, poses.
+//!
+//! The records derive `serde` and [`schemars::JsonSchema`]: logs write them as they are
+//! ([`crate::log::world::WorldTelemetryMsg`]), so the log schema is this type's and cannot
+//! drift from it. Vectors travel as `[x, y, z]`, orientations as `{x, y, z, w}` (Foxglove's
+//! quaternion layout).
 
 use nalgebra::{UnitQuaternion, Vector3};
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
 
 /// One omniwheel in one step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct WheelTelemetry {
-    /// Normal force `N_i` (N), from the compliant contact.
+    /// Normal force `N_i` of the wheel on the ball (N), from the compliant contact.
     pub normal_force_n: f64,
     /// Traction `F_i` the wheel applies to the ball along its rolling direction (N).
     pub traction_n: f64,
     /// Traction the contact would need to keep sticking (N).
     pub traction_demand_n: f64,
-    /// `|F_i| / (mu N_i)`, 0 when lifted off.
+    /// Friction-cone utilisation `|F_i| / (mu N_i)`, 0 when lifted off.
     pub cone_utilisation: f64,
     /// Slip speed along the rolling direction, ball surface minus wheel rim (m/s).
     pub slip_speed_m_per_s: f64,
-    /// Whether the demand exceeded the friction cone (the contact slides).
+    /// Whether the contact slides (traction demand beyond the friction cone).
     pub slipping: bool,
     /// Torque the actuator delivered at the wheel after its torque-speed limit (N m).
     pub motor_torque_nm: f64,
@@ -26,27 +33,41 @@ pub struct WheelTelemetry {
 }
 
 /// Everything the world reports after one step, in world coordinates (z up).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct StepTelemetry {
     /// Simulated time at the end of the step (s).
     pub time_s: f64,
-    /// The three omniwheels.
+    /// The omniwheels OW1, OW2, OW3 ([`super::wheel_name`]).
     pub wheels: [WheelTelemetry; 3],
-    /// Ball centre (m).
+    /// Ball centre `[x, y, z]` (m).
+    #[serde(with = "xyz")]
+    #[schemars(with = "[f64; 3]")]
     pub ball_position_m: Vector3<f64>,
-    /// Ball orientation, world from ball.
+    /// Ball orientation, world from ball (rolling shows as its rotation).
+    #[serde(with = "xyzw")]
+    #[schemars(with = "xyzw::Quaternion")]
     pub ball_orientation: UnitQuaternion<f64>,
-    /// Ball velocity (m/s).
+    /// Ball velocity `[x, y, z]` (m/s).
+    #[serde(with = "xyz")]
+    #[schemars(with = "[f64; 3]")]
     pub ball_velocity_m_per_s: Vector3<f64>,
-    /// Ball angular velocity (rad/s).
+    /// Ball angular velocity `[x, y, z]` (rad/s).
+    #[serde(with = "xyz")]
+    #[schemars(with = "[f64; 3]")]
     pub ball_angular_velocity_rad_per_s: Vector3<f64>,
-    /// Body frame origin (the nominal ball centre in the body) (m).
+    /// Body frame origin (the nominal ball centre in the body) `[x, y, z]` (m).
+    #[serde(with = "xyz")]
+    #[schemars(with = "[f64; 3]")]
     pub body_position_m: Vector3<f64>,
     /// Body orientation, world from body.
+    #[serde(with = "xyzw")]
+    #[schemars(with = "xyzw::Quaternion")]
     pub body_orientation: UnitQuaternion<f64>,
-    /// Body angular velocity in the body frame (rad/s).
+    /// Body angular velocity in the body frame `[x, y, z]` (rad/s).
+    #[serde(with = "xyz")]
+    #[schemars(with = "[f64; 3]")]
     pub body_rate_rad_per_s: Vector3<f64>,
-    /// Body tilt about the body-aligned horizontal axes, `[theta_x, theta_y]` (rad).
+    /// Body tilt about the body-aligned horizontal axes `[theta_x, theta_y]` (rad).
     pub tilt_rad: [f64; 2],
     /// Normal force of the floor on the ball (N).
     pub floor_force_n: f64,
@@ -94,5 +115,58 @@ fn fnv1a(hash: &mut u64, word: u64) {
     for byte in word.to_le_bytes() {
         *hash ^= u64::from(byte);
         *hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+}
+
+/// A vector as `[x, y, z]`.
+mod xyz {
+    use nalgebra::Vector3;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub(super) fn serialize<S: Serializer>(v: &Vector3<f64>, s: S) -> Result<S::Ok, S::Error> {
+        [v.x, v.y, v.z].serialize(s)
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vector3<f64>, D::Error> {
+        let [x, y, z] = <[f64; 3]>::deserialize(d)?;
+        Ok(Vector3::new(x, y, z))
+    }
+}
+
+/// A unit quaternion as `{x, y, z, w}`, the field layout of Foxglove's `Quaternion`.
+mod xyzw {
+    use nalgebra::UnitQuaternion;
+    use schemars::JsonSchema;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// A quaternion representing a rotation in 3D space (x, y, z vector part, w scalar part).
+    #[derive(Serialize, Deserialize, JsonSchema)]
+    pub(super) struct Quaternion {
+        /// x value.
+        x: f64,
+        /// y value.
+        y: f64,
+        /// z value.
+        z: f64,
+        /// w value.
+        w: f64,
+    }
+
+    pub(super) fn serialize<S: Serializer>(
+        q: &UnitQuaternion<f64>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        let (x, y, z, w) = (q.i, q.j, q.k, q.w);
+        Quaternion { x, y, z, w }.serialize(s)
+    }
+
+    /// As written (not normalised again), so that a record reads back bit for bit.
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<UnitQuaternion<f64>, D::Error> {
+        let Quaternion { x, y, z, w } = Quaternion::deserialize(d)?;
+        Ok(UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+            w, x, y, z,
+        )))
     }
 }

@@ -4,9 +4,9 @@
 use std::collections::BTreeSet;
 
 use ballbot_sim::{
+    log::world::{WorldCommandMsg, WorldTelemetryMsg},
     log::{foxglove::BallbotScene, schema_for, topics},
     planar::{PlanarCommandMsg, PlanarControlMsg, PlanarStateMsg},
-    world::log::{WorldCommandMsg, WorldTelemetryMsg},
 };
 use serde_json::Value;
 

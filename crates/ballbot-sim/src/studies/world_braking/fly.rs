@@ -107,7 +107,7 @@ pub(super) fn brake_start_step(
 /// Flies one braking run with a given braking trajectory `plan` (its duration is the braking
 /// time), calling `observe` after every physics step with the loop and, before braking, the
 /// velocity command of that step (e.g. to write an MCAP log with
-/// [`crate::world::WorldLogger`]). The run is the same with or without an observer, and
+/// [`crate::log::WorldLogger`]). The run is the same with or without an observer, and
 /// [`braking_run`] is this with the plan it solves, so replaying a run's
 /// [`BrakingRun::plan`] reproduces it bit for bit.
 pub fn fly_braking(

@@ -1,0 +1,243 @@
+//! [`WorldLogger`]: one world run into one MCAP file.
+
+use std::path::Path;
+
+use ballbot_core::ballbot::OuterOutput;
+use ballbot_core::command::VelocityCommand;
+use ballbot_core::safety::Mode;
+
+use super::grid::Grid;
+use super::messages::{
+    WorldCommandMsg, WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg, mode_name,
+};
+use super::options::WorldLogOptions;
+use super::scene::WorldScene;
+use crate::log::foxglove::{FrameTransforms, SceneUpdate};
+use crate::log::{Channel, ChannelInfo, LogError, McapLogger, topics};
+use crate::rig::WorldRobot;
+use crate::world::failure::{Failure, tilt_from_vertical_rad};
+use crate::world::params::WorldParams;
+use crate::world::sim::BallbotWorld;
+use crate::world::telemetry::StepTelemetry;
+
+/// Writes a world run into an MCAP file (see the module docs for the channels).
+///
+/// Create it with the run's parameters, call [`record_robot`](Self::record_robot) (with a
+/// [`WorldRobot`]), [`record`](Self::record) (a [`BallbotWorld`] and any controller output) or
+/// [`record_telemetry`](Self::record_telemetry) after every physics step, and
+/// [`finish`](Self::finish) at the end. A run that is killed leaves a file that
+/// [`McapLog::open`](crate::log::McapLog::open) reads up to the last closed chunk (at most
+/// one second of simulated time is lost with the default
+/// [`LoggerOptions`](crate::log::LoggerOptions)).
+#[derive(Debug)]
+pub struct WorldLogger {
+    log: McapLogger,
+    scene: WorldScene,
+    options: WorldLogOptions,
+    dt_secs: f64,
+    steps_per_outer: u64,
+    telemetry: Channel<WorldTelemetryMsg>,
+    controller: Channel<WorldControllerMsg>,
+    command: Channel<WorldCommandMsg>,
+    transforms: Channel<FrameTransforms>,
+    scene_channel: Channel<SceneUpdate>,
+    events: Channel<WorldEventMsg>,
+    records: u64,
+    transform_grid: Grid,
+    scene_grid: Grid,
+    command_grid: Grid,
+    last_outer_index: Option<u64>,
+    last_mode: Option<Mode>,
+    failure_logged: bool,
+}
+
+impl WorldLogger {
+    /// Creates (or truncates) the log at `path` for a run of the world built from `params`,
+    /// with the default [`WorldLogOptions`].
+    pub fn create(path: impl AsRef<Path>, params: &WorldParams) -> Result<Self, LogError> {
+        Self::with_options(path, params, WorldLogOptions::default())
+    }
+
+    /// Creates (or truncates) the log at `path` with the given options.
+    pub fn with_options(
+        path: impl AsRef<Path>,
+        params: &WorldParams,
+        options: WorldLogOptions,
+    ) -> Result<Self, LogError> {
+        let path = path.as_ref();
+        options.validate(path, params.dt_secs)?;
+        let mut log = McapLogger::create(path, options.logger.clone())?;
+        let telemetry = log.channel::<WorldTelemetryMsg>(topics::WORLD_TELEMETRY)?;
+        let controller = log.channel::<WorldControllerMsg>(topics::WORLD_CONTROLLER)?;
+        let command = log.channel::<WorldCommandMsg>(topics::WORLD_COMMAND)?;
+        let transforms = log.channel::<FrameTransforms>(topics::TRANSFORMS)?;
+        let scene_channel = log.channel::<SceneUpdate>(topics::SCENE)?;
+        let events = log.channel::<WorldEventMsg>(topics::FAULTS)?;
+        // Validated above: a whole number >= 1.
+        let steps_per_outer = (options.controller_interval_secs / params.dt_secs).round() as u64;
+        Ok(Self {
+            log,
+            scene: WorldScene::new(params, options.metres_per_newton),
+            dt_secs: params.dt_secs,
+            steps_per_outer,
+            telemetry,
+            controller,
+            command,
+            transforms,
+            scene_channel,
+            events,
+            records: 0,
+            transform_grid: Grid::new(options.transform_interval_secs),
+            scene_grid: Grid::new(options.scene_interval_secs),
+            command_grid: Grid::new(options.controller_interval_secs),
+            last_outer_index: None,
+            last_mode: None,
+            failure_logged: false,
+            options,
+        })
+    }
+
+    /// The file being written.
+    pub fn path(&self) -> &Path {
+        self.log.path()
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &WorldLogOptions {
+        &self.options
+    }
+
+    /// The scene drawn (dimensions, frame names).
+    pub fn scene(&self) -> &WorldScene {
+        &self.scene
+    }
+
+    /// The underlying logger, e.g. to add channels of one's own.
+    pub fn logger_mut(&mut self) -> &mut McapLogger {
+        &mut self.log
+    }
+
+    /// Records the step just taken by a [`WorldRobot`]: its world (telemetry, failure) and its
+    /// controller's last outer-loop output.
+    pub fn record_robot(&mut self, sim: &WorldRobot) -> Result<(), LogError> {
+        self.record(sim.world(), sim.last_outer())
+    }
+
+    /// Records the step just taken by `world`, with the output of the controller's outer loop
+    /// that drove it, if any (e.g. [`WorldRobot::last_outer`]).
+    pub fn record(
+        &mut self,
+        world: &BallbotWorld,
+        outer: Option<&OuterOutput<f64>>,
+    ) -> Result<(), LogError> {
+        self.record_telemetry(world.telemetry(), world.failure(), outer)
+    }
+
+    /// Records one step from its parts: the step's telemetry, the first failure detected so
+    /// far, and the controller's latest outer-loop output.
+    ///
+    /// The outer output is written once per outer step (every `controller_interval_secs`),
+    /// stamped with the time at which the controller computed it: the start of the physics
+    /// step at which an outer step falls due, as in [`WorldRobot::step`].
+    pub fn record_telemetry(
+        &mut self,
+        t: &StepTelemetry,
+        failure: Option<Failure>,
+        outer: Option<&OuterOutput<f64>>,
+    ) -> Result<(), LogError> {
+        if let Some(out) = outer {
+            self.record_outer(t, out)?;
+        }
+        let every = u64::from(self.options.telemetry_every_steps);
+        if self.records.is_multiple_of(every) {
+            let msg = WorldTelemetryMsg::new(t, failure.is_some());
+            self.log.write(&self.telemetry, t.time_s, &msg)?;
+        }
+        self.records += 1;
+        if self.transform_grid.due(t.time_s) {
+            let frames = self.scene.frames(t);
+            self.log.write(&self.transforms, t.time_s, &frames)?;
+        }
+        if self.scene_grid.due(t.time_s) {
+            let update = self.scene.scene(t);
+            self.log.write(&self.scene_channel, t.time_s, &update)?;
+        }
+        if let (Some(f), false) = (failure, self.failure_logged) {
+            self.failure_logged = true;
+            let msg = WorldEventMsg::failure(&f, tilt_from_vertical_rad(t));
+            self.log.write(&self.events, f.time_s.max(0.0), &msg)?;
+        }
+        Ok(())
+    }
+
+    fn record_outer(&mut self, t: &StepTelemetry, out: &OuterOutput<f64>) -> Result<(), LogError> {
+        // The physics step that has just ended started at `steps_done - 1`.
+        let steps_done = (t.time_s / self.dt_secs).round();
+        if steps_done.is_nan() || steps_done < 1.0 {
+            return Ok(());
+        }
+        let outer_index = (steps_done as u64 - 1) / self.steps_per_outer;
+        if self.last_outer_index == Some(outer_index) {
+            return Ok(());
+        }
+        self.last_outer_index = Some(outer_index);
+        let computed_s = (outer_index * self.steps_per_outer) as f64 * self.dt_secs;
+        self.log
+            .write(&self.controller, computed_s, &WorldControllerMsg::from(out))?;
+        let mode = out.safety.mode;
+        if self.last_mode != Some(mode) {
+            self.last_mode = Some(mode);
+            let msg = WorldEventMsg {
+                kind: "mode".to_owned(),
+                description: format!("controller mode {}", mode_name(mode)),
+                wheel: None,
+                tilt_rad: tilt_from_vertical_rad(t),
+            };
+            self.log.write(&self.events, computed_s, &msg)?;
+        }
+        Ok(())
+    }
+
+    /// Records the velocity command in force at `time_s`, at most once per
+    /// `controller_interval_secs` (call it every step; repeated calls in between are skipped).
+    pub fn record_command(
+        &mut self,
+        time_s: f64,
+        command: &VelocityCommand<f64>,
+    ) -> Result<(), LogError> {
+        if self.command_grid.due(time_s) {
+            self.log
+                .write(&self.command, time_s, &WorldCommandMsg::from(command))?;
+        }
+        Ok(())
+    }
+
+    /// Records an event of the run on [`topics::FAULTS`], e.g. `kind = "push"` with a
+    /// description of the impulse; `tilt_rad` is the tilt from the vertical at the event.
+    pub fn record_event(
+        &mut self,
+        time_s: f64,
+        kind: &str,
+        description: &str,
+        tilt_rad: f64,
+    ) -> Result<(), LogError> {
+        let msg = WorldEventMsg {
+            kind: kind.to_owned(),
+            description: description.to_owned(),
+            wheel: None,
+            tilt_rad,
+        };
+        self.log.write(&self.events, time_s, &msg)
+    }
+
+    /// The channels registered, with the number of messages written to each so far.
+    pub fn channels(&self) -> Vec<ChannelInfo> {
+        self.log.channels()
+    }
+
+    /// Writes the summary section and footer and returns the channels with their message
+    /// counts.
+    pub fn finish(self) -> Result<Vec<ChannelInfo>, LogError> {
+        self.log.finish()
+    }
+}
