@@ -49,7 +49,7 @@ const CHECKED: &[&str] = &[
     "control/pi_pd.rs",
     "safety.rs",
     "estimation.rs",
-    "command.rs",
+    "command/mod.rs",
     "ballbot.rs",
 ];
 
