@@ -70,9 +70,7 @@
 //! [`ball_body_z_rate_per_ball_rate`]: crate::estimation::ball_body_z_rate_per_ball_rate
 
 use crate::check::{lit, positive};
-use crate::command::{
-    Command, CommandShaper, CommandShaperParams, PlanarCommands, clamp_sym, max, min,
-};
+use crate::command::{Command, CommandShaper, CommandShaperParams, PlanarCommands};
 use crate::control::{
     LqrGains, LqrPiOuter, LqrPiOuterConfig, SpeedCommand, SpeedPi, SpeedPiGains, StepStatus,
 };
@@ -82,6 +80,7 @@ use crate::estimation::{
 use crate::lqr::{
     SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
 };
+use crate::num::{clamp_sym, max, min};
 use crate::safety::{
     Fault, Mode, ModeRequest, SafetyInput, SafetyParams, SafetyStatus, SafetySupervisor,
 };

@@ -30,6 +30,7 @@ pub mod integrate;
 pub mod kinematics;
 pub mod linalg;
 pub mod lqr;
+mod num;
 pub mod params;
 pub mod rates;
 pub mod safety;

@@ -50,6 +50,12 @@ const CHECKED: &[&str] = &[
     "safety.rs",
     "estimation.rs",
     "command/mod.rs",
+    "command/jerk.rs",
+    "command/lean.rs",
+    "command/shaper.rs",
+    "command/trajectory.rs",
+    "num.rs",
+    "rates.rs",
     "ballbot.rs",
 ];
 

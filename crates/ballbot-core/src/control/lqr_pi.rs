@@ -44,7 +44,7 @@
 
 use super::{LqrGains, SpeedPiGains, StepStatus, dt_is_valid, saturate};
 use crate::check::positive;
-use crate::command::{max, min};
+use crate::num::{max, min};
 use crate::wip::{BALL_ANGLE, BALL_RATE, TILT};
 use crate::{Error, Wip, WipState};
 use nalgebra::RealField;

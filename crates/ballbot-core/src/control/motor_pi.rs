@@ -20,7 +20,7 @@
 
 use super::{StepStatus, check_limit, dt_is_valid};
 use crate::check::{non_negative, positive};
-use crate::command::{max, min};
+use crate::num::{max, min};
 use crate::wip::BALL_RATE;
 use crate::{Error, Wip};
 use nalgebra::RealField;

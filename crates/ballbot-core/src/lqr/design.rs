@@ -8,8 +8,8 @@
 
 use super::riccati::{RiccatiSettings, RiccatiSolution, RiccatiStatus, solve_care, solve_dare};
 use crate::check::lit;
-use crate::rates::OUTER_LOOP_RATE_HZ;
 use crate::linalg::{eigenvalues, is_finite, zoh};
+use crate::rates::OUTER_LOOP_RATE_HZ;
 use crate::{Error, Spin, Wip};
 use nalgebra::allocator::Allocator;
 use nalgebra::{

@@ -28,8 +28,8 @@ mod design;
 mod riccati;
 
 pub use design::{
-    Lqr, LqrWeights, SpinLqr, SpinLqrWeights, WipLqr, WipLqrWeights,
-    outer_loop_dt_secs, spin_lqr, spin_lqr_discrete, wip_lqr, wip_lqr_discrete,
+    Lqr, LqrWeights, SpinLqr, SpinLqrWeights, WipLqr, WipLqrWeights, outer_loop_dt_secs, spin_lqr,
+    spin_lqr_discrete, wip_lqr, wip_lqr_discrete,
 };
 pub use riccati::{
     RiccatiSettings, RiccatiSolution, RiccatiStatus, solve_care, solve_dare, validate_weights,
