@@ -56,7 +56,7 @@ const CHECKED: &[&str] = &[
     "command/trajectory.rs",
     "num.rs",
     "rates.rs",
-    "ballbot.rs",
+    "ballbot/mod.rs",
 ];
 
 fn src_dir() -> PathBuf {
