@@ -57,6 +57,11 @@ const CHECKED: &[&str] = &[
     "num.rs",
     "rates.rs",
     "ballbot/mod.rs",
+    "ballbot/design.rs",
+    "ballbot/feedforward.rs",
+    "ballbot/motor.rs",
+    "ballbot/outer.rs",
+    "ballbot/spin.rs",
 ];
 
 fn src_dir() -> PathBuf {
