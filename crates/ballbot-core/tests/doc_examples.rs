@@ -47,7 +47,7 @@ const CHECKED: &[&str] = &[
     "control/lqr_pi.rs",
     "control/motor_pi.rs",
     "control/pi_pd.rs",
-    "safety.rs",
+    "safety/mod.rs",
     "estimation.rs",
     "command/mod.rs",
     "command/jerk.rs",
