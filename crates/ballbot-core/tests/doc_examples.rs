@@ -59,6 +59,7 @@ const CHECKED: &[&str] = &[
     "command/shaper.rs",
     "command/trajectory.rs",
     "num.rs",
+    "names.rs",
     "rates.rs",
     "ballbot/mod.rs",
     "ballbot/design.rs",

@@ -6,5 +6,6 @@ mod doc_examples;
 mod fast_paths;
 mod kinematics;
 mod lqr;
+mod names;
 mod safety;
 mod spin;

@@ -1,6 +1,9 @@
 //! Typed fault codes: [`Fault`], its [`Severity`], and the set of active faults [`FaultSet`].
 
+use crate::ParseNameError;
+use crate::names::parse_name;
 use core::fmt;
+use core::str::FromStr;
 
 /// Whether a fault can be handled while balancing.
 ///
@@ -18,13 +21,15 @@ pub enum Severity {
     Unrecoverable,
 }
 
-/// A typed fault code. `code()` is stable (for logs and telemetry).
+/// A typed fault code. `code()` is stable (for telemetry bits), [`Fault::as_str`] is its one
+/// name (for logs, `Display` and serde) and [`Fault::description`] a sentence for people.
 ///
 /// ```
 /// use ballbot_core::safety::{Fault, Severity};
 /// let fault = Fault::TiltLimit;
 /// assert_eq!((fault.code(), fault.severity()), (7, Severity::Unrecoverable));
-/// assert_eq!(format!("{fault}"), "fault 7: tilt beyond the recoverable limit");
+/// assert_eq!(format!("{fault}"), "tilt_limit");
+/// assert_eq!(fault.description(), "tilt beyond the recoverable limit");
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[repr(u8)]
@@ -84,6 +89,33 @@ impl Fault {
         Self::StateNonFinite,
     ];
 
+    /// The fault's canonical name (snake_case), the one string form used by `Display`,
+    /// `FromStr` and serde.
+    ///
+    /// ```
+    /// use ballbot_core::safety::Fault;
+    /// assert_eq!(Fault::CommandLinkLost.as_str(), "command_link_lost");
+    /// assert_eq!("imu_stale".parse(), Ok(Fault::ImuStale));
+    /// ```
+    pub const fn as_str(&self) -> &'static str {
+        match self {
+            Self::ImuNonFinite => "imu_non_finite",
+            Self::ImuOutOfRange => "imu_out_of_range",
+            Self::ImuStale => "imu_stale",
+            Self::ImuFrozen => "imu_frozen",
+            Self::EncoderNonFinite => "encoder_non_finite",
+            Self::EncoderOutOfRange => "encoder_out_of_range",
+            Self::EncoderStale => "encoder_stale",
+            Self::TiltLimit => "tilt_limit",
+            Self::WheelSpeedLimit => "wheel_speed_limit",
+            Self::LoopOverrun => "loop_overrun",
+            Self::ClockFault => "clock_fault",
+            Self::CommandLinkLost => "command_link_lost",
+            Self::CommandNonFinite => "command_non_finite",
+            Self::StateNonFinite => "state_non_finite",
+        }
+    }
+
     /// The stable numeric code.
     ///
     /// ```
@@ -120,7 +152,7 @@ impl Fault {
         }
     }
 
-    /// A short description.
+    /// A short description for people (logs and telemetry use [`Fault::as_str`]).
     ///
     /// ```
     /// use ballbot_core::safety::Fault;
@@ -147,12 +179,40 @@ impl Fault {
 }
 
 impl fmt::Display for Fault {
+    /// Writes [`Fault::as_str`].
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "fault {}: {}", self.code(), self.description())
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for Fault {
+    type Err = ParseNameError;
+
+    /// The fault named `s` ([`Fault::as_str`]).
+    fn from_str(s: &str) -> Result<Self, ParseNameError> {
+        parse_name(s, &Self::ALL, Self::as_str, "fault")
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for Fault {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.as_str())
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for Fault {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        crate::names::serde_name::deserialize(deserializer, "fault")
     }
 }
 
 /// A set of [`Fault`]s (a bit set; `Copy`, no allocation).
+///
+/// Its string form lists the faults' names ([`Fault::as_str`]) in code order, separated by
+/// commas without spaces (`""` for the empty set), for `Display` and `FromStr`; with serde it
+/// is a sequence of fault names.
 ///
 /// ```
 /// use ballbot_core::safety::{Fault, FaultSet, Severity};
@@ -161,6 +221,8 @@ impl fmt::Display for Fault {
 /// faults.insert(Fault::LoopOverrun);
 /// assert!(faults.any(Severity::Recoverable) && !faults.any(Severity::Unrecoverable));
 /// assert_eq!(faults.bits(), (1 << 9) | (1 << 11));
+/// assert_eq!(faults.to_string(), "loop_overrun,command_link_lost");
+/// assert_eq!("command_link_lost,loop_overrun".parse(), Ok(faults));
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct FaultSet(u16);
@@ -291,5 +353,71 @@ impl FaultSet {
     /// ```
     pub fn iter(self) -> impl Iterator<Item = Fault> {
         Fault::ALL.into_iter().filter(move |f| self.contains(*f))
+    }
+}
+
+impl fmt::Display for FaultSet {
+    /// Writes the faults' names in code order, separated by `,` (nothing for the empty set).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, fault) in self.iter().enumerate() {
+            if i > 0 {
+                f.write_str(",")?;
+            }
+            f.write_str(fault.as_str())?;
+        }
+        Ok(())
+    }
+}
+
+impl FromStr for FaultSet {
+    type Err = ParseNameError;
+
+    /// The set of the faults named in `s`, separated by `,` (`""`: the empty set). Order and
+    /// repetitions do not matter; an unknown name is an error.
+    fn from_str(s: &str) -> Result<Self, ParseNameError> {
+        let mut set = Self::empty();
+        if !s.is_empty() {
+            for name in s.split(',') {
+                set.insert(name.parse()?);
+            }
+        }
+        Ok(set)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for FaultSet {
+    /// A sequence of fault names, in code order.
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeSeq;
+        let mut seq = serializer.serialize_seq(Some(self.iter().count()))?;
+        for fault in self.iter() {
+            seq.serialize_element(&fault)?;
+        }
+        seq.end()
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for FaultSet {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct SetVisitor;
+        impl<'de> serde::de::Visitor<'de> for SetVisitor {
+            type Value = FaultSet;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a sequence of fault names")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<FaultSet, A::Error> {
+                let mut set = FaultSet::empty();
+                while let Some(fault) = seq.next_element::<Fault>()? {
+                    set.insert(fault);
+                }
+                Ok(set)
+            }
+        }
+        deserializer.deserialize_seq(SetVisitor)
     }
 }

@@ -1,5 +1,10 @@
 //! The supervisor's [`Mode`]s and the operator's [`ModeRequest`]s.
 
+use crate::ParseNameError;
+use crate::names::parse_name;
+use core::fmt;
+use core::str::FromStr;
+
 /// The supervisor's mode.
 ///
 /// ```
@@ -37,6 +42,38 @@ pub enum Mode {
 }
 
 impl Mode {
+    /// Every mode, in declaration order (for bindings and logs that list them).
+    ///
+    /// ```
+    /// use ballbot_core::safety::Mode;
+    /// let names = Mode::ALL.map(|m| m.as_str());
+    /// assert_eq!(names, ["idle", "balancing", "controlled_stop", "fault"]);
+    /// ```
+    pub const ALL: [Self; 4] = [
+        Self::Idle,
+        Self::Balancing,
+        Self::ControlledStop,
+        Self::Fault,
+    ];
+
+    /// The mode's canonical name (snake_case), the one string form used by `Display`, `FromStr`
+    /// and serde.
+    ///
+    /// ```
+    /// use ballbot_core::safety::Mode;
+    /// assert_eq!(Mode::ControlledStop.as_str(), "controlled_stop");
+    /// assert_eq!(Mode::ControlledStop.to_string(), "controlled_stop");
+    /// assert_eq!("controlled_stop".parse(), Ok(Mode::ControlledStop));
+    /// ```
+    pub const fn as_str(&self) -> &'static str {
+        match self {
+            Self::Idle => "idle",
+            Self::Balancing => "balancing",
+            Self::ControlledStop => "controlled_stop",
+            Self::Fault => "fault",
+        }
+    }
+
     /// Whether the motors are driven in this mode.
     ///
     /// ```
@@ -47,6 +84,36 @@ impl Mode {
     /// ```
     pub const fn motors_enabled(self) -> bool {
         matches!(self, Self::Balancing | Self::ControlledStop)
+    }
+}
+
+impl fmt::Display for Mode {
+    /// Writes [`Mode::as_str`].
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for Mode {
+    type Err = ParseNameError;
+
+    /// The mode named `s` ([`Mode::as_str`]).
+    fn from_str(s: &str) -> Result<Self, ParseNameError> {
+        parse_name(s, &Self::ALL, Self::as_str, "mode")
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for Mode {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.as_str())
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for Mode {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        crate::names::serde_name::deserialize(deserializer, "mode")
     }
 }
 
