@@ -47,6 +47,7 @@ const CHECKED: &[&str] = &[
     "control/lqr_pi.rs",
     "control/motor_pi.rs",
     "control/pi_pd.rs",
+    "control/terms.rs",
     "safety/mod.rs",
     "safety/fault.rs",
     "safety/mode.rs",

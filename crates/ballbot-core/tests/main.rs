@@ -9,3 +9,4 @@ mod lqr;
 mod names;
 mod safety;
 mod spin;
+mod terms;

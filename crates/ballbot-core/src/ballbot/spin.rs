@@ -2,6 +2,7 @@
 
 use crate::check::{lit, positive};
 use crate::control::StepStatus;
+use crate::control::impl_terms;
 use crate::num::{clamp_sym, max, min};
 use crate::spin::SpinState;
 use crate::{Error, Spin};
@@ -106,6 +107,12 @@ pub struct SpinOuterOutput<T> {
     /// Nominal, saturated or rejected.
     pub status: StepStatus,
 }
+
+impl_terms!(SpinOuterOutput {
+    reference_torque_nm,
+    reference_rate_rad_per_s,
+    reference_accel_rad_per_s2,
+});
 
 /// The spin plane of the cascaded LQR-PI: LQR reference torque, reference spin model
 /// `theta_ddot_rz = (tau_rz - D_z theta_dot_z) / I_z` at the measured state, integrated to the

@@ -66,6 +66,7 @@ mod lqr;
 mod lqr_pi;
 mod motor_pi;
 mod pi_pd;
+mod terms;
 
 pub use feedforward::accelerating_command;
 pub use lqr::{LqrController, LqrGains, LqrOutput};
@@ -74,6 +75,8 @@ pub use motor_pi::{SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput};
 pub use pi_pd::{
     PI_PD_DEFAULT_MAX_TILT_RAD, PI_PD_DEFAULT_POLES_PER_P0, PiPdController, PiPdGains, PiPdOutput,
 };
+pub use terms::Terms;
+pub(crate) use terms::impl_terms;
 
 use crate::ParseNameError;
 use crate::check::{lit, positive};
