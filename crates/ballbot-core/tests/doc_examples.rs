@@ -34,6 +34,9 @@ const CHECKED: &[&str] = &[
     "params.rs",
     "spin.rs",
     "wip/mod.rs",
+    "wip/dynamics.rs",
+    "wip/energy.rs",
+    "wip/linearization.rs",
     "hal.rs",
     "linalg.rs",
     "kinematics/mod.rs",
@@ -961,6 +964,7 @@ fn scanner_reads_the_core_module_tree() {
     ));
     assert!(names("lqr/design.rs").contains("wip_lqr"));
     assert!(names("wip/mod.rs").contains("Wip::new"));
+    assert!(names("wip/dynamics.rs").contains("Wip::derivative"));
     assert!(names("error.rs").contains("Error"));
     assert!(names("check.rs").is_empty());
     let total: usize = items.values().map(Vec::len).sum();
