@@ -46,7 +46,7 @@ const CHECKED: &[&str] = &[
     "kinematics/contact.rs",
     "kinematics/limits.rs",
     "lqr/design.rs",
-    "lqr/riccati.rs",
+    "lqr/riccati/mod.rs",
     "control/mod.rs",
     "control/feedforward.rs",
     "control/lqr.rs",
