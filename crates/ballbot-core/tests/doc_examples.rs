@@ -47,6 +47,7 @@ const CHECKED: &[&str] = &[
     "kinematics/limits.rs",
     "lqr/design.rs",
     "lqr/riccati/mod.rs",
+    "lqr/riccati/solve.rs",
     "control/mod.rs",
     "control/feedforward.rs",
     "control/lqr.rs",
@@ -966,6 +967,8 @@ fn scanner_reads_the_core_module_tree() {
         Exposure::Reexported(_)
     ));
     assert!(names("lqr/design.rs").contains("wip_lqr"));
+    assert!(names("lqr/riccati/solve.rs").contains("solve_dare"));
+    assert!(names("command/shaper.rs").contains("CommandShaper::step"));
     assert!(names("wip/mod.rs").contains("Wip::new"));
     assert!(names("wip/dynamics.rs").contains("Wip::derivative"));
     assert!(names("error.rs").contains("Error"));
