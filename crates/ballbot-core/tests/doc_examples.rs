@@ -31,7 +31,7 @@ const CHECKED: &[&str] = &[
     "lib.rs",
     "lqr/mod.rs",
     "error.rs",
-    "params.rs",
+    "params/mod.rs",
     "spin.rs",
     "wip/mod.rs",
     "wip/dynamics.rs",
