@@ -44,8 +44,6 @@
 //! # Ok::<(), ballbot_core::Error>(())
 //! ```
 
-use nalgebra::RealField;
-
 mod jerk;
 mod lean;
 mod shaper;
@@ -59,6 +57,8 @@ pub use shaper::{
     BodyMotion, BodyVelocity, CommandShaper, CommandShaperParams, PlanarCommands, ShapedCommand,
 };
 pub use trajectory::Trajectory;
+
+use nalgebra::RealField;
 
 /// A remote-control velocity command in the body frame.
 ///
