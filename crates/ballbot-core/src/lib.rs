@@ -30,6 +30,8 @@ pub mod integrate;
 pub mod kinematics;
 pub mod linalg;
 pub mod lqr;
+mod names;
+mod num;
 pub mod params;
 pub mod rates;
 pub mod safety;
@@ -41,6 +43,7 @@ pub use integrate::rk4_step;
 pub use kinematics::{
     ContactForces, OmniKinematics, TorqueInterval, TorqueSaturation, WheelContact, WheelGeometry,
 };
+pub use names::ParseNameError;
 pub use params::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WHEEL_COUNT,
     WipParams,

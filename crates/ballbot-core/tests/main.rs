@@ -6,5 +6,7 @@ mod doc_examples;
 mod fast_paths;
 mod kinematics;
 mod lqr;
+mod names;
 mod safety;
 mod spin;
+mod terms;

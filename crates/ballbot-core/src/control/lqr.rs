@@ -9,6 +9,7 @@
 //! paper controls speed, not position). The controller is static: it has no state and ignores
 //! the step length.
 
+use super::terms::impl_terms;
 use super::{StepStatus, check_gain, check_limit, saturate, state_is_finite};
 use crate::lqr::{WipLqr, WipLqrWeights, wip_lqr, wip_lqr_discrete};
 use crate::{Error, Wip, WipState};
@@ -239,6 +240,14 @@ pub struct LqrOutput<T> {
     /// Whether the step was nominal, saturated or rejected.
     pub status: StepStatus,
 }
+
+impl_terms!(LqrOutput {
+    torque_nm,
+    tilt_term_nm,
+    tilt_rate_term_nm,
+    ball_rate_term_nm,
+    saturation_nm,
+});
 
 impl<T: RealField + Copy> LqrOutput<T> {
     fn rejected() -> Self {

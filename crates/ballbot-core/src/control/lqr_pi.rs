@@ -42,9 +42,10 @@
 //! steady acceleration leaves no mean tracking error in the inner loop (which holds the
 //! reference between outer updates).
 
+use super::terms::impl_terms;
 use super::{LqrGains, SpeedPiGains, StepStatus, dt_is_valid, saturate};
 use crate::check::positive;
-use crate::command::{max, min};
+use crate::num::{max, min};
 use crate::wip::{BALL_ANGLE, BALL_RATE, TILT};
 use crate::{Error, Wip, WipState};
 use nalgebra::RealField;
@@ -168,6 +169,17 @@ pub struct LqrPiOuterOutput<T> {
     /// Whether the step was nominal, saturated (reference torque) or rejected.
     pub status: StepStatus,
 }
+
+impl_terms!(LqrPiOuterOutput {
+    reference_torque_nm,
+    reference_ball_rate_rad_per_s,
+    reference_ball_accel_rad_per_s2,
+    tilt_term_nm,
+    tilt_rate_term_nm,
+    ball_rate_term_nm,
+    saturation_nm,
+    anchor_correction_rad_per_s,
+});
 
 /// The outer part of the cascaded LQR-PI controller (see the module docs).
 ///

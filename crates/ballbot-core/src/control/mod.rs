@@ -66,6 +66,7 @@ mod lqr;
 mod lqr_pi;
 mod motor_pi;
 mod pi_pd;
+mod terms;
 
 pub use feedforward::accelerating_command;
 pub use lqr::{LqrController, LqrGains, LqrOutput};
@@ -74,9 +75,15 @@ pub use motor_pi::{SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput};
 pub use pi_pd::{
     PI_PD_DEFAULT_MAX_TILT_RAD, PI_PD_DEFAULT_POLES_PER_P0, PiPdController, PiPdGains, PiPdOutput,
 };
+pub use terms::Terms;
+pub(crate) use terms::impl_terms;
 
+use crate::ParseNameError;
 use crate::check::{lit, positive};
+use crate::names::parse_name;
 use crate::{Error, WipState};
+use core::fmt;
+use core::str::FromStr;
 use nalgebra::RealField;
 
 /// What happened in one controller step (for logging and for the safety supervisor).
@@ -108,6 +115,32 @@ pub enum StepStatus {
 }
 
 impl StepStatus {
+    /// Every status, in declaration order (for bindings and logs that list them).
+    ///
+    /// ```
+    /// use ballbot_core::control::StepStatus;
+    /// let names = StepStatus::ALL.map(|s| s.as_str());
+    /// assert_eq!(names, ["nominal", "saturated", "invalid_input"]);
+    /// ```
+    pub const ALL: [Self; 3] = [Self::Nominal, Self::Saturated, Self::InvalidInput];
+
+    /// The status's canonical name (snake_case), the one string form used by `Display`,
+    /// `FromStr` and serde.
+    ///
+    /// ```
+    /// use ballbot_core::control::StepStatus;
+    /// assert_eq!(StepStatus::InvalidInput.as_str(), "invalid_input");
+    /// assert_eq!(StepStatus::Saturated.to_string(), "saturated");
+    /// assert_eq!("nominal".parse(), Ok(StepStatus::Nominal));
+    /// ```
+    pub const fn as_str(&self) -> &'static str {
+        match self {
+            Self::Nominal => "nominal",
+            Self::Saturated => "saturated",
+            Self::InvalidInput => "invalid_input",
+        }
+    }
+
     /// `true` unless the step was rejected ([`StepStatus::InvalidInput`]).
     ///
     /// ```
@@ -117,6 +150,36 @@ impl StepStatus {
     /// ```
     pub fn is_valid(self) -> bool {
         self != Self::InvalidInput
+    }
+}
+
+impl fmt::Display for StepStatus {
+    /// Writes [`StepStatus::as_str`].
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for StepStatus {
+    type Err = ParseNameError;
+
+    /// The status named `s` ([`StepStatus::as_str`]).
+    fn from_str(s: &str) -> Result<Self, ParseNameError> {
+        parse_name(s, &Self::ALL, Self::as_str, "step status")
+    }
+}
+
+#[cfg(feature = "serde")]
+impl serde::Serialize for StepStatus {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.as_str())
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de> serde::Deserialize<'de> for StepStatus {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        crate::names::serde_name::deserialize(deserializer, "step status")
     }
 }
 

@@ -18,9 +18,10 @@
 //! `k_aw` cannot make it overshoot; and the integral term alone is clamped to the torque limit.
 //! The integrator is committed only when its new value is finite.
 
+use super::terms::impl_terms;
 use super::{StepStatus, check_limit, dt_is_valid};
 use crate::check::{non_negative, positive};
-use crate::command::{max, min};
+use crate::num::{max, min};
 use crate::wip::BALL_RATE;
 use crate::{Error, Wip};
 use nalgebra::RealField;
@@ -202,6 +203,15 @@ pub struct SpeedPiOutput<T> {
     /// Whether the step was nominal, saturated or rejected.
     pub status: StepStatus,
 }
+
+impl_terms!(SpeedPiOutput {
+    torque_nm,
+    feedforward_nm,
+    proportional_nm,
+    integral_nm,
+    saturation_nm,
+    speed_error_rad_per_s,
+});
 
 impl<T: RealField + Copy> SpeedPiOutput<T> {
     fn rejected() -> Self {

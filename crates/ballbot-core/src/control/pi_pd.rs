@@ -23,6 +23,7 @@
 //! [`PiPdGains::for_wip`] places the poles at fixed multiples of the open-loop unstable pole
 //! `p0 = sqrt(m_U g l b / Delta0)`, which scales the design to each robot.
 
+use super::terms::impl_terms;
 use super::{StepStatus, check_gain, check_limit, dt_is_valid, saturate, state_is_finite};
 use crate::check::lit;
 use crate::wip::{BALL_RATE, TILT, TILT_RATE};
@@ -269,6 +270,18 @@ pub struct PiPdOutput<T> {
     /// Whether the step was nominal, saturated (torque or tilt) or rejected.
     pub status: StepStatus,
 }
+
+impl_terms!(PiPdOutput {
+    torque_nm,
+    reference_tilt_rad,
+    tilt_feedforward_rad,
+    speed_p_term_rad,
+    speed_i_term_rad,
+    tilt_limit_rad,
+    tilt_p_term_nm,
+    tilt_d_term_nm,
+    saturation_nm,
+});
 
 impl<T: RealField + Copy> PiPdOutput<T> {
     fn rejected() -> Self {

@@ -1,0 +1,218 @@
+//! The controller's configuration and its design from the robot's parameters
+//! ([`BallbotControllerConfig::design`]), with the per-motor PI gains
+//! ([`motor_speed_pi_gains`]).
+
+use super::{SpinGains, SpinOuterConfig};
+use crate::check::{lit, positive};
+use crate::command::CommandShaperParams;
+use crate::control::{LqrGains, LqrPiOuterConfig, SpeedPiGains};
+use crate::lqr::{
+    SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
+};
+use crate::safety::SafetyParams;
+use crate::wip::BALL_RATE;
+use crate::{BallbotParams, Error, OmniKinematics, Spin, Wip};
+use nalgebra::RealField;
+
+/// Everything the 3D controller needs, validated by [`BallbotController::new`](super::BallbotController::new).
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+/// // The designed configuration, then one engineering change: no remote, no link supervision.
+/// let mut config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// config.safety.command_timeout_us = None;
+/// let controller = BallbotController::new(config)?;
+/// assert_eq!(controller.config().safety.command_timeout_us, None);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallbotControllerConfig<T> {
+    /// The robot (reference models and kinematics).
+    pub robot: BallbotParams<T>,
+    /// Frontal plane (x) outer LQR-PI.
+    pub frontal: LqrPiOuterConfig<T>,
+    /// Sagittal plane (y) outer LQR-PI.
+    pub sagittal: LqrPiOuterConfig<T>,
+    /// Spin outer loop.
+    pub spin: SpinOuterConfig<T>,
+    /// The per-omniwheel speed PI (torques at the omniwheel).
+    pub motor: SpeedPiGains<T>,
+    /// Command shaping.
+    pub shaping: CommandShaperParams<T>,
+    /// Safety thresholds.
+    pub safety: SafetyParams<T>,
+    /// Outer-loop period (s): 1/400 on MiaPURE.
+    pub outer_dt_secs: T,
+}
+
+/// LQR weights and bandwidths for [`BallbotControllerConfig::design_with`].
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotControllerConfig, BallbotDesign};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// // A stiffer motor loop: 60 rad/s instead of 30.
+/// let stiff = BallbotDesign { motor_bandwidth_rad_per_s: 60.0, ..BallbotDesign::paper() };
+/// let a = BallbotControllerConfig::design_with(&robot, &stiff)?;
+/// let b = BallbotControllerConfig::design(&robot)?;
+/// // kp grows with the bandwidth, ki with its square.
+/// let (a, b) = (a.motor, b.motor);
+/// approx::assert_relative_eq!(a.proportional_nm_s_per_rad, 2.0 * b.proportional_nm_s_per_rad);
+/// approx::assert_relative_eq!(a.integral_nm_per_rad, 4.0 * b.integral_nm_per_rad);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallbotDesign<T: RealField + Copy> {
+    /// Weights of both WIP planes on `[theta, theta_dot, phi_dot]` and the torque.
+    pub plane_weights: WipLqrWeights<T>,
+    /// Weights of the spin plane on `[theta_z, theta_dot_z]` and the yaw torque.
+    pub spin_weights: SpinLqrWeights<T>,
+    /// Bandwidth of the per-motor speed PI (rad/s): critically damped double pole.
+    pub motor_bandwidth_rad_per_s: T,
+    /// Outer-loop period (s).
+    pub outer_dt_secs: T,
+}
+
+impl<T: RealField + Copy> BallbotDesign<T> {
+    /// MODEL.md's plane weights `Q = diag(100, 10, 1)`, `R = 0.1`; spin `Q = diag(100, 10)`,
+    /// `R = 1` (an engineering choice: heading error 0.1 rad costs like 1 N m); a 30 rad/s
+    /// motor PI; 400 Hz.
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::BallbotDesign;
+    /// let d = BallbotDesign::<f64>::paper();
+    /// assert_eq!((d.motor_bandwidth_rad_per_s, d.outer_dt_secs), (30.0, 1.0 / 400.0));
+    /// assert_eq!(d.plane_weights.r, 0.1);
+    /// ```
+    pub fn paper() -> Self {
+        Self {
+            plane_weights: WipLqrWeights::model_default(),
+            spin_weights: SpinLqrWeights::diagonal([lit(100.0), lit(10.0)], T::one()),
+            motor_bandwidth_rad_per_s: lit(30.0),
+            outer_dt_secs: outer_loop_dt_secs(),
+        }
+    }
+}
+
+impl<T: RealField + Copy> BallbotControllerConfig<T> {
+    /// [`Self::design_with`] the [`BallbotDesign::paper`] weights.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::BallbotControllerConfig;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// // Discrete LQR at 400 Hz, close to MODEL.md's continuous k1 = -234.8.
+    /// let k1 = config.sagittal.lqr.tilt_nm_per_rad;
+    /// approx::assert_relative_eq!(k1, -234.8, max_relative = 0.1);
+    /// // The frontal plane has the smaller torque capacity (83.9 vs 96.9 N m).
+    /// approx::assert_relative_eq!(config.frontal.lqr.max_torque_nm, 83.9, epsilon = 0.05);
+    /// approx::assert_relative_eq!(config.sagittal.lqr.max_torque_nm, 96.9, epsilon = 0.05);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn design(robot: &BallbotParams<T>) -> Result<Self, Error> {
+        Self::design_with(robot, &BallbotDesign::paper())
+    }
+
+    /// Designs every gain from the model: discrete LQR at the outer period on each plane's
+    /// upright linearisation and on the spin model (torque limits: the planar torque
+    /// capacity of the drivetrain), the motor PI from [`motor_speed_pi_gains`], and the
+    /// MiaPURE shaping and safety defaults (wheel-speed limits from the robot's actuator).
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::{BallbotControllerConfig, BallbotDesign};
+    /// use ballbot_core::{BallbotParams, Error};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// // A 200 Hz outer loop.
+    /// let slow = BallbotDesign { outer_dt_secs: 1.0 / 200.0, ..BallbotDesign::paper() };
+    /// let config = BallbotControllerConfig::design_with(&robot, &slow)?;
+    /// assert_eq!(config.outer_dt_secs, 0.005);
+    /// // A period that is not positive is refused, naming the field.
+    /// let broken = BallbotDesign { outer_dt_secs: 0.0, ..BallbotDesign::paper() };
+    /// assert!(matches!(
+    ///     BallbotControllerConfig::design_with(&robot, &broken),
+    ///     Err(Error::InvalidParameter { field: "outer_dt_secs", .. })
+    /// ));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn design_with(robot: &BallbotParams<T>, design: &BallbotDesign<T>) -> Result<Self, Error> {
+        let kin = OmniKinematics::from_ballbot(robot)?;
+        let capacity = kin.planar_torque_capacity_nm();
+        let dt = design.outer_dt_secs;
+        positive(dt, "outer_dt_secs")?;
+        let motor = motor_speed_pi_gains(robot, &kin, design.motor_bandwidth_rad_per_s)?;
+        let plane = |params, max_torque_nm| -> Result<LqrPiOuterConfig<T>, Error> {
+            let wip = Wip::new(params)?;
+            let lqr = wip_lqr_discrete(&wip, &design.plane_weights, dt)?;
+            let gains = LqrGains::from_reduced(lqr.reduced_gains(), max_torque_nm);
+            // The anchor band: the speed error at which the planar-equivalent P term alone
+            // saturates (see LqrPiOuterConfig::new), from the wheel PI's planar equivalent.
+            let planar_pi = SpeedPiGains::for_wip_ball_rate(
+                &wip,
+                design.motor_bandwidth_rad_per_s,
+                max_torque_nm,
+            )?;
+            LqrPiOuterConfig::new(gains, &planar_pi)
+        };
+        let spin = Spin::new(robot.spin)?;
+        let spin_lqr = spin_lqr_discrete(&spin, &design.spin_weights, dt)?;
+        let spin_config = SpinOuterConfig {
+            gains: SpinGains {
+                heading_nm_per_rad: spin_lqr.gain[0],
+                rate_nm_s_per_rad: spin_lqr.gain[1],
+                max_torque_nm: capacity[2],
+            },
+            max_rate_error_rad_per_s: lit(2.0),
+        };
+        Ok(Self {
+            robot: *robot,
+            frontal: plane(robot.frontal, capacity[0])?,
+            sagittal: plane(robot.sagittal, capacity[1])?,
+            spin: spin_config,
+            motor,
+            shaping: CommandShaperParams::miapure(),
+            safety: SafetyParams::for_actuator(&robot.drivetrain.actuator),
+            outer_dt_secs: dt,
+        })
+    }
+}
+
+/// Per-omniwheel speed PI gains (torques at the omniwheel) with a critically damped double
+/// pole at `-bandwidth_rad_per_s` for translation (see the module docs): the plant gain is
+/// `b_w = B4 (J^T J)_xy`, averaged over the two planes' `B4` and the x and y diagonal entries.
+///
+/// ```
+/// use ballbot_core::ballbot::motor_speed_pi_gains;
+/// use ballbot_core::control::SpeedPiGains;
+/// use ballbot_core::{BallbotParams, OmniKinematics, Wip};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let kin = OmniKinematics::from_ballbot(&robot)?;
+/// let wheel = motor_speed_pi_gains(&robot, &kin, 30.0)?;
+/// // Seen from the plane, the three wheel PIs act as the planar PI of the paper:
+/// // S J^T kp J = kp (J^T J)_xx, so kp_wheel (J^T J)_xx equals the planar kp (to the
+/// // difference between the two planes' B4, averaged here).
+/// let j = kin.wheel_speed_matrix();
+/// let jtj = j.transpose() * j;
+/// let planar = SpeedPiGains::for_wip_ball_rate(&Wip::new(robot.sagittal)?, 30.0, 96.9)?;
+/// let kp_planar_equivalent = wheel.proportional_nm_s_per_rad * jtj[(1, 1)];
+/// let kp_planar = planar.proportional_nm_s_per_rad;
+/// approx::assert_relative_eq!(kp_planar_equivalent, kp_planar, max_relative = 0.05);
+/// assert_eq!(wheel.max_torque_nm, 43.2); // the actuator's peak, at the omniwheel
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+pub fn motor_speed_pi_gains<T: RealField + Copy>(
+    robot: &BallbotParams<T>,
+    kinematics: &OmniKinematics<T>,
+    bandwidth_rad_per_s: T,
+) -> Result<SpeedPiGains<T>, Error> {
+    let b4 = |p| -> Result<T, Error> { Ok(Wip::new(p)?.linearize_upright().B[BALL_RATE]) };
+    let b4_mean = (b4(robot.frontal)? + b4(robot.sagittal)?) * lit(0.5);
+    let j = kinematics.wheel_speed_matrix();
+    let jtj = j.transpose() * j;
+    let b_w = b4_mean * (jtj[(0, 0)] + jtj[(1, 1)]) * lit(0.5);
+    SpeedPiGains::from_bandwidth(
+        b_w,
+        bandwidth_rad_per_s,
+        robot.drivetrain.actuator.peak_torque_nm,
+    )
+}

@@ -1,0 +1,529 @@
+//! The outer loop (400 Hz): [`BallbotController`], from IMU, encoders and command to the
+//! [`MotorReferences`] sent to the motor drivers.
+
+use super::feedforward::InputFeedforward;
+use super::{BallbotControllerConfig, SpinOuter};
+use crate::check::{lit, positive};
+use crate::command::{Command, CommandShaper, PlanarCommands};
+use crate::control::{LqrPiOuter, StepStatus};
+use crate::estimation::{
+    EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos,
+};
+use crate::num::clamp_sym;
+use crate::safety::{Fault, Mode, ModeRequest, SafetyInput, SafetyStatus, SafetySupervisor};
+use crate::spin::SpinState;
+use crate::wip::{BALL_ANGLE, TILT, TILT_RATE, WipState};
+use crate::{Error, OmniKinematics, Spin, Wip};
+use nalgebra::{RealField, Vector3};
+
+/// What the outer loop reads in one step.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+/// use ballbot_core::command::Command;
+/// use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// use ballbot_core::safety::{Mode, ModeRequest};
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut outer = BallbotController::new(config)?;
+/// let input = OuterInput {
+///     now_us: 0,
+///     imu: ImuSample::upright(0),
+///     encoders: EncoderSample::still(0),
+///     command: Command::Stop,
+///     command_timestamp_us: Some(0),
+///     request: ModeRequest::Arm,
+/// };
+/// assert_eq!(outer.step(&input).safety.mode, Mode::Balancing);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OuterInput<'a, T: nalgebra::Scalar> {
+    /// Now, on the robot's monotonic clock (us).
+    pub now_us: u64,
+    /// The latest IMU sample.
+    pub imu: ImuSample<T>,
+    /// The latest encoder sample.
+    pub encoders: EncoderSample<T>,
+    /// The operator's command.
+    pub command: Command<'a, T>,
+    /// When the command was last received (us); `None`: never.
+    pub command_timestamp_us: Option<u64>,
+    /// The operator's mode request.
+    pub request: ModeRequest,
+}
+
+/// What the main controller sends to the three motor drivers once per outer period.
+///
+/// The reference speed of each omniwheel over the coming period is the ramp
+/// `speed_rad_per_s + accel_rad_per_s2 * t`, `t` the time since the references were produced:
+/// the reference models' acceleration, so the motor drivers follow the reference speed between
+/// outer updates instead of holding it (a held reference leaves a speed error of
+/// `±accel dt / 2` that the PIs would fight every period; see
+/// [`MotorSpeedLoop::set_references`](super::MotorSpeedLoop::set_references)). A driver that can only hold a speed should hold the
+/// period's mean, `speed_rad_per_s + accel_rad_per_s2 * dt / 2`.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotControllerConfig, MotorReferences, MotorSpeedLoop};
+/// use nalgebra::Vector3;
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut inner = MotorSpeedLoop::new(&config)?;
+/// // Wheel 1 at 2 rad/s, accelerating at 40 rad/s^2: halfway through the 2.5 ms period the
+/// // driver's reference has ramped to 2.05 rad/s.
+/// inner.set_references(&MotorReferences {
+///     enabled: true,
+///     speed_rad_per_s: Vector3::new(2.0, 0.0, 0.0),
+///     accel_rad_per_s2: Vector3::new(40.0, 0.0, 0.0),
+///     feedforward_torque_nm: Vector3::zeros(),
+/// });
+/// let mut out = inner.step(&Vector3::new(2.0, 0.0, 0.0), 1.25e-4);
+/// for _ in 0..9 {
+///     out = inner.step(&Vector3::new(2.0, 0.0, 0.0), 1.25e-4);
+/// }
+/// let expected = 2.0 + 40.0 * 9.5 * 1.25e-4; // at the middle of the 10th inner step
+/// approx::assert_relative_eq!(out.reference_speed_rad_per_s[0], expected, epsilon = 1e-12);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotorReferences<T: nalgebra::Scalar> {
+    /// Whether the drivers may apply torque; when `false` every other field is 0.
+    pub enabled: bool,
+    /// Reference omniwheel speeds `psi_dot_r` at the start of the period (rad/s, at the
+    /// omniwheel), within the actuator's no-load speed.
+    pub speed_rad_per_s: Vector3<T>,
+    /// Reference omniwheel accelerations over the period (rad/s^2).
+    pub accel_rad_per_s2: Vector3<T>,
+    /// Feedforward omniwheel torques `tau_r` (N m, at the omniwheel), within the actuator's
+    /// peak torque.
+    pub feedforward_torque_nm: Vector3<T>,
+}
+
+impl<T: RealField + Copy> MotorReferences<T> {
+    /// Motors off.
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::MotorReferences;
+    /// let off = MotorReferences::<f64>::disabled();
+    /// assert!(!off.enabled && off.feedforward_torque_nm.norm() == 0.0);
+    /// ```
+    pub fn disabled() -> Self {
+        Self {
+            enabled: false,
+            speed_rad_per_s: Vector3::zeros(),
+            accel_rad_per_s2: Vector3::zeros(),
+            feedforward_torque_nm: Vector3::zeros(),
+        }
+    }
+}
+
+/// One outer step: the motor references and everything that made them (for logging).
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+/// use ballbot_core::command::Command;
+/// use ballbot_core::estimation::{EncoderSample, ImuSample};
+/// use ballbot_core::safety::ModeRequest;
+/// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+/// let mut outer = BallbotController::new(config)?;
+/// // Armed while pitched 2 deg forward: the sagittal plane pushes the ball forward (tau_ry > 0),
+/// // the frontal and spin planes have nothing to do.
+/// let imu = ImuSample { pitch_rad: 2f64.to_radians(), ..ImuSample::upright(0) };
+/// let input = OuterInput {
+///     now_us: 0,
+///     imu,
+///     encoders: EncoderSample::still(0),
+///     command: Command::Stop,
+///     command_timestamp_us: Some(0),
+///     request: ModeRequest::Arm,
+/// };
+/// let out = outer.step(&input);
+/// assert!(out.motors.enabled && out.reference_torque_nm[1] > 0.0);
+/// assert_eq!((out.reference_torque_nm[0], out.reference_torque_nm[2]), (0.0, 0.0));
+/// assert_eq!(out.states.sagittal[0], 2f64.to_radians());
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OuterOutput<T: nalgebra::Scalar> {
+    /// For the motor drivers.
+    pub motors: MotorReferences<T>,
+    /// The supervisor's verdict (mode, faults of this step).
+    pub safety: SafetyStatus,
+    /// The estimated planar states.
+    pub states: PlanarStates<T>,
+    /// The shaped planar command states (zero when the motors are off).
+    pub commands: PlanarCommands<T>,
+    /// Reference planar torques `[tau_rx, tau_ry, tau_rz]` actually fed forward, after the
+    /// uniform scaling into the actuator limits (N m).
+    pub reference_torque_nm: Vector3<T>,
+    /// Reference planar rates `[phi_dot_rx, phi_dot_ry, theta_dot_rz]` (rad/s).
+    pub reference_rate_rad_per_s: Vector3<T>,
+    /// In a controlled stop, whether the shaped command has come to rest (the robot is
+    /// holding).
+    pub stopped: bool,
+}
+
+/// The outer loop of the 3D controller (see the module docs).
+///
+/// **Input feedforward.** The LQR `tau = k (s_c - s)` has no torque feedforward; at a
+/// commanded steady acceleration `phi_ddot_c` the plane needs `tau = b phi_ddot_c` with the
+/// body at its equilibrium lean, and without help the LQR would find it only through a
+/// standing speed error (0.35 m/s at 1 m/s^2 on MiaPURE). The controller shifts each tilt
+/// command by `b phi_ddot_c / k1`, so the LQR's output at the accelerating equilibrium is
+/// exactly that torque, and the heading command by `(I_z theta_ddot_zc + D_z theta_dot_zc) /
+/// k_heading` for the spin plane. A trajectory also tilts the body: its tilt command is shifted
+/// by a further `c(theta_c) theta_ddot_c / k1`, `c(theta) = m_U r l cos(theta) - I_W`, so that
+/// the feedforward is the second row of the WIP equations, `c(theta_c) theta_ddot_c + b
+/// phi_ddot_c`, with the slopes of the trajectory's interpolated rates (on MiaPURE `c` is four
+/// times `b`: braking's onset tips the body back hard). The logged [`OuterOutput::commands`] are the unshifted,
+/// physical command states.
+///
+/// ```
+/// use ballbot_core::ballbot::{
+///     BallbotController, BallbotControllerConfig, MotorSpeedLoop, OuterInput,
+/// };
+/// use ballbot_core::command::{Command, VelocityCommand};
+/// use ballbot_core::estimation::{PlanarStates, synthesize_sensors};
+/// use ballbot_core::kinematics::relative_rate_from_planar;
+/// use ballbot_core::safety::{Mode, ModeRequest};
+/// use ballbot_core::{BallbotParams, OmniKinematics, Spin, Wip, rk4_step};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let config = BallbotControllerConfig::design(&robot)?;
+/// let (mut outer, mut inner) = (BallbotController::new(config)?, MotorSpeedLoop::new(&config)?);
+/// // The plant: the three planar models, coupled through the omniwheel kinematics.
+/// let kin = OmniKinematics::from_ballbot(&robot)?;
+/// let (fro, sag) = (Wip::new(robot.frontal)?, Wip::new(robot.sagittal)?);
+/// let spin = Spin::new(robot.spin)?;
+/// let mut s = PlanarStates::zeros();
+/// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, ..VelocityCommand::zero() });
+/// let dt_inner = 1.0 / 8000.0;
+/// for k in 0..4 * 400 {
+///     let now_us = k * 2500;
+///     let (imu, encoders) = synthesize_sensors(&kin, &s, now_us);
+///     let request = if k == 0 { ModeRequest::Arm } else { ModeRequest::None };
+///     let input = OuterInput {
+///         now_us,
+///         imu,
+///         encoders,
+///         command: go,
+///         command_timestamp_us: Some(now_us),
+///         request,
+///     };
+///     let out = outer.step(&input);
+///     inner.set_references(&out.motors);
+///     for _ in 0..20 {
+///         let rel = relative_rate_from_planar(
+///             [s.frontal[3], s.sagittal[3]],
+///             [s.frontal[2], s.sagittal[2]],
+///             s.spin[1],
+///         );
+///         let wheel_torques_nm = inner.step(&kin.wheel_speeds_rad_per_s(&rel), dt_inner).torque_nm;
+///         let tau = kin.planar_torque_nm(&wheel_torques_nm);
+///         s.frontal = rk4_step(|x| fro.derivative(x, tau[0]), &s.frontal, dt_inner);
+///         s.sagittal = rk4_step(|x| sag.derivative(x, tau[1]), &s.sagittal, dt_inner);
+///         s.spin = rk4_step(|x| spin.derivative(x, tau[2]), &s.spin, dt_inner);
+///     }
+/// }
+/// assert_eq!(outer.mode(), Mode::Balancing);
+/// // After 4 s the ball rolls forward at 1 m/s (x = r phi_y), the body upright; nothing moved
+/// // sideways or turned.
+/// let r = robot.sagittal.ball_radius_m;
+/// assert!((s.sagittal[3] * r - 1.0).abs() < 0.01 && s.sagittal[0].abs() < 1e-3);
+/// assert!(s.frontal[3].abs() < 1e-9 && s.spin[1].abs() < 1e-9);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BallbotController<T: RealField + Copy> {
+    config: BallbotControllerConfig<T>,
+    kinematics: OmniKinematics<T>,
+    supervisor: SafetySupervisor<T>,
+    estimator: Estimator<T>,
+    shaper: CommandShaper<T>,
+    frontal: LqrPiOuter<T>,
+    sagittal: LqrPiOuter<T>,
+    spin: SpinOuter<T>,
+    feedforward: InputFeedforward<T>,
+}
+
+impl<T: RealField + Copy> BallbotController<T> {
+    /// Validates `config` and builds every piece; starts in [`Mode::Idle`].
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// use ballbot_core::safety::Mode;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert_eq!(BallbotController::new(config)?.mode(), Mode::Idle);
+    /// let bad = BallbotControllerConfig { outer_dt_secs: -0.0025, ..config };
+    /// assert!(BallbotController::new(bad).is_err());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn new(config: BallbotControllerConfig<T>) -> Result<Self, Error> {
+        let kinematics = OmniKinematics::from_ballbot(&config.robot)?;
+        positive(config.outer_dt_secs, "outer_dt_secs")?;
+        config.motor.validate()?;
+        Ok(Self {
+            config,
+            kinematics,
+            supervisor: SafetySupervisor::new(config.safety)?,
+            estimator: Estimator::new(kinematics),
+            shaper: CommandShaper::new(config.shaping, &config.robot)?,
+            frontal: LqrPiOuter::new(Wip::new(config.robot.frontal)?, config.frontal)?,
+            sagittal: LqrPiOuter::new(Wip::new(config.robot.sagittal)?, config.sagittal)?,
+            spin: SpinOuter::new(Spin::new(config.robot.spin)?, config.spin)?,
+            feedforward: InputFeedforward::new(&config),
+        })
+    }
+
+    /// The configuration.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert_eq!(BallbotController::new(config)?.config().outer_dt_secs, 1.0 / 400.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn config(&self) -> &BallbotControllerConfig<T> {
+        &self.config
+    }
+
+    /// The current mode.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// use ballbot_core::safety::{Fault, Mode};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut outer = BallbotController::new(config)?;
+    /// assert_eq!(outer.mode(), Mode::Idle);
+    /// // While idle a reported fault changes nothing.
+    /// outer.report(Fault::LoopOverrun);
+    /// assert_eq!(outer.mode(), Mode::Idle);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn mode(&self) -> Mode {
+        self.supervisor.mode()
+    }
+
+    /// The supervisor (latched faults, thresholds).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let outer = BallbotController::new(config)?;
+    /// assert!(outer.supervisor().latched_faults().is_empty());
+    /// // The wheel-speed limit follows MiaPURE's actuator: 90 % of 62 rad/s.
+    /// let limit = outer.supervisor().params().wheel_speed_limit_rad_per_s;
+    /// approx::assert_relative_eq!(limit, 55.8, epsilon = 1e-9);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn supervisor(&self) -> &SafetySupervisor<T> {
+        &self.supervisor
+    }
+
+    /// Reports a fault found by the application (e.g. a measured compute overrun); see
+    /// [`SafetySupervisor::report`]. The next [`Self::step`] acts on the new mode.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+    /// use ballbot_core::command::Command;
+    /// use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// use ballbot_core::safety::{Fault, Mode, ModeRequest};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut outer = BallbotController::new(config)?;
+    /// let input = |now_us: u64, request| OuterInput {
+    ///     now_us,
+    ///     imu: ImuSample::upright(now_us),
+    ///     encoders: EncoderSample::still(now_us),
+    ///     command: Command::Stop,
+    ///     command_timestamp_us: Some(now_us),
+    ///     request,
+    /// };
+    /// outer.step(&input(0, ModeRequest::Arm));
+    /// // The application measured a compute overrun: a controlled stop, motors still on.
+    /// assert_eq!(outer.report(Fault::LoopOverrun), Mode::ControlledStop);
+    /// assert!(outer.step(&input(2500, ModeRequest::None)).motors.enabled);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn report(&mut self, fault: Fault) -> Mode {
+        self.supervisor.report(fault)
+    }
+
+    /// One outer step (see the module docs). Never panics; every output is finite and within
+    /// the actuator's limits.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+    /// use ballbot_core::command::{Command, VelocityCommand};
+    /// use ballbot_core::estimation::{EncoderSample, ImuSample};
+    /// use ballbot_core::safety::{Fault, Mode, ModeRequest};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let mut outer = BallbotController::new(config)?;
+    /// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, ..VelocityCommand::zero() });
+    /// let input = |now_us: u64, request| OuterInput {
+    ///     now_us,
+    ///     imu: ImuSample::upright(now_us),
+    ///     encoders: EncoderSample::still(now_us),
+    ///     command: go,
+    ///     command_timestamp_us: Some(now_us),
+    ///     request,
+    /// };
+    /// assert!(outer.step(&input(0, ModeRequest::Arm)).motors.enabled);
+    /// // A non-finite IMU sample: rejected, the estimate held, and a controlled stop begins; the
+    /// // motors stay on (zero torque would drop a rider) and the command becomes "come to rest".
+    /// let mut glitch = input(2500, ModeRequest::None);
+    /// glitch.imu.roll_rad = f64::NAN;
+    /// let out = outer.step(&glitch);
+    /// assert!(out.safety.faults.contains(Fault::ImuNonFinite));
+    /// assert_eq!(out.safety.mode, Mode::ControlledStop);
+    /// assert!(out.motors.enabled && out.states.is_finite());
+    /// assert!(out.motors.feedforward_torque_nm.iter().all(|t| t.is_finite() && t.abs() <= 43.2));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn step(&mut self, input: &OuterInput<'_, T>) -> OuterOutput<T> {
+        let dt = self.config.outer_dt_secs;
+        let safety = self.supervisor.step(&SafetyInput {
+            now_us: input.now_us,
+            imu: input.imu,
+            encoders: input.encoders,
+            command_timestamp_us: input.command_timestamp_us,
+            command_finite: input.command.is_finite(),
+            request: input.request,
+        });
+        let states = self.estimator.update(
+            safety.imu_valid.then_some(&input.imu),
+            safety.encoders_valid.then_some(&input.encoders),
+            dt,
+        );
+        if !safety.mode.motors_enabled() {
+            return self.disabled(safety, states);
+        }
+        // By reference: the command is a large enum (a trajectory borrows its samples).
+        let stop = Command::Stop;
+        let command = if safety.mode == Mode::Balancing {
+            &input.command
+        } else {
+            &stop
+        };
+        let shaped = self.shaper.step(command, dt);
+        // Equilibrium-input feedforward through the command states (see the type's docs).
+        let mut c = shaped.planar;
+        let ff = &self.feedforward;
+        let a = &shaped.acceleration;
+        let [tilt_accel_x, tilt_accel_y] = shaped.tilt_accel_rad_per_s2;
+        let tilt_shift_x = ff.frontal_tilt.shift(c.frontal[TILT], tilt_accel_x);
+        let tilt_shift_y = ff.sagittal_tilt.shift(c.sagittal[TILT], tilt_accel_y);
+        c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y + tilt_shift_x;
+        c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x + tilt_shift_y;
+        let yaw_rate_c = c.spin[1];
+        c.spin[0] += ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_s * yaw_rate_c;
+        // One sin_cos of each tilt serves the plane's reference model and the wheel mapping.
+        let roll_sin_cos = states.frontal[TILT].sin_cos();
+        let pitch_sin_cos = states.sagittal[TILT].sin_cos();
+        let fro =
+            self.frontal
+                .step_with_tilt_sin_cos(&states.frontal, &c.frontal, dt, roll_sin_cos);
+        let sag =
+            self.sagittal
+                .step_with_tilt_sin_cos(&states.sagittal, &c.sagittal, dt, pitch_sin_cos);
+        let spin = self.spin.step(&states.spin, &c.spin, dt);
+        let planar_torque = Vector3::new(
+            fro.reference_torque_nm,
+            sag.reference_torque_nm,
+            spin.reference_torque_nm,
+        );
+        let saturation = self.kinematics.saturate_planar_torque(&planar_torque);
+        let reference_rate = Vector3::new(
+            fro.reference_ball_rate_rad_per_s,
+            sag.reference_ball_rate_rad_per_s,
+            spin.reference_rate_rad_per_s,
+        );
+        // The reference ball motion does not spin about the vertical: leaning, its rolling has
+        // a component about the body's z axis that the wheels see like a yaw rate (see
+        // `ball_body_z_rate_per_ball_rate`).
+        let k = ball_body_z_rate_per_ball_rate_sin_cos(roll_sin_cos, pitch_sin_cos);
+        let relative = Vector3::new(
+            reference_rate[0] - states.frontal[TILT_RATE],
+            reference_rate[1] - states.sagittal[TILT_RATE],
+            k[0] * reference_rate[0] + k[1] * reference_rate[1] - reference_rate[2],
+        );
+        // The planes report the mean reference rate over the period; the drivers ramp from the
+        // start value with the reference models' accelerations (tilt rate held).
+        let relative_accel = Vector3::new(
+            fro.reference_ball_accel_rad_per_s2,
+            sag.reference_ball_accel_rad_per_s2,
+            k[0] * fro.reference_ball_accel_rad_per_s2 + k[1] * sag.reference_ball_accel_rad_per_s2
+                - spin.reference_accel_rad_per_s2,
+        );
+        let accel = self.kinematics.wheel_speeds_rad_per_s(&relative_accel);
+        let limit = self
+            .config
+            .robot
+            .drivetrain
+            .actuator
+            .no_load_speed_rad_per_s;
+        let half_dt = dt * lit(0.5);
+        let speed = (self.kinematics.wheel_speeds_rad_per_s(&relative) - accel * half_dt)
+            .map(|w| clamp_sym(w, limit));
+        // A ramp may not leave the speed range within the period either.
+        let accel_limit = limit / dt;
+        let accel = accel.map(|a| clamp_sym(a, accel_limit));
+        let rejected = |s: StepStatus| s == StepStatus::InvalidInput;
+        let all_finite = speed.iter().all(|x| x.is_finite())
+            && accel.iter().all(|x| x.is_finite())
+            && saturation.wheel_torques_nm.iter().all(|x| x.is_finite())
+            && reference_rate.iter().all(|x| x.is_finite());
+        if rejected(fro.status) || rejected(sag.status) || rejected(spin.status) || !all_finite {
+            let safety = SafetyStatus {
+                mode: self.supervisor.report(Fault::StateNonFinite),
+                ..safety
+            };
+            return self.disabled(safety, states);
+        }
+        OuterOutput {
+            motors: MotorReferences {
+                enabled: true,
+                speed_rad_per_s: speed,
+                accel_rad_per_s2: accel,
+                feedforward_torque_nm: saturation.wheel_torques_nm,
+            },
+            safety,
+            states,
+            commands: shaped.planar,
+            reference_torque_nm: saturation.planar_torque_nm,
+            reference_rate_rad_per_s: reference_rate,
+            stopped: safety.mode == Mode::ControlledStop && self.shaper.is_at_rest(),
+        }
+    }
+
+    /// Motors off: clears every controller state so that arming starts from the measured
+    /// state (heading and ball-angle commands from the estimate).
+    fn disabled(&mut self, safety: SafetyStatus, states: PlanarStates<T>) -> OuterOutput<T> {
+        self.frontal.reset();
+        self.sagittal.reset();
+        self.spin.reset();
+        self.shaper.reset(
+            states.spin[0],
+            states.frontal[BALL_ANGLE],
+            states.sagittal[BALL_ANGLE],
+        );
+        OuterOutput {
+            motors: MotorReferences::disabled(),
+            safety,
+            states,
+            commands: PlanarCommands {
+                frontal: WipState::zeros(),
+                sagittal: WipState::zeros(),
+                spin: SpinState::zeros(),
+            },
+            reference_torque_nm: Vector3::zeros(),
+            reference_rate_rad_per_s: Vector3::zeros(),
+            stopped: false,
+        }
+    }
+}

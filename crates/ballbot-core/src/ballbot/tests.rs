@@ -1,0 +1,194 @@
+//! Unit tests of the 3D controller.
+
+use super::*;
+use crate::command::Command;
+use crate::control::{SpeedPiGains, StepStatus};
+use crate::estimation::{EncoderSample, ImuSample};
+use crate::spin::SpinState;
+use crate::{BallbotParams, OmniKinematics, Spin, Wip};
+use approx::assert_relative_eq;
+use nalgebra::Vector3;
+use proptest::prelude::*;
+
+fn config() -> BallbotControllerConfig<f64> {
+    BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap()
+}
+
+proptest! {
+    #[test]
+    fn motor_bounds_match_the_actuator_model(speed in -200.0f64..200.0) {
+        let c = config();
+        let actuator = c.robot.drivetrain.actuator;
+        let motor = MotorSpeedPi::new(c.motor, &actuator).unwrap();
+        let (lo, hi) = motor.torque_bounds_nm(speed);
+        let (lo_ref, hi_ref) = actuator.torque_bounds_nm(speed);
+        prop_assert!((lo - lo_ref).abs() < 1e-12 && (hi - hi_ref).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn motor_bounds_of_a_nan_speed_allow_nothing() {
+    let c = config();
+    let mut motor = MotorSpeedPi::new(c.motor, &c.robot.drivetrain.actuator).unwrap();
+    assert_eq!(motor.torque_bounds_nm(f64::NAN), (0.0, 0.0));
+    assert_eq!(motor.step(1.0, 5.0, f64::NAN, 1.25e-4), (0.0, 0.0));
+}
+
+#[test]
+fn motor_pi_equals_the_planar_pi_in_translation() {
+    // The wheel PI acts on the ball-rate error like the planar PI designed on B4.
+    let c = config();
+    let robot = c.robot;
+    let kin = OmniKinematics::from_ballbot(&robot).unwrap();
+    let wip = Wip::new(robot.sagittal).unwrap();
+    let planar = SpeedPiGains::for_wip_ball_rate(&wip, 30.0, 96.9).unwrap();
+    // A unit sagittal ball-rate error -> wheel errors -> wheel P torques -> planar torque.
+    let wheel_error = kin.wheel_speeds_rad_per_s(&Vector3::new(0.0, 1.0, 0.0));
+    let wheel_torque = wheel_error * c.motor.proportional_nm_s_per_rad;
+    let planar_torque = kin.planar_torque_nm(&wheel_torque);
+    assert_relative_eq!(
+        planar_torque[1],
+        planar.proportional_nm_s_per_rad,
+        max_relative = 1e-9
+    );
+    assert!(planar_torque[0].abs() < 1e-9 && planar_torque[2].abs() < 1e-9);
+}
+
+#[test]
+fn spin_outer_turns_towards_the_heading_command_and_anchors() {
+    let c = config();
+    let mut spin = SpinOuter::new(Spin::new(c.robot.spin).unwrap(), c.spin).unwrap();
+    let measured = SpinState::new(0.0, 0.3);
+    let out = spin.step(&measured, &SpinState::new(0.5, 0.3), 0.0025);
+    assert!(out.reference_torque_nm > 0.0);
+    assert_eq!(out.status, StepStatus::Nominal);
+    // Anchored at the measured rate, advanced by half a period of the model's acceleration.
+    let accel = (out.reference_torque_nm - 1.0 * 0.3) / 1.8;
+    assert_relative_eq!(out.reference_accel_rad_per_s2, accel, epsilon = 1e-12);
+    assert_relative_eq!(
+        out.reference_rate_rad_per_s,
+        0.3 + accel * 0.00125,
+        epsilon = 1e-12
+    );
+    // Saturation and rejection.
+    let out = spin.step(&measured, &SpinState::new(1e6, 0.0), 0.0025);
+    assert_eq!(out.status, StepStatus::Saturated);
+    assert_eq!(out.reference_torque_nm, c.spin.gains.max_torque_nm);
+    let out = spin.step(&SpinState::new(f64::NAN, 0.0), &measured, 0.0025);
+    assert_eq!(out.status, StepStatus::InvalidInput);
+    assert_eq!(out.reference_torque_nm, 0.0);
+}
+
+#[test]
+fn wheel_references_do_not_spin_the_ball_about_the_vertical() {
+    // Leaning sideways and pitched while the ball rolls: the wheel references (mid-period)
+    // must describe a ball rolling at the reference rates with no spin about the world's
+    // vertical, and the body yawing at the spin plane's reference rate. (The upright
+    // mapping `omega_rel_z = -theta_dot_rz` made the body yaw by `-tan(roll) phi_dot_y`
+    // instead: the high-speed yaw divergence of docs/world.md.)
+    use crate::command::VelocityCommand;
+    use crate::safety::ModeRequest;
+    let c = config();
+    let kin = OmniKinematics::from_ballbot(&c.robot).unwrap();
+    let mut outer = BallbotController::new(c).unwrap();
+    let (roll, pitch) = (0.03, -0.02);
+    // Body-frame ball rates of a ball rolling at 20 rad/s forward, -5 rad/s sideways,
+    // without vertical spin.
+    let k = crate::estimation::ball_body_z_rate_per_ball_rate(roll, pitch);
+    let ball = Vector3::new(-5.0, 20.0, k[0] * -5.0 + k[1] * 20.0);
+    let command = Command::Velocity(VelocityCommand {
+        vx_m_per_s: 1.0,
+        vy_m_per_s: 0.5,
+        yaw_rate_rad_per_s: 0.2,
+    });
+    let mut last = None;
+    for step in 0..40u64 {
+        let now_us = step * 2500;
+        let imu = ImuSample {
+            timestamp_us: now_us,
+            roll_rad: roll + 1e-6 * (step % 3) as f64,
+            pitch_rad: pitch,
+            yaw_rad: 0.0,
+            angular_velocity_rad_per_s: Vector3::zeros(),
+        };
+        let encoders = EncoderSample {
+            timestamp_us: now_us,
+            wheel_speeds_rad_per_s: kin.wheel_speeds_rad_per_s(&ball),
+        };
+        let out = outer.step(&OuterInput {
+            now_us,
+            imu,
+            encoders,
+            command,
+            command_timestamp_us: Some(now_us),
+            request: if step == 0 {
+                ModeRequest::Arm
+            } else {
+                ModeRequest::None
+            },
+        });
+        assert!(out.motors.enabled, "{:?}", out.safety);
+        last = Some(out);
+    }
+    let out = last.unwrap();
+    let mid = out.motors.speed_rad_per_s + out.motors.accel_rad_per_s2 * 0.00125;
+    let relative = kin.relative_rate_rad_per_s(&mid);
+    // Ball = relative + body (measured tilt rates 0, yaw at the spin reference).
+    let reference = out.reference_rate_rad_per_s;
+    let implied = relative + Vector3::new(0.0, 0.0, reference[2]);
+    assert_relative_eq!(implied[0], reference[0], epsilon = 1e-9);
+    assert_relative_eq!(implied[1], reference[1], epsilon = 1e-9);
+    assert!(reference[1].abs() > 1.0, "{reference}");
+    let (sr, cr) = f64::sin_cos(roll);
+    let (sp, cp) = f64::sin_cos(pitch);
+    let vertical = Vector3::new(-sp, cp * sr, cp * cr);
+    assert!(vertical.dot(&implied).abs() < 1e-9, "{implied}");
+}
+
+#[test]
+fn inner_loop_times_out_without_fresh_references() {
+    let c = config();
+    let mut inner = MotorSpeedLoop::new(&c).unwrap();
+    let refs = MotorReferences {
+        enabled: true,
+        speed_rad_per_s: Vector3::new(1.0, 1.0, 1.0),
+        accel_rad_per_s2: Vector3::new(100.0, 0.0, 0.0),
+        feedforward_torque_nm: Vector3::new(2.0, 2.0, 2.0),
+    };
+    inner.set_references(&refs);
+    let first = inner.step(&Vector3::zeros(), 1.25e-4);
+    assert!(first.torque_nm.iter().all(|t| *t > 2.0));
+    // The ramp runs for one outer period, then holds.
+    assert_relative_eq!(first.reference_speed_rad_per_s[0], 1.0 + 100.0 * 0.625e-4);
+    let mut last = first;
+    for _ in 0..200 {
+        last = inner.step(&Vector3::zeros(), 1.25e-4);
+        if last.timed_out {
+            break;
+        }
+        assert!(last.reference_speed_rad_per_s[0] <= 1.0 + 100.0 * 0.0025 + 1e-12);
+    }
+    assert!(last.timed_out);
+    assert_eq!(last.torque_nm, Vector3::zeros());
+    // Non-finite references disable.
+    let mut bad = refs;
+    bad.accel_rad_per_s2[2] = f64::NAN;
+    inner.set_references(&bad);
+    assert_eq!(
+        inner.step(&Vector3::zeros(), 1.25e-4).torque_nm,
+        Vector3::zeros()
+    );
+}
+
+#[test]
+fn config_validation_reaches_every_piece() {
+    let mut c = config();
+    c.outer_dt_secs = 0.0;
+    assert!(BallbotController::new(c).is_err());
+    let mut c = config();
+    c.spin.max_rate_error_rad_per_s = -1.0;
+    assert!(BallbotController::new(c).is_err());
+    let mut c = config();
+    c.safety.imu_timeout_us = 0;
+    assert!(BallbotController::new(c).is_err());
+}
