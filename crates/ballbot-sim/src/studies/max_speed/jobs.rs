@@ -3,7 +3,7 @@
 
 use super::bisection::FailingAccel;
 use super::protocol::MaxSpeedStudySettings;
-use super::study::Variant;
+use super::variant::Variant;
 use super::trial::TrialOutcome;
 use crate::studies::ramp::RampResult;
 use crate::world::WorldParams;

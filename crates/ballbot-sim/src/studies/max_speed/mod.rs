@@ -35,13 +35,15 @@ mod jobs;
 pub mod protocol;
 pub mod study;
 pub mod trial;
+pub mod variant;
 
 pub use bisection::{FailingAccel, failing_acceleration};
 pub use jobs::job_count;
 pub use protocol::{
     MaxSpeedProtocol, MaxSpeedStudySettings, PAPER_MAX_SPEED, PaperMaxSpeed, ShaperLimits,
 };
-pub use study::{MapPoint, MaxSpeedStudy, SensitivityRow, Variant, run_study};
+pub use study::{MapPoint, MaxSpeedStudy, SensitivityRow, run_study};
+pub use variant::Variant;
 pub use trial::{
     HeadingTrials, TrialOutcome, controller, quasi_static_failing_accel_m_per_s2, slow_ramp_trial,
 };

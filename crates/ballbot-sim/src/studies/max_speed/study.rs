@@ -6,6 +6,7 @@ use super::bisection::{FailingAccel, failing_acceleration};
 use super::jobs::{Job, JobResult, job_eq, jobs, normalise, same};
 use super::protocol::{MaxSpeedProtocol, MaxSpeedStudySettings};
 use super::trial::{HeadingTrials, TrialOutcome, controller, slow_ramp_trial};
+use super::variant::Variant;
 use crate::studies::runner;
 use crate::world::{WorldError, WorldParams};
 
@@ -18,33 +19,6 @@ pub struct MapPoint {
     pub slow: TrialOutcome,
     /// The failing-acceleration search.
     pub failing: FailingAccel,
-}
-
-/// Which parameter a sensitivity row varies.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Variant {
-    /// The robot as given.
-    Nominal,
-    /// Roller-ball friction coefficient `mu` (dimensionless).
-    WheelBallFriction(f64),
-    /// COM height `l` of the body above the ball centre (m), in both planes.
-    ComHeight(f64),
-}
-
-impl Variant {
-    /// The world parameters of this variant.
-    pub fn apply(&self, params: WorldParams) -> WorldParams {
-        let mut p = params;
-        match *self {
-            Self::Nominal => {}
-            Self::WheelBallFriction(mu) => p.robot.drivetrain.wheel_ball_friction = mu,
-            Self::ComHeight(l) => {
-                p.robot.sagittal.com_height_m = l;
-                p.robot.frontal.com_height_m = l;
-            }
-        }
-        p
-    }
 }
 
 /// One row of the sensitivity table: a parameter value at one heading.
