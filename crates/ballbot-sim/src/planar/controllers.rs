@@ -349,6 +349,11 @@ impl PlanarController for LqrPiCascade {
         self.last_inner = Some(out);
         out.torque_nm
     }
+    /// The log's historical column names, spelled here rather than taken from [`Terms`]: the
+    /// outer and inner outputs share field names (`torque_nm`, `saturation_nm`), so their
+    /// terms would need prefixes, and a prefixed `&'static str` cannot be built without
+    /// allocating (or leaking) at every outer tick. The inner terms also have the log's
+    /// names (`inner_p_term_nm` for `proportional_nm`) and a derived `tracking_torque_nm`.
     fn terms(&self, out: &mut Vec<(&'static str, f64)>) {
         let z = 0.0;
         let (tau_r, rate_r, accel_r, t1, t2, t3, sat_r) = match &self.last_outer {
