@@ -24,14 +24,13 @@ fn main() -> anyhow::Result<()> {
         let t = report.now_us as f64 * 1e-6;
         peak_torque_nm = peak_torque_nm.max(out.motors.feedforward_torque_nm.amax());
         if last != Some((report.phase, out.safety.mode)) {
-            let faults: Vec<String> = out.safety.faults.iter().map(|f| f.to_string()).collect();
+            let faults = out.safety.faults;
             println!(
-                "{t:6.3}  -> phase {:?}, mode {:?} (request {:?}){}{}",
+                "{t:6.3}  -> phase {:?}, mode {:?} (request {:?}){}{faults}",
                 report.phase,
                 out.safety.mode,
                 report.request,
                 if faults.is_empty() { "" } else { "; " },
-                faults.join(", ")
             );
             last = Some((report.phase, out.safety.mode));
         }

@@ -64,7 +64,11 @@ impl fmt::Display for Error {
                 write!(f, "invalid parameter `{field}`: {requirement}")
             }
             Self::NoStabilizingGain { status } => {
-                write!(f, "LQR design found no stabilising gain: {status}")
+                write!(
+                    f,
+                    "LQR design found no stabilising gain: {}",
+                    status.description()
+                )
             }
         }
     }

@@ -1,10 +1,11 @@
-//! The canonical names of the core's statuses ([`Mode`], [`StepStatus`], [`Fault`],
-//! [`FaultSet`]): one snake_case string per value, used by `as_str`, `Display`, `FromStr` and,
-//! with the `serde` feature, serialization. This module holds what they share: the parse
+//! The canonical names of the core's statuses ([`Mode`], [`StepStatus`], [`RiccatiStatus`],
+//! [`Fault`], [`FaultSet`]): one snake_case string per value, used by `as_str`, `Display`,
+//! `FromStr` and, with the `serde` feature, serialization. This module holds what they share: the parse
 //! error and the serde plumbing.
 //!
 //! [`Mode`]: crate::safety::Mode
 //! [`StepStatus`]: crate::control::StepStatus
+//! [`RiccatiStatus`]: crate::lqr::RiccatiStatus
 //! [`Fault`]: crate::safety::Fault
 //! [`FaultSet`]: crate::safety::FaultSet
 

@@ -1,11 +1,12 @@
-//! One canonical string form per status (`Mode`, `StepStatus`, `Fault`, `FaultSet`): `as_str`,
-//! `Display`, `FromStr` and serde agree, names are unique snake_case, and every value survives
-//! the round trip.
+//! One canonical string form per status (`Mode`, `StepStatus`, `RiccatiStatus`, `Fault`,
+//! `FaultSet`): `as_str`, `Display`, `FromStr` and serde agree, names are unique snake_case,
+//! and every value survives the round trip.
 
 #![allow(clippy::unwrap_used)] // test code
 
 use ballbot_core::ParseNameError;
 use ballbot_core::control::StepStatus;
+use ballbot_core::lqr::RiccatiStatus;
 use ballbot_core::safety::{Fault, FaultSet, Mode};
 use core::fmt::Display;
 use core::str::FromStr;
@@ -48,6 +49,22 @@ fn every_mode_has_one_name_that_round_trips() {
 fn every_step_status_has_one_name_that_round_trips() {
     check_names(StepStatus::ALL, StepStatus::as_str, "step status");
     assert_eq!(StepStatus::Saturated.as_str(), "saturated");
+}
+
+#[test]
+fn every_step_status_has_one_code_that_round_trips() {
+    for (i, status) in StepStatus::ALL.into_iter().enumerate() {
+        assert_eq!(usize::from(status.code()), i);
+        assert_eq!(StepStatus::from_code(status.code()), Some(status));
+    }
+    assert_eq!(StepStatus::from_code(StepStatus::ALL.len() as u8), None);
+    assert_eq!(StepStatus::from_code(u8::MAX), None);
+}
+
+#[test]
+fn every_riccati_status_has_one_name_that_round_trips() {
+    check_names(RiccatiStatus::ALL, RiccatiStatus::as_str, "Riccati status");
+    assert_eq!(RiccatiStatus::NotStabilizable.as_str(), "not_stabilizable");
 }
 
 #[test]
@@ -116,6 +133,11 @@ mod serde_form {
             let json = serde_json::to_string(&s).unwrap();
             assert_eq!(json, format!("\"{}\"", s.as_str()));
             assert_eq!(serde_json::from_str::<StepStatus>(&json).unwrap(), s);
+        }
+        for r in RiccatiStatus::ALL {
+            let json = serde_json::to_string(&r).unwrap();
+            assert_eq!(json, format!("\"{}\"", r.as_str()));
+            assert_eq!(serde_json::from_str::<RiccatiStatus>(&json).unwrap(), r);
         }
         for f in Fault::ALL {
             let json = serde_json::to_string(&f).unwrap();

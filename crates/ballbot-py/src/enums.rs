@@ -1,13 +1,9 @@
 //! The status, mode and failure enums as Python `enum.Enum` members (`ballbot._enums`).
 //!
-//! Each Rust enum has ONE mapping to its canonical snake_case name here (or uses the crate's
-//! own `as_str`), and the Python class has those names as values. Batch outputs keep statuses
-//! as int8 codes for speed; the code of a step status is its index in
-//! [`STEP_STATUS_NAMES`], exported as `ballbot._core.STEP_STATUS_NAMES` so that
-//! `StepStatus.from_code` reads the mapping from here.
-//!
-//! `step_status_name`, `mode_name` and `riccati_status_name` stand in for the core's
-//! `as_str` until it has one.
+//! The names are the Rust crates' own (`as_str`, `label`), and the Python classes have them
+//! as values. Batch outputs keep step statuses as int8 codes for speed: the code is the core's
+//! [`StepStatus::code`], and the names by code are exported as `ballbot._core.STEP_STATUS_NAMES`
+//! so that `StepStatus.from_code` reads the core's mapping.
 
 use ballbot_core::control::StepStatus;
 use ballbot_core::lqr::RiccatiStatus;
@@ -18,41 +14,19 @@ use ballbot_sim::world::FailureKind;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 
-/// Step-status names by int8 code: 0 nominal, 1 saturated, 2 invalid input.
-pub const STEP_STATUS_NAMES: [&str; 3] = ["nominal", "saturated", "invalid_input"];
+/// Step-status names by code ([`StepStatus::from_code`]): 0 nominal, 1 saturated, 2 invalid
+/// input.
+pub fn step_status_names() -> Vec<&'static str> {
+    (0..=u8::MAX)
+        .map_while(StepStatus::from_code)
+        .map(|s| s.as_str())
+        .collect()
+}
 
-/// The int8 code of a step status in batch outputs (an index into [`STEP_STATUS_NAMES`]).
+/// The int8 code of a step status in batch outputs: the core's [`StepStatus::code`] (at most
+/// 2, so the conversion is exact).
 pub fn step_status_code(status: StepStatus) -> i8 {
-    match status {
-        StepStatus::Nominal => 0,
-        StepStatus::Saturated => 1,
-        _ => 2,
-    }
-}
-
-/// The canonical name of a step status.
-pub fn step_status_name(status: StepStatus) -> &'static str {
-    STEP_STATUS_NAMES[step_status_code(status) as usize]
-}
-
-/// The canonical name of the safety supervisor's mode.
-pub fn mode_name(mode: Mode) -> &'static str {
-    match mode {
-        Mode::Idle => "idle",
-        Mode::Balancing => "balancing",
-        Mode::ControlledStop => "controlled_stop",
-        Mode::Fault => "fault",
-    }
-}
-
-/// The canonical name of a Riccati solve's status.
-pub fn riccati_status_name(status: RiccatiStatus) -> &'static str {
-    match status {
-        RiccatiStatus::Converged => "converged",
-        RiccatiStatus::MaxIterations => "max_iterations",
-        RiccatiStatus::NotStabilizable => "not_stabilizable",
-        RiccatiStatus::NonFinite => "non_finite",
-    }
+    status.code() as i8
 }
 
 static ENUMS_MODULE: PyOnceLock<Py<PyModule>> = PyOnceLock::new();
@@ -66,12 +40,12 @@ pub fn member<'py>(py: Python<'py>, class_name: &str, name: &str) -> PyResult<Bo
 
 /// `ballbot.StepStatus`.
 pub fn step_status(py: Python<'_>, status: StepStatus) -> PyResult<Bound<'_, PyAny>> {
-    member(py, "StepStatus", step_status_name(status))
+    member(py, "StepStatus", status.as_str())
 }
 
 /// `ballbot.Mode`.
 pub fn mode(py: Python<'_>, mode: Mode) -> PyResult<Bound<'_, PyAny>> {
-    member(py, "Mode", mode_name(mode))
+    member(py, "Mode", mode.as_str())
 }
 
 /// `ballbot.FailureKind`.
@@ -81,7 +55,7 @@ pub fn failure_kind<'py>(py: Python<'py>, kind: &FailureKind) -> PyResult<Bound<
 
 /// `ballbot.RiccatiStatus`.
 pub fn riccati_status(py: Python<'_>, status: RiccatiStatus) -> PyResult<Bound<'_, PyAny>> {
-    member(py, "RiccatiStatus", riccati_status_name(status))
+    member(py, "RiccatiStatus", status.as_str())
 }
 
 /// `ballbot.SolveStatus` of the trajectory optimiser.
@@ -107,7 +81,7 @@ pub fn push_outcome<'py>(py: Python<'py>, outcome: &PushOutcome) -> PyResult<Bou
 
 /// Adds the name tables the Python enums check themselves against.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("STEP_STATUS_NAMES", STEP_STATUS_NAMES)?;
+    m.add("STEP_STATUS_NAMES", step_status_names())?;
     m.add("FAILURE_KIND_NAMES", FailureKind::NAMES)?;
     Ok(())
 }

@@ -509,7 +509,7 @@ impl PyRiccatiSolution {
     fn __repr__(&self) -> String {
         format!(
             "RiccatiSolution(status=RiccatiStatus.{}, iterations={}, residual={:e})",
-            crate::enums::riccati_status_name(self.status).to_uppercase(),
+            self.status.as_str().to_uppercase(),
             self.iterations,
             self.residual
         )

@@ -141,6 +141,42 @@ impl StepStatus {
         }
     }
 
+    /// The status's numeric code, the one code mapping for logs and batch outputs that store
+    /// statuses as numbers: 0 nominal, 1 saturated, 2 invalid input (the index in
+    /// [`StepStatus::ALL`]).
+    ///
+    /// ```
+    /// use ballbot_core::control::StepStatus;
+    /// assert_eq!(StepStatus::Nominal.code(), 0);
+    /// assert_eq!(StepStatus::Saturated.code(), 1);
+    /// assert_eq!(StepStatus::InvalidInput.code(), 2);
+    /// ```
+    pub const fn code(self) -> u8 {
+        match self {
+            Self::Nominal => 0,
+            Self::Saturated => 1,
+            Self::InvalidInput => 2,
+        }
+    }
+
+    /// The status whose [`StepStatus::code`] is `code`, `None` for a code no status has.
+    ///
+    /// ```
+    /// use ballbot_core::control::StepStatus;
+    /// for status in StepStatus::ALL {
+    ///     assert_eq!(StepStatus::from_code(status.code()), Some(status));
+    /// }
+    /// assert_eq!(StepStatus::from_code(3), None);
+    /// ```
+    pub const fn from_code(code: u8) -> Option<Self> {
+        match code {
+            0 => Some(Self::Nominal),
+            1 => Some(Self::Saturated),
+            2 => Some(Self::InvalidInput),
+            _ => None,
+        }
+    }
+
     /// `true` unless the step was rejected ([`StepStatus::InvalidInput`]).
     ///
     /// ```

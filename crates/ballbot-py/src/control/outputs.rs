@@ -1,15 +1,50 @@
 //! One controller step's result, with each term (`LqrOutput`, `PiPdOutput`, ...).
+//!
+//! The terms are the core's [`Terms`]: `to_dict` and `__repr__` visit them with
+//! [`Terms::for_each_term`], and each class's getter list is checked against
+//! [`Terms::TERM_NAMES`] at compile time (Python attributes have to be declared one by one).
 
-use crate::enums::{step_status, step_status_name};
+use crate::enums::step_status;
+use ballbot_core::control::Terms;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::fmt::Write;
 
-/// Defines a frozen output class: float fields plus a `status` (`ballbot.StepStatus`).
+/// `true` when `a` and `b` hold the same names in the same order (for a const assertion).
+const fn same_names(a: &[&str], b: &[&str]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        let (x, y) = (a[i].as_bytes(), b[i].as_bytes());
+        if x.len() != y.len() {
+            return false;
+        }
+        let mut j = 0;
+        while j < x.len() {
+            if x[j] != y[j] {
+                return false;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// Defines a frozen output class: a getter per term (checked against the core's
+/// `TERM_NAMES`) plus a `status` (`ballbot.StepStatus`).
 macro_rules! py_output {
     (
         $(#[$meta:meta])*
         $py_ty:ident($core:ty, $name:literal) { $($field:ident),* $(,)? }
     ) => {
+        const _: () = assert!(
+            same_names(&[$(stringify!($field)),*], <$core as Terms<f64>>::TERM_NAMES),
+            concat!($name, "'s getters are not the core's terms"),
+        );
+
         $(#[$meta])*
         // A free list: `step` creates one output per call, so reusing the allocations
         // shortens the call from Python.
@@ -36,20 +71,28 @@ macro_rules! py_output {
             /// The fields as a dict.
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
                 let d = PyDict::new(py);
-                $(d.set_item(stringify!($field), self.inner.$field)?;)*
+                let mut set = Ok(());
+                self.inner.for_each_term(|name, value| {
+                    if set.is_ok() {
+                        set = d.set_item(name, value);
+                    }
+                });
+                set?;
                 d.set_item("status", step_status(py, self.inner.status)?)?;
                 Ok(d)
             }
 
             fn __repr__(&self) -> String {
-                let fields: Vec<String> =
-                    vec![$(format!("{}={:?}", stringify!($field), self.inner.$field)),*];
-                format!(
-                    "{}({}, status=StepStatus.{})",
-                    $name,
-                    fields.join(", "),
-                    step_status_name(self.inner.status).to_uppercase()
-                )
+                let mut out = format!("{}(", $name);
+                self.inner.for_each_term(|name, value| {
+                    let _ = write!(out, "{name}={value:?}, ");
+                });
+                let _ = write!(
+                    out,
+                    "status=StepStatus.{})",
+                    self.inner.status.as_str().to_uppercase()
+                );
+                out
             }
         }
     };

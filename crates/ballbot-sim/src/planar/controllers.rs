@@ -18,7 +18,7 @@ use super::{
 use ballbot_core::control::{
     LqrController, LqrGains, LqrOutput, LqrPiOuter, LqrPiOuterConfig, LqrPiOuterOutput,
     PiPdController, PiPdGains, PiPdOutput, SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput,
-    StepStatus,
+    StepStatus, Terms,
 };
 use ballbot_core::lqr::WipLqrWeights;
 use ballbot_core::{ActuatorParams, PlanarRobotParams, Wip, WipState};
@@ -195,12 +195,18 @@ fn command_state(c: &PlanarCommand) -> WipState<f64> {
     )
 }
 
-fn status_code(status: StepStatus) -> f64 {
-    match status {
-        StepStatus::Nominal => 0.0,
-        StepStatus::Saturated => 1.0,
-        _ => 2.0,
+/// Appends `last`'s terms by [`Terms::for_each_term`] (zeros under [`Terms::TERM_NAMES`]
+/// before the first step) and its step status as `("status", code)` ([`StepStatus::code`]).
+fn push_terms<O: Terms<f64>>(
+    last: Option<&O>,
+    status: StepStatus,
+    out: &mut Vec<(&'static str, f64)>,
+) {
+    match last {
+        Some(o) => o.for_each_term(|name, value| out.push((name, value))),
+        None => out.extend(O::TERM_NAMES.iter().map(|&name| (name, 0.0))),
     }
+    out.push(("status", f64::from(status.code())));
 }
 
 /// The paper's LQR in torque mode.
@@ -235,22 +241,8 @@ impl PlanarController for LqrTorque {
         }
     }
     fn terms(&self, out: &mut Vec<(&'static str, f64)>) {
-        let o = self.last.unwrap_or(LqrOutput {
-            torque_nm: 0.0,
-            tilt_term_nm: 0.0,
-            tilt_rate_term_nm: 0.0,
-            ball_rate_term_nm: 0.0,
-            saturation_nm: 0.0,
-            status: StepStatus::Nominal,
-        });
-        out.extend([
-            ("torque_nm", o.torque_nm),
-            ("tilt_term_nm", o.tilt_term_nm),
-            ("tilt_rate_term_nm", o.tilt_rate_term_nm),
-            ("ball_rate_term_nm", o.ball_rate_term_nm),
-            ("saturation_nm", o.saturation_nm),
-            ("status", status_code(o.status)),
-        ]);
+        let status = self.last.map_or(StepStatus::Nominal, |o| o.status);
+        push_terms(self.last.as_ref(), status, out);
     }
     fn reset(&mut self) {
         self.controller.reset();
@@ -290,30 +282,8 @@ impl PlanarController for PiPdTorque {
         }
     }
     fn terms(&self, out: &mut Vec<(&'static str, f64)>) {
-        let z = 0.0;
-        let (tau, tr, sp, si, tp, td, sat, st) = match &self.last {
-            Some(o) => (
-                o.torque_nm,
-                o.reference_tilt_rad,
-                o.speed_p_term_rad,
-                o.speed_i_term_rad,
-                o.tilt_p_term_nm,
-                o.tilt_d_term_nm,
-                o.saturation_nm,
-                status_code(o.status),
-            ),
-            None => (z, z, z, z, z, z, z, z),
-        };
-        out.extend([
-            ("torque_nm", tau),
-            ("reference_tilt_rad", tr),
-            ("speed_p_term_rad", sp),
-            ("speed_i_term_rad", si),
-            ("tilt_p_term_nm", tp),
-            ("tilt_d_term_nm", td),
-            ("saturation_nm", sat),
-            ("status", st),
-        ]);
+        let status = self.last.map_or(StepStatus::Nominal, |o| o.status);
+        push_terms(self.last.as_ref(), status, out);
     }
     fn reset(&mut self) {
         self.controller.reset();
@@ -379,6 +349,11 @@ impl PlanarController for LqrPiCascade {
         self.last_inner = Some(out);
         out.torque_nm
     }
+    /// The log's historical column names, spelled here rather than taken from [`Terms`]: the
+    /// outer and inner outputs share field names (`torque_nm`, `saturation_nm`), so their
+    /// terms would need prefixes, and a prefixed `&'static str` cannot be built without
+    /// allocating (or leaking) at every outer tick. The inner terms also have the log's
+    /// names (`inner_p_term_nm` for `proportional_nm`) and a derived `tracking_torque_nm`.
     fn terms(&self, out: &mut Vec<(&'static str, f64)>) {
         let z = 0.0;
         let (tau_r, rate_r, accel_r, t1, t2, t3, sat_r) = match &self.last_outer {

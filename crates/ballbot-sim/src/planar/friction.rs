@@ -77,6 +77,17 @@ impl FrictionMode {
             Self::BreakingAway => 3,
         }
     }
+
+    /// The mode's canonical name (snake_case, as serde writes it): `free`, `slipping`, `stuck`,
+    /// `breaking_away`.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Self::Free => "free",
+            Self::Slipping => "slipping",
+            Self::Stuck => "stuck",
+            Self::BreakingAway => "breaking_away",
+        }
+    }
 }
 
 impl TransmissionFriction {

@@ -10,7 +10,7 @@
 //! | `/planar/friction` | [`FrictionMsg`] | transmission friction torque and stick-slip branch |
 //! | `/faults` | [`FaultMsg`] | actuator saturation on/off, fall, non-finite state |
 
-use super::{Fault, FaultKind, FrictionMode, Observer, OuterTick, PlantStep};
+use super::{Fault, FaultKind, Observer, OuterTick, PlantStep};
 use crate::log::{Channel, LogError, McapLogger, topics};
 use ballbot_core::WipState;
 use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
@@ -92,15 +92,6 @@ pub struct FaultMsg {
     pub tilt_rad: f64,
     /// The torque involved, if any (N m).
     pub torque_nm: Option<f64>,
-}
-
-fn mode_name(mode: FrictionMode) -> &'static str {
-    match mode {
-        FrictionMode::Free => "free",
-        FrictionMode::Slipping => "slipping",
-        FrictionMode::Stuck => "stuck",
-        FrictionMode::BreakingAway => "breaking_away",
-    }
 }
 
 /// An [`Observer`] that writes a run into an MCAP log. Errors are kept (the observer cannot
@@ -232,7 +223,7 @@ impl Observer for McapRecorder<'_> {
         let friction = FrictionMsg {
             friction_torque_nm: tick.step.friction_torque_nm,
             mode_code: tick.step.friction_mode.code(),
-            mode: mode_name(tick.step.friction_mode).to_owned(),
+            mode: tick.step.friction_mode.as_str().to_owned(),
         };
         let r1 = self.log.write(&self.state, t, &state);
         self.keep(r1);

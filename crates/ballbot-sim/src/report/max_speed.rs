@@ -4,51 +4,27 @@
 use crate::studies::max_speed::{
     FailingAccel, MaxSpeedStudy, PAPER_MAX_SPEED, TrialOutcome, quasi_static_failing_accel_m_per_s2,
 };
-use crate::world::{Failure, FailureKind};
+use crate::world::Failure;
 use serde_json::{Value, json};
 
 fn same(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-9
 }
 
-/// The paper's name of the wheel with index `wheel` (0 is OW1).
-pub fn wheel_label(wheel: usize) -> String {
-    format!("OW{}", wheel + 1)
-}
-
-/// A failure as short text, e.g. `slip OW3 at 13.09 s`; `-` for none.
-pub fn failure_text(failure: Option<Failure>) -> String {
-    match failure {
-        None => "-".to_owned(),
-        Some(f) => {
-            let what = match f.kind {
-                FailureKind::Tilt { tilt_rad } => format!("tilt {:.0} deg", tilt_rad.to_degrees()),
-                FailureKind::BodyTouchedFloor => "body on floor".to_owned(),
-                FailureKind::SustainedSlip { wheel } => format!("slip {}", wheel_label(wheel)),
-                FailureKind::LiftOff { wheel } => format!("lift-off {}", wheel_label(wheel)),
-            };
-            format!("{what} at {:.2} s", f.time_s)
-        }
-    }
-}
-
 fn failure_json(failure: Option<Failure>) -> Value {
     match failure {
         None => Value::Null,
-        Some(f) => {
-            let (kind, wheel) = match f.kind {
-                FailureKind::Tilt { .. } => ("tilt", None),
-                FailureKind::BodyTouchedFloor => ("body_touched_floor", None),
-                FailureKind::SustainedSlip { wheel } => ("sustained_slip", Some(wheel)),
-                FailureKind::LiftOff { wheel } => ("lift_off", Some(wheel)),
-            };
-            json!({
-                "kind": kind,
-                "wheel": wheel.map(wheel_label),
-                "time_s": f.time_s,
-            })
-        }
+        Some(f) => json!({
+            "kind": f.kind.as_str(),
+            "wheel": f.kind.wheel_name(),
+            "time_s": f.time_s,
+        }),
     }
+}
+
+/// A failure as text ([`Failure`]'s `Display`, e.g. `slip OW3 at 13.090 s`); `-` for none.
+fn failure_text(failure: Option<Failure>) -> String {
+    failure.map_or_else(|| "-".to_owned(), |f| f.to_string())
 }
 
 impl TrialOutcome {

@@ -1,12 +1,12 @@
 //! Figures of the maximum-speed study: the capability map as polar plots and the Fig.
 //! "acc"-like time series of one ramp.
 
-use super::max_speed::{failure_text, wheel_label};
 use crate::report::plot::{LineStyle, PolarFigure, PolarSeries, Series, Subplot, TimeSeriesFigure};
 use crate::studies::max_speed::{
     MaxSpeedStudy, PAPER_MAX_SPEED, quasi_static_failing_accel_m_per_s2,
 };
 use crate::studies::ramp::{RampResult, RampSample};
+use crate::world::wheel_name;
 
 impl MaxSpeedStudy {
     /// Polar plots of the capability map: maximum speed (slow ramp) and failing acceleration
@@ -92,9 +92,9 @@ pub fn acc_figure(run: &RampResult, title: &str) -> TimeSeriesFigure {
     let mut normal = Subplot::new("normal force N (N)");
     let mut cone = Subplot::new("cone use |F|/(μN)");
     for i in 0..3 {
-        let label = wheel_label(i);
-        normal = normal.with(Series::new(&label, &t, &col(&|x| x.normal_force_n[i])));
-        cone = cone.with(Series::new(&label, &t, &col(&|x| x.cone_utilisation[i])));
+        let label = wheel_name(i);
+        normal = normal.with(Series::new(label, &t, &col(&|x| x.normal_force_n[i])));
+        cone = cone.with(Series::new(label, &t, &col(&|x| x.cone_utilisation[i])));
     }
     let mut fig = TimeSeriesFigure::new(title)
         .with(
@@ -117,7 +117,7 @@ pub fn acc_figure(run: &RampResult, title: &str) -> TimeSeriesFigure {
         .with(normal)
         .with(cone);
     if let Some(f) = run.failure {
-        fig = fig.marker(f.time_s, &format!("failure: {}", failure_text(Some(f))));
+        fig = fig.marker(f.time_s, &format!("failure: {f}"));
     }
     fig
 }

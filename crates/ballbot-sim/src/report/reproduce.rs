@@ -265,7 +265,6 @@ fn world_suite_section(
     let paper_heading = suite.paper_heading();
     #[cfg(feature = "plot")]
     if options.plots {
-        use super::world_suite::failure_kind_label;
         use super::world_suite_figures::{braking_figure, push_figure};
         use crate::studies::world_braking::BrakingOutcome;
         if let Some(st) = paper_heading {
@@ -286,7 +285,7 @@ fn world_suite_section(
                         "MiaPURE braking at 180° in T = {:.1} s (first failure: {})",
                         run.duration_s,
                         match run.outcome {
-                            BrakingOutcome::Failed(f) => failure_kind_label(&f),
+                            BrakingOutcome::Failed(f) => f.kind.to_string(),
                             o => o.label().to_owned(),
                         }
                     ),

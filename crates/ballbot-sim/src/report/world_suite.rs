@@ -5,37 +5,17 @@
 use crate::studies::push::{PushOutcome, PushRecovery, PushTrial};
 use crate::studies::world_braking::{BrakingOutcome, BrakingRun, BrakingStudy};
 use crate::studies::world_suite::{PAPER_MIN_BRAKING_TIME_S, SEED, WorldSuite};
-use crate::world::{Failure, FailureKind};
+use crate::world::{Failure, wheel_name};
 use serde_json::{Map, Value, json};
 use std::fmt::Write;
 
-fn wheel_name(i: usize) -> String {
-    format!("OW{}", i + 1)
-}
-
-/// A short description of a failure, e.g. `lift-off OW1 at 6.086 s`.
-pub fn failure_label(f: &Failure) -> String {
-    format!("{} at {:.3} s", failure_kind_label(f), f.time_s)
-}
-
-/// What failed, e.g. `lift-off OW1`.
-pub fn failure_kind_label(f: &Failure) -> String {
-    match f.kind {
-        FailureKind::Tilt { tilt_rad } => format!("tilt {:.1} deg", tilt_rad.to_degrees()),
-        FailureKind::BodyTouchedFloor => "chassis on the floor".to_owned(),
-        FailureKind::SustainedSlip { wheel } => format!("slip {}", wheel_name(wheel)),
-        FailureKind::LiftOff { wheel } => format!("lift-off {}", wheel_name(wheel)),
-    }
-}
-
 fn failure_json(f: &Failure) -> Value {
-    let (kind, wheel) = match f.kind {
-        FailureKind::Tilt { .. } => ("tilt", None),
-        FailureKind::BodyTouchedFloor => ("body_touched_floor", None),
-        FailureKind::SustainedSlip { wheel } => ("sustained_slip", Some(wheel_name(wheel))),
-        FailureKind::LiftOff { wheel } => ("lift_off", Some(wheel_name(wheel))),
-    };
-    json!({ "kind": kind, "wheel": wheel, "time_s": f.time_s, "label": failure_label(f) })
+    json!({
+        "kind": f.kind.as_str(),
+        "wheel": f.kind.wheel_name(),
+        "time_s": f.time_s,
+        "label": f.to_string(),
+    })
 }
 
 /// What bounded a braking run: the failure, or the most used resource.
@@ -59,7 +39,7 @@ pub fn limiting(run: &BrakingRun) -> String {
     match run.outcome {
         BrakingOutcome::Failed(f) => format!(
             "{} ({:.3} s after braking started); {used}",
-            failure_label(&f),
+            f,
             f.time_s - run.brake_start_s
         ),
         BrakingOutcome::NoTrajectory { status } => format!("no trajectory ({status})"),
@@ -289,7 +269,7 @@ impl WorldSuite {
             let how = p.smallest_failing().map_or_else(
                 || "-".to_owned(),
                 |t| match t.outcome {
-                    PushOutcome::Failed(f) => failure_label(&f),
+                    PushOutcome::Failed(f) => f.to_string(),
                     o => format!(
                         "{} (peak tilt {:.1}°)",
                         o.label(),

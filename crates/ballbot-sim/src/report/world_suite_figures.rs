@@ -1,7 +1,6 @@
 //! Figures of the world suite: a braking run (speed, tilt, cone utilisation around the onset)
 //! and the push recovery (tilt after the largest recovered and the smallest failing push).
 
-use super::world_suite::failure_kind_label;
 use crate::report::plot::{LegendPosition, LineStyle, Series, Subplot, TimeSeriesFigure};
 use crate::studies::push::PushRecovery;
 use crate::studies::world_braking::{BrakingOutcome, BrakingRun, BrakingSample};
@@ -59,7 +58,7 @@ pub fn braking_figure(run: &BrakingRun, title: &str) -> TimeSeriesFigure {
         .min(run.duration_s);
     let fig = fig.shade(0.0, end, "braking");
     match failure {
-        Some(f) => fig.marker(f.time_s - run.brake_start_s, &failure_kind_label(&f)),
+        Some(f) => fig.marker(f.time_s - run.brake_start_s, &f.kind.to_string()),
         None => fig,
     }
 }

@@ -6,7 +6,7 @@ use crate::log::LogError;
 use crate::log::{WorldLogOptions, WorldLogger};
 use crate::rig::WorldRobot;
 use crate::world::failure::tilt_from_vertical_rad;
-use crate::world::{Failure, FailureKind, WorldError, WorldParams};
+use crate::world::{Failure, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use nalgebra::{Rotation3, Vector3};
@@ -87,15 +87,6 @@ pub struct WorldOutcome {
     pub log: String,
     /// Size of the log (bytes).
     pub log_bytes: u64,
-}
-
-fn failure_name(kind: &FailureKind) -> (&'static str, Option<usize>) {
-    match kind {
-        FailureKind::Tilt { .. } => ("tilt", None),
-        FailureKind::BodyTouchedFloor => ("body_touched_floor", None),
-        FailureKind::SustainedSlip { wheel } => ("sustained_slip", Some(wheel + 1)),
-        FailureKind::LiftOff { wheel } => ("lift_off", Some(wheel + 1)),
-    }
 }
 
 /// Runs the world with `config` in the loop as `args` say, writes the log `out` with
@@ -201,9 +192,8 @@ pub fn run_logged_world(
     }
     log.finish().map_err(log_error)?;
     if let Some(f) = failure {
-        let (name, wheel) = failure_name(&f.kind);
-        outcome.failure = Some(name.to_owned());
-        outcome.failure_wheel = wheel;
+        outcome.failure = Some(f.kind.as_str().to_owned());
+        outcome.failure_wheel = f.kind.wheel().map(|w| w + 1);
         outcome.failure_time_s = Some(f.time_s);
     }
     outcome.log_bytes = std::fs::metadata(out)

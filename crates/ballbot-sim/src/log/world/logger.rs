@@ -7,9 +7,7 @@ use ballbot_core::command::VelocityCommand;
 use ballbot_core::safety::Mode;
 
 use super::grid::Grid;
-use super::messages::{
-    WorldCommandMsg, WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg, mode_name,
-};
+use super::messages::{WorldCommandMsg, WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg};
 use super::options::WorldLogOptions;
 use super::scene::WorldScene;
 use crate::log::foxglove::{FrameTransforms, SceneUpdate};
@@ -189,7 +187,7 @@ impl WorldLogger {
             self.last_mode = Some(mode);
             let msg = WorldEventMsg {
                 kind: "mode".to_owned(),
-                description: format!("controller mode {}", mode_name(mode)),
+                description: format!("controller mode {}", mode.as_str()),
                 wheel: None,
                 tilt_rad: tilt_from_vertical_rad(t),
             };

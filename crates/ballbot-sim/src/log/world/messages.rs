@@ -3,7 +3,6 @@
 
 use ballbot_core::ballbot::OuterOutput;
 use ballbot_core::command::VelocityCommand;
-use ballbot_core::safety::Mode;
 use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -133,21 +132,11 @@ pub struct WorldControllerMsg {
     pub command: PlanarStatesMsg,
 }
 
-/// The name of a safety mode in logs.
-pub(super) fn mode_name(mode: Mode) -> &'static str {
-    match mode {
-        Mode::Idle => "idle",
-        Mode::Balancing => "balancing",
-        Mode::ControlledStop => "controlled_stop",
-        Mode::Fault => "fault",
-    }
-}
-
 impl From<&OuterOutput<f64>> for WorldControllerMsg {
     fn from(out: &OuterOutput<f64>) -> Self {
         let m = &out.motors;
         Self {
-            mode: mode_name(out.safety.mode).to_owned(),
+            mode: out.safety.mode.as_str().to_owned(),
             motors_enabled: m.enabled,
             fault_bits: out.safety.faults.bits(),
             stopped: out.stopped,

@@ -5,7 +5,7 @@
 //! paper's protocol starts at `T = 5 s` and cuts 0.5 s per success until failure
 //! ([`braking_study`]), and a bisection refines the limit beyond the paper.
 //!
-//! A run succeeds when the world reports no failure (tilt, chassis on the floor, sustained
+//! A run succeeds when the world reports no failure (tilt, body touched the floor, sustained
 //! slip, lift-off: [`crate::world::failure`]) and the robot is **at rest** from
 //! `rest_within_s` after `T` on for `rest_hold_s`: horizontal ball speed at most
 //! `rest_speed_m_per_s` and tilt from the vertical at most `rest_tilt_rad` at every physics
