@@ -60,6 +60,7 @@ pub(super) const CHECKED: &[&str] = &[
     "lqr/design.rs",
     "lqr/riccati/mod.rs",
     "lqr/riccati/solve.rs",
+    "lqr/riccati/status.rs",
     "control/mod.rs",
     "control/feedforward.rs",
     "control/lqr.rs",

@@ -3,8 +3,8 @@
 
 use super::bisection::FailingAccel;
 use super::protocol::MaxSpeedStudySettings;
-use super::variant::Variant;
 use super::trial::TrialOutcome;
+use super::variant::Variant;
 use crate::studies::ramp::RampResult;
 use crate::world::WorldParams;
 

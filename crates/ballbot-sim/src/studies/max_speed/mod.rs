@@ -43,7 +43,7 @@ pub use protocol::{
     MaxSpeedProtocol, MaxSpeedStudySettings, PAPER_MAX_SPEED, PaperMaxSpeed, ShaperLimits,
 };
 pub use study::{MapPoint, MaxSpeedStudy, SensitivityRow, run_study};
-pub use variant::Variant;
 pub use trial::{
     HeadingTrials, TrialOutcome, controller, quasi_static_failing_accel_m_per_s2, slow_ramp_trial,
 };
+pub use variant::Variant;
