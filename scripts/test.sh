@@ -54,7 +54,7 @@ step "reproduce smoke run (ballbot reproduce --quick)"
 cargo run -q -p ballbot-cli --bin ballbot -- reproduce --quick --out target/reproduce-quick
 grep -q '"piptb"' target/reproduce-quick/summary.json
 grep -q '"max_speed_by_heading"' target/reproduce-quick/summary.json
-grep -q '"min_braking_time_3d_s": 2' target/reproduce-quick/summary.json
+grep -q '"min_braking_time_3d_secs": 2' target/reproduce-quick/summary.json
 grep -q '"push_recovery_ns"' target/reproduce-quick/summary.json
 # Every number of the summary equal to the committed reference, to the last digit (the
 # simulations are seeded and deterministic; only the wall-clock solve time and the log paths

@@ -123,7 +123,7 @@ fn mcap(c: &mut Criterion) {
 fn world(c: &mut Criterion) {
     let mut drive = WorldDrive::new().unwrap();
     bench_both(c, "world_step_8khz_unlogged", || {
-        drive.step().unwrap().time_s
+        drive.step().unwrap().time_secs
     });
     assert_eq!(drive.restarts, 0, "the robot failed during the bench");
 
@@ -134,7 +134,7 @@ fn world(c: &mut Criterion) {
     let mut log = Some(WorldLogger::create(&path, &params).unwrap());
     let mut steps_in_file = 0_u64;
     bench_both(c, "world_step_8khz_logged", || {
-        let time_s = drive.step().unwrap().time_s;
+        let time_secs = drive.step().unwrap().time_secs;
         if steps_in_file == WORLD_STEPS_PER_FILE {
             log.take().unwrap().finish().unwrap();
             log = Some(WorldLogger::create(&path, &params).unwrap());
@@ -142,7 +142,7 @@ fn world(c: &mut Criterion) {
         }
         log.as_mut().unwrap().record_robot(drive.sim()).unwrap();
         steps_in_file += 1;
-        time_s
+        time_secs
     });
     assert_eq!(drive.restarts, 0, "the robot failed during the bench");
     let channels = log.take().unwrap().finish().unwrap();

@@ -25,7 +25,7 @@ use world_drive::WorldDrive;
 fn world_step(c: &mut Criterion) {
     let mut drive = WorldDrive::new().unwrap();
     bench_both(c, "world_step_8khz_with_controller", || {
-        drive.step().unwrap().time_s
+        drive.step().unwrap().time_secs
     });
     assert_eq!(drive.restarts, 0, "the robot failed during the bench");
     assert!(drive.sim().world().failure().is_none());

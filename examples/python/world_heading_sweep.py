@@ -29,8 +29,8 @@ def ramp(heading_deg: float, accel_m_per_s2: float, top_m_per_s: float) -> ballb
         heading_deg=heading_deg,
         accel_m_per_s2=accel_m_per_s2,
         max_command_m_per_s=top_m_per_s,
-        settle_s=0.5,
-        sample_every_s=0.0025,
+        settle_secs=0.5,
+        sample_every_secs=0.0025,
         max_speed_m_per_s=5.0,
         max_accel_m_per_s2=20.0,
         max_tilt_command_rad=0.5,
@@ -57,8 +57,8 @@ def main() -> None:
         outcome = "ramp completed"
         if failure is not None:
             wheel = "" if failure.wheel is None else f" {failure.wheel}"
-            outcome = f"{failure.kind.value}{wheel} at {failure.time_s:.2f} s"
-        min_n = float(np.min(r.normal_force_n[:, 1:])) if r.time_s.size else float("nan")
+            outcome = f"{failure.kind.value}{wheel} at {failure.time_secs:.2f} s"
+        min_n = float(np.min(r.normal_force_n[:, 1:])) if r.time_secs.size else float("nan")
         peak_u = float(np.max(r.max_cone_utilisation, initial=0.0))
         print(
             f"{r.heading_deg:5.0f} deg {r.max_speed_m_per_s:6.2f} m/s {min_n:10.1f} N "

@@ -92,7 +92,7 @@ pub struct BrakeArgs {
     #[arg(long)]
     pub json: bool,
     /// Write the trajectory, sampled every 10 ms, as CSV
-    /// (t_s, theta_rad, phi_rad, theta_dot_rad_per_s, phi_dot_rad_per_s, tau_nm).
+    /// (t_secs, theta_rad, phi_rad, theta_dot_rad_per_s, phi_dot_rad_per_s, tau_nm).
     #[arg(long)]
     pub csv: Option<PathBuf>,
 }
@@ -149,7 +149,7 @@ pub fn run(args: &BrakeArgs) -> anyhow::Result<()> {
             ..MinTimeOptions::default()
         };
         let r = min_braking_time(&problem, &SolveOptions::default(), &search)?;
-        record["min_braking_time_s"] = json!(r.min_duration_secs);
+        record["min_braking_time_secs"] = json!(r.min_duration_secs);
     }
     if let Some(path) = &args.csv {
         write_csv(&sol, path)?;
@@ -175,7 +175,7 @@ pub fn run(args: &BrakeArgs) -> anyhow::Result<()> {
                 .as_f64()
                 .unwrap_or(f64::NAN)
         );
-        if let Some(t) = record.get("min_braking_time_s") {
+        if let Some(t) = record.get("min_braking_time_secs") {
             println!("  minimum braking time under the limits: {t} s");
         }
     }

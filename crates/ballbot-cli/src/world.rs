@@ -8,14 +8,14 @@
 //!
 //! ```text
 //! ballbot world --heading-deg 0 --accel-m-per-s2 1.0 --top-speed-m-per-s 1.5 \
-//!     --duration-s 4 --out out/world.mcap
-//! ballbot world --push-ns 40 --push-at-s 1.0 --push-heading-deg 90 --duration-s 3
+//!     --duration-secs 4 --out out/world.mcap
+//! ballbot world --push-ns 40 --push-at-secs 1.0 --push-heading-deg 90 --duration-secs 3
 //! ```
 
 use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::WorldLogOptions;
-pub use ballbot_sim::studies::world_run::{SETTLE_S, WorldOutcome};
+pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
 use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world};
 use ballbot_sim::world::WorldParams;
 use std::path::PathBuf;
@@ -23,10 +23,10 @@ use std::path::PathBuf;
 /// Examples and log sizes shown after `ballbot world --help`.
 pub const AFTER_HELP: &str = "\
 Examples:
-  ballbot world --heading-deg 0 --accel-m-per-s2 1 --top-speed-m-per-s 1.5 --duration-s 4 \\
+  ballbot world --heading-deg 0 --accel-m-per-s2 1 --top-speed-m-per-s 1.5 --duration-secs 4 \\
       --out out/world.mcap
-  ballbot world --mu 0.05 --accel-m-per-s2 1 --duration-s 1.5 --out out/slip.mcap
-  ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-s 1 --duration-s 3
+  ballbot world --wheel-ball-friction 0.05 --accel-m-per-s2 1 --duration-secs 1.5 --out out/slip.mcap
+  ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-secs 1 --duration-secs 3
 
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
 normal force, cone utilisation, slip speed). Size: about 4.4 MB per simulated second with
@@ -50,14 +50,14 @@ pub struct WorldArgs {
     pub top_speed_m_per_s: f64,
     /// Simulated time (s, > 0); the ramp starts after a 0.5 s hold.
     #[arg(long, default_value_t = 5.0)]
-    pub duration_s: f64,
+    pub duration_secs: f64,
     /// Seed of the sensor noise.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Omniwheel-ball friction coefficient mu (> 0); default the robot's (0.6). The
     /// controller is designed for the same robot.
     #[arg(long)]
-    pub mu: Option<f64>,
+    pub wheel_ball_friction: Option<f64>,
     /// Height of the body's centre of mass above the ball centre (m, > 0); default the
     /// robot's (0.5). The controller is designed for the same robot.
     #[arg(long)]
@@ -67,18 +67,18 @@ pub struct WorldArgs {
     pub push_ns: f64,
     /// When the push is applied (s).
     #[arg(long, default_value_t = 2.0)]
-    pub push_at_s: f64,
+    pub push_at_secs: f64,
     /// Direction of the push in the body frame (deg; 0 is towards OW1).
     #[arg(long, default_value_t = 90.0, allow_negative_numbers = true)]
     pub push_heading_deg: f64,
     /// Simulated time kept running after a failure, to see the fall (s, >= 0).
     #[arg(long, default_value_t = 0.25)]
-    pub after_failure_s: f64,
+    pub after_failure_secs: f64,
     /// Time constant of the command shaper's reference filter (s, >= 0; 0, the core's
     /// default, is off). About 0.3 s removes the speed overshoot of a velocity ramp
     /// (`CommandShaperParams::reference_filter_secs`, docs/embedding.md).
     #[arg(long, default_value_t = 0.0)]
-    pub reference_filter_s: f64,
+    pub reference_filter_secs: f64,
     /// The MCAP log to write (its folder is created).
     #[arg(long, default_value = "out/world.mcap")]
     pub out: PathBuf,
@@ -100,15 +100,15 @@ impl Default for WorldArgs {
             heading_deg: 0.0,
             accel_m_per_s2: 0.5,
             top_speed_m_per_s: 1.0,
-            duration_s: 5.0,
+            duration_secs: 5.0,
             seed: 0,
-            mu: None,
+            wheel_ball_friction: None,
             com_height_m: None,
             push_ns: 0.0,
-            push_at_s: 2.0,
+            push_at_secs: 2.0,
             push_heading_deg: 90.0,
-            after_failure_s: 0.25,
-            reference_filter_s: 0.0,
+            after_failure_secs: 0.25,
+            reference_filter_secs: 0.0,
             out: PathBuf::from("out/world.mcap"),
             decimate: 1,
             scene_hz: 50.0,
@@ -148,13 +148,18 @@ impl WorldArgs {
             self.top_speed_m_per_s,
         )?;
         check(
-            finite(self.duration_s) && self.duration_s > 0.0 && self.duration_s <= 3600.0,
-            "--duration-s",
+            finite(self.duration_secs) && self.duration_secs > 0.0 && self.duration_secs <= 3600.0,
+            "--duration-secs",
             "in (0, 3600]",
-            self.duration_s,
+            self.duration_secs,
         )?;
-        if let Some(mu) = self.mu {
-            check(finite(mu) && mu > 0.0, "--mu", "finite and > 0", mu)?;
+        if let Some(mu) = self.wheel_ball_friction {
+            check(
+                finite(mu) && mu > 0.0,
+                "--wheel-ball-friction",
+                "finite and > 0",
+                mu,
+            )?;
         }
         if let Some(h) = self.com_height_m {
             check(finite(h) && h > 0.0, "--com-height-m", "finite and > 0", h)?;
@@ -166,10 +171,10 @@ impl WorldArgs {
             self.push_ns,
         )?;
         check(
-            finite(self.push_at_s) && self.push_at_s >= 0.0,
-            "--push-at-s",
+            finite(self.push_at_secs) && self.push_at_secs >= 0.0,
+            "--push-at-secs",
             "finite and >= 0",
-            self.push_at_s,
+            self.push_at_secs,
         )?;
         check(
             finite(self.push_heading_deg),
@@ -178,16 +183,16 @@ impl WorldArgs {
             self.push_heading_deg,
         )?;
         check(
-            finite(self.after_failure_s) && self.after_failure_s >= 0.0,
-            "--after-failure-s",
+            finite(self.after_failure_secs) && self.after_failure_secs >= 0.0,
+            "--after-failure-secs",
             "finite and >= 0",
-            self.after_failure_s,
+            self.after_failure_secs,
         )?;
         check(
-            finite(self.reference_filter_s) && self.reference_filter_s >= 0.0,
-            "--reference-filter-s",
+            finite(self.reference_filter_secs) && self.reference_filter_secs >= 0.0,
+            "--reference-filter-secs",
             "finite and >= 0",
-            self.reference_filter_s,
+            self.reference_filter_secs,
         )?;
         check(
             finite(self.scene_hz) && self.scene_hz > 0.0 && self.scene_hz <= 1000.0,
@@ -198,11 +203,11 @@ impl WorldArgs {
         Ok(())
     }
 
-    /// The world's parameters: MiaPURE with 60 kg, with `--seed`, `--mu`, `--com-height-m`.
+    /// The world's parameters: MiaPURE with 60 kg, with `--seed`, `--wheel-ball-friction`, `--com-height-m`.
     pub fn world_params(&self) -> anyhow::Result<WorldParams> {
         let mut params = WorldParams::miapure_60kg();
         params.sensors.seed = self.seed;
-        if let Some(mu) = self.mu {
+        if let Some(mu) = self.wheel_ball_friction {
             params.robot.drivetrain.wheel_ball_friction = mu;
         }
         if let Some(h) = self.com_height_m {
@@ -211,7 +216,7 @@ impl WorldArgs {
         }
         params
             .validate()
-            .context("the robot given by --mu/--com-height-m is invalid")?;
+            .context("the robot given by --wheel-ball-friction/--com-height-m is invalid")?;
         Ok(params)
     }
 
@@ -221,10 +226,11 @@ impl WorldArgs {
         &self,
         params: &WorldParams,
     ) -> anyhow::Result<BallbotControllerConfig<f64>> {
-        let mut config = BallbotControllerConfig::design(&params.robot)
-            .context("cannot design the controller for this robot (--mu/--com-height-m)")?;
+        let mut config = BallbotControllerConfig::design(&params.robot).context(
+            "cannot design the controller for this robot (--wheel-ball-friction/--com-height-m)",
+        )?;
         let shaping = &mut config.shaping;
-        shaping.reference_filter_secs = self.reference_filter_s;
+        shaping.reference_filter_secs = self.reference_filter_secs;
         if self.top_speed_m_per_s > shaping.translation.max_value {
             shaping.translation.max_value = self.top_speed_m_per_s;
         }
@@ -254,11 +260,11 @@ pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
         heading_deg: args.heading_deg,
         accel_m_per_s2: args.accel_m_per_s2,
         top_speed_m_per_s: args.top_speed_m_per_s,
-        duration_s: args.duration_s,
+        duration_secs: args.duration_secs,
         push_ns: args.push_ns,
-        push_at_s: args.push_at_s,
+        push_at_secs: args.push_at_secs,
         push_heading_deg: args.push_heading_deg,
-        after_failure_s: args.after_failure_s,
+        after_failure_secs: args.after_failure_secs,
     };
     run_logged_world(params, config, &run, &args.out, options)
         .with_context(|| format!("ballbot world --out {}", args.out.display()))
@@ -271,14 +277,14 @@ pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&o)?);
         return Ok(());
     }
-    match (&o.failure, o.failure_time_s) {
-        (Some(kind), Some(time_s)) => {
+    match (&o.failure, o.failure_time_secs) {
+        (Some(kind), Some(time_secs)) => {
             let wheel = o
                 .failure_wheel
                 .map_or_else(String::new, |w| format!(" of OW{w}"));
-            println!("failure: {kind}{wheel} at {time_s:.4} s");
+            println!("failure: {kind}{wheel} at {time_secs:.4} s");
         }
-        _ => println!("failure: none ({:.3} s simulated)", o.end_time_s),
+        _ => println!("failure: none ({:.3} s simulated)", o.end_time_secs),
     }
     println!(
         "max speed along {} deg: {:.3} m/s",

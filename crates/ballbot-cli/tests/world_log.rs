@@ -18,11 +18,11 @@ use serde_json::Value;
 
 fn args(out: &Path) -> WorldArgs {
     WorldArgs {
-        duration_s: 0.6,
+        duration_secs: 0.6,
         accel_m_per_s2: 1.0,
         top_speed_m_per_s: 0.3,
         push_ns: 20.0,
-        push_at_s: 0.3,
+        push_at_secs: 0.3,
         push_heading_deg: 0.0,
         out: out.to_owned(),
         ..WorldArgs::default()
@@ -176,33 +176,33 @@ fn a_failure_is_logged_once_and_the_run_stops_after_it() {
     let path = dir.path().join("slip.mcap");
     // mu = 0.05: the wheels cannot carry the traction of the first acceleration.
     let a = WorldArgs {
-        mu: Some(0.05),
+        wheel_ball_friction: Some(0.05),
         push_ns: 0.0,
-        duration_s: 1.5,
+        duration_secs: 1.5,
         ..args(&path)
     };
     let outcome = simulate(&a).unwrap();
     assert_eq!(outcome.failure.as_deref(), Some("sustained_slip"));
-    let failure_s = outcome.failure_time_s.unwrap();
+    let failure_secs = outcome.failure_time_secs.unwrap();
     let wheel = outcome.failure_wheel.unwrap();
     assert!((1..=3).contains(&wheel));
-    assert!((outcome.end_time_s - failure_s - a.after_failure_s).abs() < 2e-4);
+    assert!((outcome.end_time_secs - failure_secs - a.after_failure_secs).abs() < 2e-4);
 
     let log = McapLog::open(&path).unwrap();
     let events = log.decode::<WorldEventMsg>(topics::FAULTS).unwrap();
     let failures: Vec<_> = events.iter().filter(|(_, e)| e.kind != "mode").collect();
     assert_eq!(failures.len(), 1, "{events:?}");
-    let (time_s, event) = failures[0];
+    let (time_secs, event) = failures[0];
     assert_eq!(event.kind, "sustained_slip");
     assert_eq!(event.wheel.as_deref(), Some(wheel_name(wheel - 1)));
-    assert!((time_s - failure_s).abs() < 1e-9);
+    assert!((time_secs - failure_secs).abs() < 1e-9);
     assert!(event.description.contains(&format!("OW{wheel}")));
 
     let telemetry = log
         .decode::<WorldTelemetryMsg>(topics::WORLD_TELEMETRY)
         .unwrap();
     for (t, msg) in &telemetry {
-        assert_eq!(msg.failed, *t >= failure_s - 1e-9, "at {t}");
+        assert_eq!(msg.failed, *t >= failure_secs - 1e-9, "at {t}");
     }
     // While a wheel slips, its contact-force arrow is red.
     let by_time: BTreeMap<u64, &WorldTelemetryMsg> = telemetry
@@ -232,7 +232,7 @@ fn same_seed_gives_a_bit_identical_log_and_another_seed_does_not() {
     let run = |name: &str, seed: u64| {
         let path = dir.path().join(name);
         let mut a = args(&path);
-        a.duration_s = 0.2;
+        a.duration_secs = 0.2;
         a.seed = seed;
         simulate(&a).unwrap();
         std::fs::read(path).unwrap()
@@ -257,16 +257,16 @@ fn bad_flags_are_named_in_the_error() {
             },
         ),
         (
-            "--duration-s",
+            "--duration-secs",
             WorldArgs {
-                duration_s: f64::NAN,
+                duration_secs: f64::NAN,
                 ..base.clone()
             },
         ),
         (
-            "--mu",
+            "--wheel-ball-friction",
             WorldArgs {
-                mu: Some(-0.1),
+                wheel_ball_friction: Some(-0.1),
                 ..base.clone()
             },
         ),
@@ -285,9 +285,9 @@ fn bad_flags_are_named_in_the_error() {
             },
         ),
         (
-            "--reference-filter-s",
+            "--reference-filter-secs",
             WorldArgs {
-                reference_filter_s: -0.1,
+                reference_filter_secs: -0.1,
                 ..base.clone()
             },
         ),
@@ -310,7 +310,7 @@ fn decimation_thins_the_telemetry_only() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("d.mcap");
     let mut a = args(&path);
-    a.duration_s = 0.2;
+    a.duration_secs = 0.2;
     a.decimate = 8;
     a.scene_hz = 10.0;
     simulate(&a).unwrap();
@@ -339,7 +339,7 @@ fn a_killed_world_run_leaves_a_readable_log() {
     }
     let mut guard = KillOnDrop(
         Command::new(env!("CARGO_BIN_EXE_ballbot"))
-            .args(["world", "--duration-s", "600", "--out"])
+            .args(["world", "--duration-secs", "600", "--out"])
             .arg(&path)
             .stdout(std::process::Stdio::null())
             .spawn()
@@ -369,7 +369,7 @@ fn a_killed_world_run_leaves_a_readable_log() {
     let dt = 1.0 / 8000.0;
     for (k, (time_secs, msg)) in telemetry.iter().enumerate() {
         assert!((time_secs - (k + 1) as f64 * dt).abs() < 1e-9);
-        assert!((time_secs - msg.step.time_s).abs() < 1e-9);
+        assert!((time_secs - msg.step.time_secs).abs() < 1e-9);
     }
     assert!(log.channel(topics::TRANSFORMS).unwrap().message_count >= 1);
 }
@@ -431,7 +431,7 @@ fn world_layout_plots_fields_that_a_written_log_has() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("layout.mcap");
     let mut a = args(&path);
-    a.duration_s = 0.1;
+    a.duration_secs = 0.1;
     simulate(&a).unwrap();
     let log = McapLog::open(&path).unwrap();
     let mut plotted = 0;
@@ -547,18 +547,18 @@ fn telemetry_schema_is_the_step_telemetry_schema() {
     assert_eq!(back.step, step);
 }
 
-/// `--reference-filter-s` reaches the core's command shaper: in the world a 1 m/s^2 ramp to
+/// `--reference-filter-secs` reaches the core's command shaper: in the world a 1 m/s^2 ramp to
 /// 1.5 m/s overshoots to 1.76 m/s without the filter and stays within 2 % of 1.5 m/s with
 /// 0.3 s (release run: 1.762 against 1.472 m/s, docs/embedding.md).
 #[test]
 fn the_reference_filter_flag_removes_the_ramp_overshoot_in_the_world() {
     let dir = tempfile::tempdir().unwrap();
-    let run = |filter_s: f64, name: &str| {
+    let run = |filter_secs: f64, name: &str| {
         let a = WorldArgs {
             accel_m_per_s2: 1.0,
             top_speed_m_per_s: 1.5,
-            duration_s: 4.0,
-            reference_filter_s: filter_s,
+            duration_secs: 4.0,
+            reference_filter_secs: filter_secs,
             decimate: 80,
             out: dir.path().join(name),
             ..WorldArgs::default()

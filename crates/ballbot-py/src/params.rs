@@ -590,8 +590,8 @@ py_params! {
     /// sustained slip, lift-off.
     PyFailureParams(FailureParams, "FailureParams", default = FailureParams::default) {
         floats {
-            max_tilt_rad, slip_speed_threshold_m_per_s, max_slip_duration_s, lift_off_force_n,
-            max_lift_off_duration_s,
+            max_tilt_rad, slip_speed_threshold_m_per_s, max_slip_duration_secs, lift_off_force_n,
+            max_lift_off_duration_secs,
         }
         arrays {}
         nested {}

@@ -70,17 +70,17 @@ def test_failures_name_their_wheel() -> None:
 
 def test_settings_validate_and_name_the_field() -> None:
     s = ballbot.BrakingSettings(cruise_speed_m_per_s=1.0, feedforward="core")
-    assert s.feedforward is ballbot.Feedforward.CORE and s.settle_s is None
-    assert s.replace(settle_s=0.2).settle_s == 0.2 and s.settle_s is None
+    assert s.feedforward is ballbot.Feedforward.CORE and s.settle_secs is None
+    assert s.replace(settle_secs=0.2).settle_secs == 0.2 and s.settle_secs is None
     assert s.to_dict()["feedforward"] == "core"
     with pytest.raises(ballbot.ParameterError, match="cruise_speed_m_per_s"):
         ballbot.BrakingSettings(cruise_speed_m_per_s=float("nan"))
     with pytest.raises(ballbot.ParameterError, match="intervals"):
         ballbot.BrakingSettings(intervals=0)
-    with pytest.raises(ballbot.ParameterError, match="unknown parameter `cruise`.*cruise_s"):
+    with pytest.raises(ballbot.ParameterError, match="unknown parameter `cruise`.*cruise_secs"):
         s.replace(cruise=1.0)
-    with pytest.raises(ballbot.ParameterError, match="observe_s"):
-        ballbot.PushSettings(observe_s=-1.0)
+    with pytest.raises(ballbot.ParameterError, match="observe_secs"):
+        ballbot.PushSettings(observe_secs=-1.0)
     with pytest.raises(ballbot.ParameterError, match="accel_bracket_m_per_s2"):
         ballbot.MaxSpeedSettings(accel_bracket_m_per_s2=(2.0, 1.0))
     with pytest.raises(ballbot.ParameterError, match="max_jerk_m_per_s3"):
@@ -89,4 +89,4 @@ def test_settings_validate_and_name_the_field() -> None:
     m = ballbot.MaxSpeedSettings(trial_headings_deg=[0.0, 90.0])
     assert m.trial_headings_deg == (0.0, 90.0)
     with pytest.raises(TypeError, match="BrakingSettings"):
-        ballbot.braking_run(duration_s=1.0, settings=ballbot.PushSettings())  # type: ignore[arg-type]
+        ballbot.braking_run(duration_secs=1.0, settings=ballbot.PushSettings())  # type: ignore[arg-type]

@@ -58,7 +58,7 @@ def test_world_run_lets_other_python_threads_run() -> None:
     during = [t for t in ticks if start < t < end]
     assert end - start > 0.05, "the run was too short to observe"
     assert len(during) >= 5, f"main thread ran {len(during)} times in {end - start:.3f} s"
-    assert sim.time_s == pytest.approx(3.0)
+    assert sim.time_secs == pytest.approx(3.0)
 
 
 def test_worlds_in_threads_give_the_same_results_as_in_sequence() -> None:
@@ -67,7 +67,7 @@ def test_worlds_in_threads_give_the_same_results_as_in_sequence() -> None:
 
     def run(heading_deg: float) -> float:
         return ballbot.max_speed_ramp(
-            heading_deg=heading_deg, accel_m_per_s2=1.0, max_command_m_per_s=0.5, settle_s=0.1
+            heading_deg=heading_deg, accel_m_per_s2=1.0, max_command_m_per_s=0.5, settle_secs=0.1
         ).max_speed_m_per_s
 
     alone = [run(0.0), run(90.0)]
@@ -104,4 +104,4 @@ def test_a_world_in_use_by_another_thread_raises_runtime_error() -> None:
         time.sleep(0.001)
     worker.join()
     assert refused > 0, "the running world must refuse a second user"
-    assert world.time_s == pytest.approx(10.0)
+    assert world.time_secs == pytest.approx(10.0)

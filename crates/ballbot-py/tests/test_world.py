@@ -38,7 +38,7 @@ def test_resting_normal_forces_match_static_load() -> None:
     world = ballbot.World(params)
     # 1 s: the ball first settles into rapier's soft floor (as in the Rust test).
     run = world.run(8000)
-    assert run.steps == 8000 and run.time_s.shape == (8000,)
+    assert run.steps == 8000 and run.time_secs.shape == (8000,)
     assert run.normal_force_n.shape == (8000, 3) and run.torque_nm.shape == (8000, 3)
     assert run.normal_force_n[-1] == pytest.approx([expected] * 3, rel=2e-3)
     assert np.all(np.abs(run.traction_n[-1]) < 1.0)
@@ -49,7 +49,7 @@ def test_resting_normal_forces_match_static_load() -> None:
     # One more step through `step` agrees with the run and with `telemetry`.
     t = world.step([0.0, 0.0, 0.0])
     assert [w.normal_force_n for w in t.wheels] == pytest.approx([expected] * 3, rel=2e-3)
-    assert world.telemetry.time_s == t.time_s == pytest.approx(8001 * params.dt_secs)
+    assert world.telemetry.time_secs == t.time_secs == pytest.approx(8001 * params.dt_secs)
     assert world.failure is None
 
 
@@ -85,7 +85,7 @@ def test_free_flight_conserves_momentum() -> None:
     )
     world = ballbot.World(params)
     world.set_gravity_m_per_s2(0.0)
-    world.set_wheel_friction(0.0)
+    world.set_wheel_ball_friction(0.0)
     world.translate_robot([0.0, 0.0, 1.0])
     world.set_body_velocity([0.3, -0.2, -0.05], [0.4, -0.3, 1.5])
     world.set_ball_velocity(np.array([-0.2, 0.1, 0.4]), (2.0, 1.0, -3.0))
@@ -118,7 +118,7 @@ def test_wheel_speeds_match_kinematics_under_the_core_controller() -> None:
     command[:, 1] = 0.1 * np.minimum(t, 1.0)
     run = sim.run(n, command)
     assert run.failure is None and sim.mode is ballbot.Mode.BALANCING
-    late = run.time_s > 1.5
+    late = run.time_secs > 1.5
     rot = rotation_matrix(run.body_orientation[late])
     w_ball_body = np.einsum("nji,nj->ni", rot, run.ball_angular_velocity_rad_per_s[late])
     w_rel = w_ball_body - run.body_rate_rad_per_s[late]
@@ -140,7 +140,7 @@ def test_core_loop_cruises_at_the_commanded_speed() -> None:
         sim.step(0.3, 0.0, 0.0)
     run = sim.run(7990, [0.3, 0.0, 0.0], record_every=100)
     assert run.command.shape == (80, 3) and np.all(run.command[:, 0] == 0.3)
-    assert run.time_s[1] - run.time_s[0] == pytest.approx(100 / 8000)
+    assert run.time_secs[1] - run.time_secs[0] == pytest.approx(100 / 8000)
     assert sim.failure is None
     assert sim.telemetry.ball_velocity_m_per_s[0] == pytest.approx(0.3, abs=0.1)
     m = sim.measure()
@@ -169,12 +169,12 @@ def test_same_seed_gives_identical_arrays() -> None:
 def test_ramp_unloads_driving_wheels_more_towards_ow1() -> None:
     def min_driving_normal_n(heading_deg: float) -> float:
         settings = ballbot.RampSettings(
-            accel_m_per_s2=1.0, max_command_m_per_s=1.0, settle_s=0.2, sample_every_s=0.0025
+            accel_m_per_s2=1.0, max_command_m_per_s=1.0, settle_secs=0.2, sample_every_secs=0.0025
         )
         r = ballbot.max_speed_ramp(heading_deg=heading_deg, settings=settings)
         assert r.failure is None and r.max_speed_m_per_s > 0.9
         assert r.heading_deg == heading_deg
-        n = r.time_s.size
+        n = r.time_secs.size
         assert r.normal_force_n.shape == (n, 3) and r.speed_m_per_s.shape == (n,)
         assert np.array_equal(r.max_cone_utilisation, r.cone_utilisation.max(axis=1))
         assert np.all(r.shaped_command_m_per_s <= r.command_m_per_s + 1e-12)
@@ -195,7 +195,7 @@ def test_falling_robot_fails_and_the_run_stops_there() -> None:
         ballbot.FailureKind.LIFT_OFF,
     )
     assert run.steps < 40_000
-    assert run.time_s[-1] == pytest.approx(failure.time_s)
+    assert run.time_secs[-1] == pytest.approx(failure.time_secs)
     assert "Failure(kind=" in repr(failure)
 
 
@@ -253,8 +253,8 @@ def test_bad_world_input_raises_documented_errors() -> None:
     with pytest.raises(ballbot.ParameterError, match="impulse_ns"):
         world.push_body([float("nan"), 0.0, 0.0])
     with pytest.raises(ballbot.ParameterError, match="friction"):
-        world.set_wheel_friction(-0.1)
-    assert world.time_s == 0.0, "rejected input must not step the world"
+        world.set_wheel_ball_friction(-0.1)
+    assert world.time_secs == 0.0, "rejected input must not step the world"
     with pytest.raises(MemoryError):
         world.run(1 << 60)
     sim = ballbot.WorldLoop()

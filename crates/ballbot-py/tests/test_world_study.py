@@ -55,7 +55,7 @@ def test_max_speed_study_returns_the_summary_record() -> None:
     assert study.max_speed_by_heading["180"] == trial["max_speed_m_per_s"]
     series = study.first_runs[180.0]
     assert series.max_speed_m_per_s == trial["max_speed_m_per_s"]
-    assert series.normal_force_n.shape == (series.time_s.size, 3)
+    assert series.normal_force_n.shape == (series.time_secs.size, 3)
     assert "180" in study.table
     assert study.sensitivity == [] and len(study.map) == 1
 
@@ -91,8 +91,8 @@ def test_bad_study_input_raises_documented_errors(tmp_path: Path) -> None:
         ballbot.MaxSpeedSettings(quick=True, fast_top_m_per_s=float("nan"))
     with pytest.raises(ballbot.ParameterError, match="seeds"):
         ballbot.max_speed_study(settings=ballbot.MaxSpeedSettings(quick=True, seeds=[]))
-    with pytest.raises(ballbot.ParameterError, match="sensitivity_mu"):
-        ballbot.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
+    with pytest.raises(ballbot.ParameterError, match="sensitivity_wheel_ball_friction"):
+        ballbot.max_speed_study(quick=True, sensitivity_wheel_ball_friction=[float("inf")])
     # The settings classes check first; the native functions keep their own checks.
     with pytest.raises(ballbot.ParameterError, match="accel_bracket_m_per_s2"):
         _core.failing_acceleration(accel_bracket_m_per_s2=(2.0, 1.0))
@@ -100,60 +100,60 @@ def test_bad_study_input_raises_documented_errors(tmp_path: Path) -> None:
         _core.failing_acceleration(accel_resolution_m_per_s2=0.0)
     with pytest.raises(ballbot.ParameterError, match="fast_top_m_per_s"):
         _core.max_speed_study(quick=True, fast_top_m_per_s=float("nan"))
-    with pytest.raises(ballbot.ParameterError, match="sensitivity_mu"):
-        _core.max_speed_study(quick=True, sensitivity_mu=[float("inf")])
+    with pytest.raises(ballbot.ParameterError, match="sensitivity_wheel_ball_friction"):
+        _core.max_speed_study(quick=True, sensitivity_wheel_ball_friction=[float("inf")])
     with pytest.raises(ballbot.ParameterError, match="seeds"):
         _core.max_speed_study(quick=True, seeds=[])
     with pytest.raises(ballbot.FileError, match="missing"):
         ballbot.World().run(10, log_path=tmp_path / "missing" / "dir" / "x.mcap")
 
 
-FAST_BRAKING = ballbot.BrakingSettings(approach_accel_m_per_s2=1.0, settle_s=0.2, cruise_s=1.0)
-FAST_PUSH = ballbot.PushSettings(settle_s=0.5, observe_s=3.0, rest_within_s=2.5)
+FAST_BRAKING = ballbot.BrakingSettings(approach_accel_m_per_s2=1.0, settle_secs=0.2, cruise_secs=1.0)
+FAST_PUSH = ballbot.PushSettings(settle_secs=0.5, observe_secs=3.0, rest_within_secs=2.5)
 
 
 def test_braking_study_descends_then_bisects() -> None:
     # The Rust test's numbers (tests/world_brake.rs): at 180 deg from 1.4 m/s, 3 s stops, 1 s
     # fails in the world although a plan exists, the bisection tries 2 s once.
     r = ballbot.braking_study(
-        heading_deg=180.0, durations_s=[3.0, 1.0, 0.5], bisection_resolution_s=1.0, settings=FAST_BRAKING
+        heading_deg=180.0, durations_secs=[3.0, 1.0, 0.5], bisection_resolution_secs=1.0, settings=FAST_BRAKING
     )
-    assert r.shortest_success_s == 3.0 and r.first_failure_s == 1.0
-    assert [run.duration_s for run in r.descent] == [3.0, 1.0]
-    assert [run.duration_s for run in r.bisection] == [2.0]
+    assert r.shortest_success_secs == 3.0 and r.first_failure_secs == 1.0
+    assert [run.duration_secs for run in r.descent] == [3.0, 1.0]
+    assert [run.duration_secs for run in r.bisection] == [2.0]
     ok, bad = r.descent
     assert ok.outcome is ballbot.BrakingOutcome.STOPPED and ok.success and ok.rest_speed_m_per_s is not None
     assert abs(ok.speed_m_per_s[-1]) < 0.05 and abs(ok.command_m_per_s[-1]) < 1e-9
     assert ok.peaks.speed_error_m_per_s < 0.15
     assert max(ok.peaks.cone_utilisation) < 0.9
-    assert ok.normal_force_n.shape == (ok.time_s.size, 3)
+    assert ok.normal_force_n.shape == (ok.time_secs.size, 3)
     assert bad.outcome is ballbot.BrakingOutcome.FAILED and bad.failure is not None
     assert bad.plan_cost_n2m2s is not None
-    limit, below = r.limit_s, r.limit_failure_s
+    limit, below = r.limit_secs, r.limit_failure_secs
     assert limit is not None and below is not None and limit - below == 1.0
 
 
 def test_braking_run_without_a_plan_and_is_deterministic() -> None:
-    none = ballbot.braking_run(heading_deg=180.0, duration_s=0.3, settings=FAST_BRAKING)
+    none = ballbot.braking_run(heading_deg=180.0, duration_secs=0.3, settings=FAST_BRAKING)
     assert none.outcome is ballbot.BrakingOutcome.NO_TRAJECTORY and not none.success
-    assert isinstance(none.solve_status, ballbot.SolveStatus) and none.time_s.size == 0
-    a = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, settings=FAST_BRAKING)
+    assert isinstance(none.solve_status, ballbot.SolveStatus) and none.time_secs.size == 0
+    a = ballbot.braking_run(heading_deg=180.0, duration_secs=2.5, settings=FAST_BRAKING)
     # The settings' fields as keyword arguments (one to one) give the same run.
-    b = ballbot.braking_run(heading_deg=180.0, duration_s=2.5, **FAST_BRAKING.to_dict())
+    b = ballbot.braking_run(heading_deg=180.0, duration_secs=2.5, **FAST_BRAKING.to_dict())
     assert a.telemetry_hash == b.telemetry_hash and a.success
     with pytest.raises(ballbot.ParameterError, match="feedforward"):
-        ballbot.braking_run(duration_s=2.0, feedforward="magic")
+        ballbot.braking_run(duration_secs=2.0, feedforward="magic")
     with pytest.raises(ballbot.ParameterError, match="cruise_speed_m_per_s"):
-        ballbot.braking_run(duration_s=2.0, cruise_speed_m_per_s=-1.0)
-    with pytest.raises(ballbot.ParameterError, match="duration_s"):
-        ballbot.braking_run(duration_s=float("nan"))
+        ballbot.braking_run(duration_secs=2.0, cruise_speed_m_per_s=-1.0)
+    with pytest.raises(ballbot.ParameterError, match="duration_secs"):
+        ballbot.braking_run(duration_secs=float("nan"))
 
 
 def test_push_recovery() -> None:
     small = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH)
     assert small.outcome is ballbot.PushOutcome.RECOVERED and small.recovered
     assert 0.0 < np.degrees(small.peak_tilt_rad) < 3.0
-    assert small.ball_velocity_m_per_s.shape == (small.time_s.size, 2)
+    assert small.ball_velocity_m_per_s.shape == (small.time_secs.size, 2)
     huge = ballbot.push_trial(heading_deg=90.0, impulse_ns=150.0, settings=FAST_PUSH)
     assert not huge.recovered
     again = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH)
@@ -165,7 +165,7 @@ def test_push_recovery() -> None:
     ok = [t.impulse_ns for t in r.trials if t.recovered]
     bad = [t.impulse_ns for t in r.trials if not t.recovered]
     assert max(ok, default=0.0) < min(bad)
-    with pytest.raises(ballbot.ParameterError, match="rest_within_s"):
-        ballbot.push_trial(impulse_ns=5.0, observe_s=2.0)
+    with pytest.raises(ballbot.ParameterError, match="rest_within_secs"):
+        ballbot.push_trial(impulse_ns=5.0, observe_secs=2.0)
     with pytest.raises(ballbot.ParameterError, match="resolution_ns"):
         ballbot.push_recovery_limit(resolution_ns=0.0)

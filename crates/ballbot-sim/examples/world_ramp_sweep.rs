@@ -45,8 +45,8 @@ fn main() -> Result<(), Box<dyn Error>> {
             let ramp = RampParams {
                 accel_m_per_s2,
                 max_command_m_per_s: top,
-                settle_s: 0.5,
-                sample_every_s: 0.0025,
+                settle_secs: 0.5,
+                sample_every_secs: 0.0025,
             };
             let r = max_speed_ramp_with_config(params, config, heading_deg, &ramp)?;
             let min_n = r

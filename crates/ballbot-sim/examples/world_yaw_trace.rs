@@ -31,8 +31,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     let heading_deg = env("HEAD", 0.0)?;
     let accel = env("ACC", 0.25)?;
     let top = env("TOP", 3.0)?;
-    let end_s = env("TEND", 14.0)?;
-    let every_s = env("EVERY", 0.2)?;
+    let end_secs = env("TEND", 14.0)?;
+    let every_secs = env("EVERY", 0.2)?;
     let params = WorldParams::miapure_60kg();
     let mut config = BallbotControllerConfig::design(&params.robot)?;
     config.shaping.translation.max_value = top.max(5.0);
@@ -42,14 +42,14 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut sim = WorldRobot::with_config(params, config)?;
     let (s, c) = heading_deg.to_radians().sin_cos();
     let dt = params.dt_secs;
-    let every = (every_s / dt).round().max(1.0) as u64;
+    let every = (every_secs / dt).round().max(1.0) as u64;
     println!(
-        "t_s v_cmd speed yaw_deg yaw_rate roll_deg pitch_deg ball_wz_body ball_wz_world \
+        "t_secs v_cmd speed yaw_deg yaw_rate roll_deg pitch_deg ball_wz_body ball_wz_world \
          spin_ref_rate spin_torque_nm max_wheel_rad_per_s mode"
     );
     let (mut max_speed, mut max_yaw_deg): (f64, f64) = (0.0, 0.0);
     let mut end = None;
-    for k in 0..(end_s / dt).round() as u64 {
+    for k in 0..(end_secs / dt).round() as u64 {
         let t = k as f64 * dt;
         let v = ((t - 0.5).max(0.0) * accel).min(top);
         let tel = *sim.step(Command::Velocity(VelocityCommand {

@@ -133,8 +133,8 @@ impl PlanarBalancer {
     /// updates (zero on the first).
     pub fn update(&mut self, m: &Measurement, velocity_m_per_s: [f64; 2]) -> [f64; 3] {
         let speeds = match &self.last {
-            Some(prev) if m.time_s > prev.time_s => {
-                let dt = m.time_s - prev.time_s;
+            Some(prev) if m.time_secs > prev.time_secs => {
+                let dt = m.time_secs - prev.time_secs;
                 Vector3::from_fn(|i, _| (m.wheel_angle_rad[i] - prev.wheel_angle_rad[i]) / dt)
             }
             _ => Vector3::zeros(),

@@ -31,22 +31,22 @@ fn the_shipped_loop_arms_drives_and_shuts_down_at_rest_in_the_world() {
     assert!(sim.robot().devices().2.enabled);
 
     sim.shutdown();
-    let mut off_at_s = None;
+    let mut off_at_secs = None;
     for _ in 0..6 * 8000 {
         sim.step(velocity(0.5));
         if sim.phase() == Phase::Off {
-            off_at_s = Some(sim.world().time_s());
+            off_at_secs = Some(sim.world().time_secs());
             break;
         }
         assert_ne!(sim.mode(), Mode::Fault);
     }
-    let off_at_s = off_at_s.expect("the loop disarms once at rest");
+    let off_at_secs = off_at_secs.expect("the loop disarms once at rest");
     // The operator's 0.5 m/s is overridden by the controlled stop; disarmed only at rest.
     let speed = sim.world().telemetry().ball_velocity_m_per_s.norm();
-    assert!(speed < 0.05, "disarmed at {speed} m/s, t = {off_at_s} s");
+    assert!(speed < 0.05, "disarmed at {speed} m/s, t = {off_at_secs} s");
     assert!(
-        off_at_s > 4.2,
-        "a stop from 0.5 m/s takes time: {off_at_s} s"
+        off_at_secs > 4.2,
+        "a stop from 0.5 m/s takes time: {off_at_secs} s"
     );
     assert!(sim.world().failure().is_none());
     // Motors off once disarmed: the world's wheels receive no torque.

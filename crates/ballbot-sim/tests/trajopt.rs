@@ -504,7 +504,7 @@ fn reproduce_brake_record_has_the_summary_keys() {
     assert!(v["solve_ms"].as_f64().unwrap() > 0.0);
     // The same search as `minimum_braking_time_brackets_the_feasibility_boundary`: README's
     // 0.43 s to the bisection's 0.02 s resolution.
-    let t_min = v["min_braking_time_s"].as_f64().unwrap();
+    let t_min = v["min_braking_time_secs"].as_f64().unwrap();
     assert!((t_min - 0.43).abs() <= 0.02, "{v}");
     assert!(dir.path().join("brake_miapure.svg").exists());
     assert!(dir.path().join("brake_miapure.png").exists());

@@ -11,11 +11,11 @@ fn miapure() -> WorldParams {
     WorldParams::miapure_60kg()
 }
 
-/// Runs the world under the planar balancer for `duration_s` with a body-frame velocity
+/// Runs the world under the planar balancer for `duration_secs` with a body-frame velocity
 /// command; calls `each` after every step. Returns false if a failure was detected.
 fn run_balanced(
     world: &mut BallbotWorld,
-    duration_s: f64,
+    duration_secs: f64,
     mut command: impl FnMut(f64) -> [f64; 2],
     mut each: impl FnMut(&BallbotWorld),
 ) -> bool {
@@ -23,12 +23,12 @@ fn run_balanced(
         PlanarBalancer::new(&world.params().robot, PlanarBalancerParams::default()).unwrap();
     let dt = world.params().dt_secs;
     let every = (ctrl.period_secs() / dt).round() as usize;
-    let steps = (duration_s / dt).round() as usize;
+    let steps = (duration_secs / dt).round() as usize;
     let mut torque = [0.0; 3];
     for k in 0..steps {
         if k.is_multiple_of(every) {
             let m = world.measure();
-            torque = ctrl.update(&m, command(world.time_s()));
+            torque = ctrl.update(&m, command(world.time_secs()));
         }
         world.step(torque);
         each(world);
@@ -106,7 +106,7 @@ fn balanced_robot_keeps_static_load_and_lean_shifts_it() {
         2.0,
         |_| [0.0, 0.0],
         |w| {
-            if w.time_s() > 1.0 {
+            if w.time_secs() > 1.0 {
                 for (s, wheel) in sum.iter_mut().zip(&w.telemetry().wheels) {
                     *s += wheel.normal_force_n;
                 }
@@ -157,7 +157,7 @@ fn free_flight(dt_divisor: f64) -> (f64, f64, f64) {
     p.dt_secs /= dt_divisor;
     let mut world = BallbotWorld::new(p).unwrap();
     world.set_gravity_m_per_s2(0.0).unwrap();
-    world.set_wheel_friction(0.0).unwrap();
+    world.set_wheel_ball_friction(0.0).unwrap();
     world.translate_robot(Vector3::new(0.0, 0.0, 1.0));
     world.set_body_velocity(Vector3::new(0.3, -0.2, -0.05), Vector3::new(0.4, -0.3, 1.5));
     world.set_ball_velocity(Vector3::new(-0.2, 0.1, 0.4), Vector3::new(2.0, 1.0, -3.0));
@@ -210,7 +210,7 @@ fn frictionless_floor_conserves_horizontal_momentum_and_energy_falls() {
     p.spin_friction_m = 0.0;
     let mut world = BallbotWorld::new(p).unwrap();
     world.set_floor_friction(0.0).unwrap();
-    world.set_wheel_friction(0.0).unwrap();
+    world.set_wheel_ball_friction(0.0).unwrap();
     world.tilt_body([0.02, 0.05]);
     let energy =
         |w: &BallbotWorld| w.kinetic_energy_j() + w.potential_energy_j() + w.contact_energy_j();
@@ -251,7 +251,7 @@ fn wheel_speeds_match_kinematics_at_low_speed() {
         |t| [0.2 * t.min(1.0), 0.1 * t.min(1.0)],
         |w| {
             let t = w.telemetry();
-            if w.time_s() > 1.5 {
+            if w.time_secs() > 1.5 {
                 let start = *start.get_or_insert(t.wheels.map(|w| w.angle_rad));
                 let w_rel = t.body_orientation.inverse() * t.ball_angular_velocity_rad_per_s
                     - t.body_rate_rad_per_s;
@@ -359,8 +359,8 @@ fn core_controller_ramp_unloads_driving_wheels_more_towards_ow1() {
     let ramp = RampParams {
         accel_m_per_s2: 1.0,
         max_command_m_per_s: 1.0,
-        settle_s: 0.2,
-        sample_every_s: 0.0025,
+        settle_secs: 0.2,
+        sample_every_secs: 0.0025,
     };
     let run = |h| max_speed_ramp(miapure(), h, &ramp).unwrap();
     let (fwd, back) = (run(0.0), run(180.0));
@@ -401,8 +401,8 @@ fn accelerating_towards_ow1_slips_at_a_lower_acceleration_than_away_from_it() {
         let ramp = RampParams {
             accel_m_per_s2,
             max_command_m_per_s: 3.0,
-            settle_s: 0.5,
-            sample_every_s: 0.01,
+            settle_secs: 0.5,
+            sample_every_secs: 0.01,
         };
         max_speed_ramp_with_config(params, config, heading_deg, &ramp).unwrap()
     };

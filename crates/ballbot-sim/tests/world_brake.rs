@@ -14,17 +14,17 @@ use ballbot_sim::world::{FailureKind, WorldParams};
 fn fast_braking() -> BrakingParams {
     BrakingParams {
         approach_accel_m_per_s2: 1.0,
-        settle_s: 0.2,
-        cruise_s: 1.0,
+        settle_secs: 0.2,
+        cruise_secs: 1.0,
         ..BrakingParams::default()
     }
 }
 
 fn fast_push() -> PushParams {
     PushParams {
-        settle_s: 0.5,
-        observe_s: 3.0,
-        rest_within_s: 2.5,
+        settle_secs: 0.5,
+        observe_secs: 3.0,
+        rest_within_secs: 2.5,
         ..PushParams::default()
     }
 }
@@ -33,12 +33,12 @@ fn fast_push() -> PushParams {
 fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bisects_between() {
     let world = WorldParams::miapure_60kg();
     let study = BrakingStudyParams {
-        durations_s: vec![3.0, 1.0, 0.5],
-        bisection_resolution_s: Some(1.0),
+        durations_secs: vec![3.0, 1.0, 0.5],
+        bisection_resolution_secs: Some(1.0),
     };
     let mut seen = Vec::new();
     let r = braking_study(world, &fast_braking(), &study, 180.0, &mut |run| {
-        seen.push(run.duration_s)
+        seen.push(run.duration_secs)
     })
     .unwrap();
     // 3 s: stopped, at rest at the end, tracking the command closely.
@@ -54,7 +54,7 @@ fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bise
         .samples
         .iter()
         .rev()
-        .find(|s| s.time_s < ok.brake_start_s - 0.05)
+        .find(|s| s.time_secs < ok.brake_start_secs - 0.05)
         .unwrap();
     assert!((cruise.speed_m_per_s - 1.4).abs() < 0.1, "{cruise:?}");
     // 1 s: the world fails (the plan exists: the planar model brakes in ~0.8 s).
@@ -67,12 +67,12 @@ fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bise
     assert!(bad.plan_cost_n2m2s.is_some());
     // The descent stopped at the first failure; the bisection tried 2 s once.
     assert_eq!(r.descent.len(), 2);
-    assert_eq!(r.shortest_success_s, Some(3.0));
-    assert_eq!(r.first_failure_s, Some(1.0));
+    assert_eq!(r.shortest_success_secs, Some(3.0));
+    assert_eq!(r.first_failure_secs, Some(1.0));
     assert_eq!(r.bisection.len(), 1);
-    assert_eq!(r.bisection[0].duration_s, 2.0);
-    let limit = r.limit_s.unwrap();
-    let below = r.limit_failure_s.unwrap();
+    assert_eq!(r.bisection[0].duration_secs, 2.0);
+    let limit = r.limit_secs.unwrap();
+    let below = r.limit_failure_secs.unwrap();
     assert!((2.0..=3.0).contains(&limit) && (1.0..=2.0).contains(&below));
     assert_eq!(limit - below, 1.0);
     // The bracket's ends are a success and a failure actually flown.
@@ -80,14 +80,14 @@ fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bise
         r.descent
             .iter()
             .chain(&r.bisection)
-            .find(|run| run.duration_s == t)
+            .find(|run| run.duration_secs == t)
             .map(|run| run.outcome.is_success())
     };
     assert_eq!(outcome(limit), Some(true));
     assert_eq!(outcome(below), Some(false));
     assert_eq!(seen, vec![3.0, 1.0, 2.0]);
-    assert_eq!(r.shortest_success().unwrap().duration_s, 3.0);
-    assert_eq!(r.first_failure().unwrap().duration_s, 1.0);
+    assert_eq!(r.shortest_success().unwrap().duration_secs, 3.0);
+    assert_eq!(r.first_failure().unwrap().duration_secs, 1.0);
 }
 
 #[test]
@@ -137,7 +137,7 @@ fn tilt_acceleration_feedforward_keeps_ow1_loaded_at_the_onset_of_braking() {
     match without.outcome {
         BrakingOutcome::Failed(f) => {
             assert_eq!(f.kind, FailureKind::LiftOff { wheel: 0 });
-            assert!(f.time_s - without.brake_start_s < 0.1, "{f:?}");
+            assert!(f.time_secs - without.brake_start_secs < 0.1, "{f:?}");
         }
         o => panic!("expected lift-off of OW1, got {o:?}"),
     }
@@ -186,9 +186,9 @@ fn push_trials_are_bit_identical_for_a_seed_and_differ_across_seeds() {
     let mut world = WorldParams::miapure_60kg();
     world.sensors.seed = 3;
     let p = PushParams {
-        settle_s: 0.3,
-        observe_s: 1.0,
-        rest_within_s: 0.5,
+        settle_secs: 0.3,
+        observe_secs: 1.0,
+        rest_within_secs: 0.5,
         ..PushParams::default()
     };
     let a = push_trial(world, &p, 0.0, 20.0).unwrap();
@@ -199,11 +199,11 @@ fn push_trials_are_bit_identical_for_a_seed_and_differ_across_seeds() {
     assert_ne!(a.telemetry_hash, c.telemetry_hash);
     // The push direction is the body's: 0 deg moves the robot towards +x (OW1), 90 deg
     // towards +y (the body starts with yaw 0).
-    let after = a.samples.iter().find(|s| s.time_s > 0.2).unwrap();
+    let after = a.samples.iter().find(|s| s.time_secs > 0.2).unwrap();
     let [vx, vy] = after.ball_velocity_m_per_s;
     assert!(vx > 0.05 && vy.abs() < 0.2 * vx, "{after:?}");
     let side = push_trial(world, &p, 90.0, 20.0).unwrap();
-    let after = side.samples.iter().find(|s| s.time_s > 0.2).unwrap();
+    let after = side.samples.iter().find(|s| s.time_secs > 0.2).unwrap();
     let [vx, vy] = after.ball_velocity_m_per_s;
     assert!(vy > 0.05 && vx.abs() < 0.2 * vy, "{after:?}");
 }
@@ -218,13 +218,13 @@ fn invalid_parameters_are_errors() {
     assert!(braking_run(world, &bad, 180.0, 2.0, None).is_err());
     assert!(braking_run(world, &BrakingParams::default(), 180.0, f64::NAN, None).is_err());
     let empty = BrakingStudyParams {
-        durations_s: Vec::new(),
-        bisection_resolution_s: None,
+        durations_secs: Vec::new(),
+        bisection_resolution_secs: None,
     };
     assert!(braking_study(world, &BrakingParams::default(), &empty, 0.0, &mut |_| {}).is_err());
     assert!(push_trial(world, &PushParams::default(), 0.0, -1.0).is_err());
     let p = PushParams {
-        rest_within_s: 5.0,
+        rest_within_secs: 5.0,
         ..PushParams::default()
     };
     assert!(p.validate().is_err());

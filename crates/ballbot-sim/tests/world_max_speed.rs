@@ -12,8 +12,8 @@ fn short_ramp(accel_m_per_s2: f64, top_m_per_s: f64) -> MaxSpeedProtocol {
         slow_ramp: RampParams {
             accel_m_per_s2,
             max_command_m_per_s: top_m_per_s,
-            settle_s: 0.2,
-            sample_every_s: 0.01,
+            settle_secs: 0.2,
+            sample_every_secs: 0.01,
         },
         ..MaxSpeedProtocol::default()
     }
@@ -27,7 +27,7 @@ fn tiny_settings(protocol: MaxSpeedProtocol, heading_deg: f64) -> MaxSpeedStudyS
         seeds: vec![4],
         map_headings_deg: Vec::new(),
         sensitivity_headings_deg: Vec::new(),
-        sensitivity_mu: Vec::new(),
+        sensitivity_wheel_ball_friction: Vec::new(),
         sensitivity_com_height_m: Vec::new(),
         threads: 2,
     }
@@ -91,8 +91,8 @@ fn censored_and_failed_trials_are_reported_as_such() {
     ));
     assert_eq!(json["trials"][0]["mean_is_lower_bound"], false);
     // Slip while balancing: the supervisor had not stopped.
-    assert_eq!(t.supervisor_stop_s, None);
-    assert!(trial["supervisor_stop_s"].is_null());
+    assert_eq!(t.supervisor_stop_secs, None);
+    assert!(trial["supervisor_stop_secs"].is_null());
 
     let ok = run_study(params, &tiny_settings(short_ramp(1.0, 1.0), 180.0), &|_| {}).unwrap();
     let t = ok.trials[0].trials[0];
@@ -159,7 +159,7 @@ fn summary_json_has_the_documented_shape() {
     let detail = study.detail_json();
     for key in [
         "protocol",
-        "mu",
+        "wheel_ball_friction",
         "com_height_m",
         "trials",
         "failing_accel_by_heading",
@@ -169,7 +169,7 @@ fn summary_json_has_the_documented_shape() {
     ] {
         assert!(detail.get(key).is_some(), "missing {key}");
     }
-    assert_eq!(detail["mu"], 0.6);
+    assert_eq!(detail["wheel_ball_friction"], 0.6);
     assert_eq!(detail["com_height_m"], 0.5);
     assert_eq!(detail["protocol"]["slow_ramp"]["accel_m_per_s2"], 1.0);
     assert_eq!(detail["protocol"]["seeds"], serde_json::json!([1, 2]));
@@ -185,10 +185,10 @@ fn sensitivity_values_equal_to_the_robot_share_its_runs() {
     let mut settings = MaxSpeedStudySettings::quick();
     let base = job_count(&params, &settings);
     settings.sensitivity_headings_deg = vec![0.0];
-    settings.sensitivity_mu = vec![0.6];
+    settings.sensitivity_wheel_ball_friction = vec![0.6];
     settings.sensitivity_com_height_m = vec![0.5];
     assert_eq!(job_count(&params, &settings), base);
-    settings.sensitivity_mu = vec![0.4, 0.6];
+    settings.sensitivity_wheel_ball_friction = vec![0.4, 0.6];
     // One more slow ramp and one more search.
     assert_eq!(job_count(&params, &settings), base + 2);
     assert_eq!(
@@ -225,12 +225,12 @@ fn a_controlled_stop_of_the_supervisor_is_reported() {
     let protocol = short_ramp(1.0, 1.5);
     let mut config = controller(&params, &protocol).unwrap();
     let unlimited = max_speed_ramp_with_config(params, config, 0.0, &protocol.slow_ramp).unwrap();
-    assert_eq!(unlimited.supervisor_stop_s, None);
+    assert_eq!(unlimited.supervisor_stop_secs, None);
     config.safety.wheel_speed_limit_rad_per_s = 8.0;
     let run = max_speed_ramp_with_config(params, config, 0.0, &protocol.slow_ramp).unwrap();
-    let stop_s = run.supervisor_stop_s.unwrap();
+    let stop_secs = run.supervisor_stop_secs.unwrap();
     // The ramp starts at 0.2 s; 0.8 m/s needs at least 0.8 s of it.
-    assert!(stop_s > 1.0 && stop_s < 2.0, "{stop_s}");
+    assert!(stop_secs > 1.0 && stop_secs < 2.0, "{stop_secs}");
     // The stop brakes the command although the ramp asks for its top.
     let last = run.samples.last().unwrap();
     assert_eq!(last.command_m_per_s, 1.5);

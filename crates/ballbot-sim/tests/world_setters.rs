@@ -51,7 +51,7 @@ fn set_wheel_friction_updates_params_and_bounds_the_traction() {
     let max_traction_ratio = |friction: Option<f64>| {
         let mut w = world();
         if let Some(mu) = friction {
-            w.set_wheel_friction(mu).unwrap();
+            w.set_wheel_ball_friction(mu).unwrap();
             assert_eq!(w.params().robot.drivetrain.wheel_ball_friction, mu);
         }
         w.set_ball_fixed(true);
@@ -115,7 +115,7 @@ fn setters_reject_bad_values_naming_the_field_and_change_nothing() {
         "robot.sagittal.gravity_m_per_s2"
     );
     assert_eq!(
-        rejected_field(w.set_wheel_friction(-0.1)),
+        rejected_field(w.set_wheel_ball_friction(-0.1)),
         "robot.drivetrain.wheel_ball_friction"
     );
     assert_eq!(
@@ -125,7 +125,7 @@ fn setters_reject_bad_values_naming_the_field_and_change_nothing() {
     assert_eq!(*w.params(), before);
     // Zero is the test rigs' free flight and frictionless contacts.
     w.set_gravity_m_per_s2(0.0).unwrap();
-    w.set_wheel_friction(0.0).unwrap();
+    w.set_wheel_ball_friction(0.0).unwrap();
     w.set_floor_friction(0.0).unwrap();
     assert_eq!(w.params().robot.sagittal.gravity_m_per_s2, 0.0);
 }

@@ -15,7 +15,7 @@ pub(super) struct InputFeedforward<T> {
     /// Heading-command shift per rad/s^2 of yaw acceleration (s^2).
     pub(super) heading_per_yaw_accel_s2: T,
     /// Heading-command shift per rad/s of yaw rate (s).
-    pub(super) heading_per_yaw_rate_s: T,
+    pub(super) heading_per_yaw_rate_secs: T,
     /// Frontal tilt-command shift per rad/s^2 of commanded tilt acceleration.
     pub(super) frontal_tilt: TiltFeedforward<T>,
     /// Sagittal tilt-command shift per rad/s^2 of commanded tilt acceleration.
@@ -80,7 +80,7 @@ impl<T: RealField + Copy> InputFeedforward<T> {
                 config.sagittal.lqr.tilt_nm_per_rad,
             ),
             heading_per_yaw_accel_s2: per(config.robot.spin.inertia_kg_m2),
-            heading_per_yaw_rate_s: per(config.robot.spin.damping_nm_s_per_rad),
+            heading_per_yaw_rate_secs: per(config.robot.spin.damping_nm_s_per_rad),
             frontal_tilt: TiltFeedforward::new(
                 &config.robot.frontal,
                 config.frontal.lqr.tilt_nm_per_rad,

@@ -421,7 +421,8 @@ impl<T: RealField + Copy> BallbotController<T> {
         c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y + tilt_shift_x;
         c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x + tilt_shift_y;
         let yaw_rate_c = c.spin[1];
-        c.spin[0] += ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_s * yaw_rate_c;
+        c.spin[0] +=
+            ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_secs * yaw_rate_c;
         // One sin_cos of each tilt serves the plane's reference model and the wheel mapping.
         let roll_sin_cos = states.frontal[TILT].sin_cos();
         let pitch_sin_cos = states.sagittal[TILT].sin_cos();

@@ -395,10 +395,10 @@ impl<T: RealField + Copy, const N: usize> Lqr<T, N> {
     ///     wip_lqr_discrete(&wip, &weights, outer_loop_dt_secs())?.closed_loop_eigenvalues();
     /// // Continuous: the slowest pole is -2.06 rad/s. Discrete at 400 Hz: every z inside the
     /// // unit circle, the slowest near exp(-2.06 / 400).
-    /// let slowest_s = continuous.map_or(f64::NAN, |p| {
+    /// let slowest_secs = continuous.map_or(f64::NAN, |p| {
     ///     p.iter().map(|z| z.re).fold(f64::MIN, f64::max)
     /// });
-    /// approx::assert_relative_eq!(slowest_s, -2.06, epsilon = 0.005);
+    /// approx::assert_relative_eq!(slowest_secs, -2.06, epsilon = 0.005);
     /// let largest_z = discrete.map_or(f64::NAN, |p| {
     ///     p.iter().map(|z| z.re.hypot(z.im)).fold(0.0, f64::max)
     /// });

@@ -1093,9 +1093,9 @@ class FailureParams:
         *,
         max_tilt_rad: float = ...,
         slip_speed_threshold_m_per_s: float = ...,
-        max_slip_duration_s: float = ...,
+        max_slip_duration_secs: float = ...,
         lift_off_force_n: float = ...,
-        max_lift_off_duration_s: float = ...,
+        max_lift_off_duration_secs: float = ...,
     ) -> FailureParams: ...
     @staticmethod
     def preset(name: _DefaultPreset) -> FailureParams: ...
@@ -1113,11 +1113,11 @@ class FailureParams:
     @property
     def slip_speed_threshold_m_per_s(self) -> float: ...
     @property
-    def max_slip_duration_s(self) -> float: ...
+    def max_slip_duration_secs(self) -> float: ...
     @property
     def lift_off_force_n(self) -> float: ...
     @property
-    def max_lift_off_duration_s(self) -> float: ...
+    def max_lift_off_duration_secs(self) -> float: ...
 
 @final
 class WorldParams:
@@ -1209,7 +1209,7 @@ class StepTelemetry:
     ``(x, y, z, w)``)."""
 
     @property
-    def time_s(self) -> float: ...
+    def time_secs(self) -> float: ...
     @property
     def wheels(self) -> list[WheelTelemetry]: ...
     @property
@@ -1238,7 +1238,7 @@ class Measurement:
     """One sample of every sensor: IMU (ZYX Euler tilt, yaw, gyro) and encoders."""
 
     @property
-    def time_s(self) -> float: ...
+    def time_secs(self) -> float: ...
     @property
     def tilt_rad(self) -> _F64: ...
     @property
@@ -1259,7 +1259,7 @@ class Failure:
     @property
     def kind(self) -> FailureKind: ...
     @property
-    def time_s(self) -> float: ...
+    def time_secs(self) -> float: ...
     @property
     def wheel(self) -> Optional[str]: ...
     @property
@@ -1288,7 +1288,7 @@ class World:
     @property
     def params(self) -> WorldParams: ...
     @property
-    def time_s(self) -> float: ...
+    def time_secs(self) -> float: ...
     @property
     def telemetry(self) -> StepTelemetry: ...
     @property
@@ -1306,7 +1306,7 @@ class World:
     def translate_robot(self, offset_m: _Vec3) -> None: ...
     def set_gravity_m_per_s2(self, gravity_m_per_s2: float) -> None: ...
     def set_floor_friction(self, friction: float) -> None: ...
-    def set_wheel_friction(self, friction: float) -> None: ...
+    def set_wheel_ball_friction(self, friction: float) -> None: ...
     def set_ball_fixed(self, fixed: bool) -> None: ...
     def set_body_fixed(self, fixed: bool) -> None: ...
     def kinetic_energy_j(self) -> float: ...
@@ -1353,7 +1353,7 @@ class WorldLoop:
     @property
     def params(self) -> WorldParams: ...
     @property
-    def time_s(self) -> float: ...
+    def time_secs(self) -> float: ...
     @property
     def telemetry(self) -> StepTelemetry: ...
     @property
@@ -1371,7 +1371,7 @@ class WorldLoop:
     def translate_robot(self, offset_m: _Vec3) -> None: ...
     def set_gravity_m_per_s2(self, gravity_m_per_s2: float) -> None: ...
     def set_floor_friction(self, friction: float) -> None: ...
-    def set_wheel_friction(self, friction: float) -> None: ...
+    def set_wheel_ball_friction(self, friction: float) -> None: ...
     def set_ball_fixed(self, fixed: bool) -> None: ...
     def set_body_fixed(self, fixed: bool) -> None: ...
     def kinetic_energy_j(self) -> float: ...
@@ -1388,8 +1388,8 @@ def max_speed_ramp(
     heading_deg: float = 0.0,
     accel_m_per_s2: float = 0.25,
     max_command_m_per_s: float = 3.5,
-    settle_s: float = 0.5,
-    sample_every_s: float = 0.01,
+    settle_secs: float = 0.5,
+    sample_every_secs: float = 0.01,
     max_speed_m_per_s: Optional[float] = None,
     max_accel_m_per_s2: Optional[float] = None,
     max_jerk_m_per_s3: Optional[float] = None,
@@ -1419,7 +1419,7 @@ def max_speed_study(
     seeds: Optional[list[int]] = None,
     map_headings_deg: Optional[list[float]] = None,
     sensitivity_headings_deg: Optional[list[float]] = None,
-    sensitivity_mu: Optional[list[float]] = None,
+    sensitivity_wheel_ball_friction: Optional[list[float]] = None,
     sensitivity_com_height_m: Optional[list[float]] = None,
     threads: int = 0,
     fast_top_m_per_s: Optional[float] = None,
@@ -1430,15 +1430,15 @@ def max_speed_study(
 def braking_run(
     params: Optional[WorldParams] = None,
     *,
-    duration_s: float,
+    duration_secs: float,
     heading_deg: float = 0.0,
     cruise_speed_m_per_s: Optional[float] = None,
     approach_accel_m_per_s2: Optional[float] = None,
-    settle_s: Optional[float] = None,
-    cruise_s: Optional[float] = None,
+    settle_secs: Optional[float] = None,
+    cruise_secs: Optional[float] = None,
     trajectory_tilt_limit_rad: Optional[float] = None,
     intervals: Optional[int] = None,
-    sample_every_s: Optional[float] = None,
+    sample_every_secs: Optional[float] = None,
     feedforward: Literal["full", "core"] = "full",
 ) -> BrakingRun: ...
 
@@ -1447,15 +1447,15 @@ def braking_study(
     params: Optional[WorldParams] = None,
     *,
     heading_deg: float = 0.0,
-    durations_s: Optional[list[float]] = None,
-    bisection_resolution_s: Optional[float] = ...,  # 0.05; None skips the bisection
+    durations_secs: Optional[list[float]] = None,
+    bisection_resolution_secs: Optional[float] = ...,  # 0.05; None skips the bisection
     cruise_speed_m_per_s: Optional[float] = None,
     approach_accel_m_per_s2: Optional[float] = None,
-    settle_s: Optional[float] = None,
-    cruise_s: Optional[float] = None,
+    settle_secs: Optional[float] = None,
+    cruise_secs: Optional[float] = None,
     trajectory_tilt_limit_rad: Optional[float] = None,
     intervals: Optional[int] = None,
-    sample_every_s: Optional[float] = None,
+    sample_every_secs: Optional[float] = None,
     feedforward: Literal["full", "core"] = "full",
 ) -> BrakingStudy: ...
 
@@ -1465,11 +1465,11 @@ def push_trial(
     *,
     impulse_ns: float,
     heading_deg: float = 0.0,
-    push_duration_s: Optional[float] = None,
-    settle_s: Optional[float] = None,
-    observe_s: Optional[float] = None,
-    rest_within_s: Optional[float] = None,
-    sample_every_s: Optional[float] = None,
+    push_duration_secs: Optional[float] = None,
+    settle_secs: Optional[float] = None,
+    observe_secs: Optional[float] = None,
+    rest_within_secs: Optional[float] = None,
+    sample_every_secs: Optional[float] = None,
 ) -> PushTrial: ...
 
 
@@ -1479,9 +1479,9 @@ def push_recovery_limit(
     heading_deg: float = 0.0,
     upper_ns: float = 100.0,
     resolution_ns: float = 0.5,
-    push_duration_s: Optional[float] = None,
-    settle_s: Optional[float] = None,
-    observe_s: Optional[float] = None,
-    rest_within_s: Optional[float] = None,
-    sample_every_s: Optional[float] = None,
+    push_duration_secs: Optional[float] = None,
+    settle_secs: Optional[float] = None,
+    observe_secs: Optional[float] = None,
+    rest_within_secs: Optional[float] = None,
+    sample_every_secs: Optional[float] = None,
 ) -> PushRecovery: ...

@@ -78,7 +78,7 @@ class Rollout(_Result):
 class _WorldTrace(_Result):
     """Per-step columns of a world run, one row per recorded step."""
 
-    time_s: _F64
+    time_secs: _F64
     """Simulated time (s), ``(n,)``."""
     normal_force_n: _F64
     """Wheel normal forces (N), ``(n, 3)``."""
@@ -152,9 +152,9 @@ class RampRun(_Result):
     """Highest ball speed along the heading before failure (m/s)."""
     failure: Optional[Failure]
     """The failure that ended the ramp, or ``None``."""
-    supervisor_stop_s: Optional[float]
+    supervisor_stop_secs: Optional[float]
     """When the safety supervisor stopped balancing (s), or ``None``."""
-    time_s: _F64
+    time_secs: _F64
     """Sample times (s), ``(n,)``."""
     command_m_per_s: _F64
     """The ramp (m/s), ``(n,)``."""
@@ -194,7 +194,7 @@ class TrialOutcome(_Result):
     """Smallest wheel normal force (N)."""
     peak_tilt_rad: float
     """Peak tilt from the vertical (rad)."""
-    supervisor_stop_s: Optional[float]
+    supervisor_stop_secs: Optional[float]
     """When the safety supervisor stopped balancing (s), or ``None``."""
 
 
@@ -237,7 +237,7 @@ class MaxSpeedStudy(_Result):
 
     protocol: dict[str, Any]
     """The protocol (ramps, search)."""
-    mu: float
+    wheel_ball_friction: float
     """Wheel-ball friction coefficient."""
     com_height_m: float
     """Centre-of-mass height (m)."""
@@ -273,7 +273,7 @@ class BrakingPeaks(_Result):
     """Peak tilt (rad)."""
     speed_error_m_per_s: float
     """Peak speed error against the plan (m/s)."""
-    slip_s: float
+    slip_secs: float
     """Time spent slipping (s)."""
 
 
@@ -283,7 +283,7 @@ class BrakingRun(_Result):
 
     heading_deg: float
     """Heading (deg)."""
-    duration_s: float
+    duration_secs: float
     """Planned braking duration (s)."""
     outcome: BrakingOutcome
     """How the run ended."""
@@ -295,7 +295,7 @@ class BrakingRun(_Result):
     """Speed at the end (m/s), when the run survived."""
     solve_status: Optional[SolveStatus]
     """The optimiser's status, for ``BrakingOutcome.NO_TRAJECTORY``."""
-    brake_start_s: float
+    brake_start_secs: float
     """When braking started (s)."""
     plan_peak_tilt_rad: Optional[float]
     """Peak tilt of the plan (rad)."""
@@ -303,7 +303,7 @@ class BrakingRun(_Result):
     """Cost of the plan (N^2 m^2 s)."""
     peaks: BrakingPeaks
     """Peaks over the run."""
-    time_s: _F64
+    time_secs: _F64
     """Sample times (s), ``(n,)``."""
     command_m_per_s: _F64
     """Commanded speed (m/s), ``(n,)``."""
@@ -329,13 +329,13 @@ class BrakingStudy(_Result):
 
     heading_deg: float
     """Heading (deg)."""
-    shortest_success_s: Optional[float]
+    shortest_success_secs: Optional[float]
     """Shortest successful duration of the descent (s)."""
-    first_failure_s: Optional[float]
+    first_failure_secs: Optional[float]
     """First failing duration of the descent (s)."""
-    limit_s: Optional[float]
+    limit_secs: Optional[float]
     """The bisected limit (s)."""
-    limit_failure_s: Optional[float]
+    limit_failure_secs: Optional[float]
     """The failing duration next to the limit (s)."""
     descent: list[BrakingRun]
     """The runs of the descent."""
@@ -363,7 +363,7 @@ class PushTrial(_Result):
     """Peak ball speed (m/s)."""
     rest_speed_m_per_s: float
     """Ball speed at the end (m/s)."""
-    time_s: _F64
+    time_secs: _F64
     """Sample times (s), ``(n,)``."""
     tilt_rad: _F64
     """Tilt from the vertical (rad), ``(n,)``."""

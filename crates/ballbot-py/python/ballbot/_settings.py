@@ -90,7 +90,7 @@ class MaxSpeedSettings(_Settings):
     """Headings of the capability map (deg)."""
     sensitivity_headings_deg: Optional[Sequence[float]] = None
     """Headings of the mu / COM-height sensitivity (deg)."""
-    sensitivity_mu: Optional[Sequence[float]] = None
+    sensitivity_wheel_ball_friction: Optional[Sequence[float]] = None
     """Wheel-ball friction coefficients of the sensitivity."""
     sensitivity_com_height_m: Optional[Sequence[float]] = None
     """Centre-of-mass heights of the sensitivity (m)."""
@@ -110,7 +110,7 @@ class MaxSpeedSettings(_Settings):
             "seeds",
             "map_headings_deg",
             "sensitivity_headings_deg",
-            "sensitivity_mu",
+            "sensitivity_wheel_ball_friction",
             "sensitivity_com_height_m",
         ):
             value = getattr(self, name)
@@ -143,25 +143,25 @@ class BrakingSettings(_Settings):
     """Cruise speed before braking (m/s; protocol 1.4, the paper)."""
     approach_accel_m_per_s2: Optional[float] = None
     """Acceleration of the jerk-limited approach ramp (m/s^2; protocol 0.5)."""
-    settle_s: Optional[float] = None
+    settle_secs: Optional[float] = None
     """Standing still before the ramp (s; protocol 0.5)."""
-    cruise_s: Optional[float] = None
+    cruise_secs: Optional[float] = None
     """Cruising before braking (s; protocol 2.5)."""
     trajectory_tilt_limit_rad: Optional[float] = None
     """Tilt bound of the planned braking trajectory (rad; protocol 15 deg)."""
     intervals: Optional[int] = None
     """Intervals of the braking trajectory's discretisation (protocol 100)."""
-    sample_every_s: Optional[float] = None
+    sample_every_secs: Optional[float] = None
     """Sampling period of the returned series (s; protocol 0.01)."""
     feedforward: Union[Feedforward, str] = Feedforward.FULL
     """What the trajectory command feeds forward: ``FULL`` (the paper) or ``CORE``
     (ablation)."""
 
     def __post_init__(self) -> None:
-        for name in ("cruise_speed_m_per_s", "approach_accel_m_per_s2", "sample_every_s"):
+        for name in ("cruise_speed_m_per_s", "approach_accel_m_per_s2", "sample_every_secs"):
             _check_number(name, getattr(self, name), positive=True)
         _check_number("trajectory_tilt_limit_rad", self.trajectory_tilt_limit_rad, positive=True)
-        for name in ("settle_s", "cruise_s"):
+        for name in ("settle_secs", "cruise_secs"):
             _check_number(name, getattr(self, name))
         _check_count("intervals", self.intervals, minimum=1)
         try:
@@ -176,21 +176,21 @@ class BrakingSettings(_Settings):
 class PushSettings(_Settings):
     """The push-recovery protocol (``ballbot_sim::world::push::PushParams``)."""
 
-    push_duration_s: Optional[float] = None
+    push_duration_secs: Optional[float] = None
     """How long the impulse is spread over (s; protocol 0.1)."""
-    settle_s: Optional[float] = None
+    settle_secs: Optional[float] = None
     """Standing still before the push (s; protocol 1.0)."""
-    observe_s: Optional[float] = None
+    observe_secs: Optional[float] = None
     """Watching after the push (s; protocol 4.0)."""
-    rest_within_s: Optional[float] = None
-    """At rest from this long after the push on (s; protocol 3.0); at most ``observe_s``."""
-    sample_every_s: Optional[float] = None
+    rest_within_secs: Optional[float] = None
+    """At rest from this long after the push on (s; protocol 3.0); at most ``observe_secs``."""
+    sample_every_secs: Optional[float] = None
     """Sampling period of the returned series (s; protocol 0.01)."""
 
     def __post_init__(self) -> None:
-        for name in ("push_duration_s", "observe_s", "sample_every_s"):
+        for name in ("push_duration_secs", "observe_secs", "sample_every_secs"):
             _check_number(name, getattr(self, name), positive=True)
-        for name in ("settle_s", "rest_within_s"):
+        for name in ("settle_secs", "rest_within_secs"):
             _check_number(name, getattr(self, name))
 
 
@@ -204,9 +204,9 @@ class RampSettings(_Settings):
     """Ramp acceleration (m/s^2)."""
     max_command_m_per_s: float = 3.5
     """Top of the ramp (m/s), then held for 1 s."""
-    settle_s: float = 0.5
+    settle_secs: float = 0.5
     """Standing still before the ramp (s)."""
-    sample_every_s: float = 0.01
+    sample_every_secs: float = 0.01
     """Sampling period of the returned series (s)."""
     max_speed_m_per_s: Optional[float] = None
     """The shaper's speed cap (m/s)."""
@@ -221,9 +221,9 @@ class RampSettings(_Settings):
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
-            if f.name != "settle_s":
+            if f.name != "settle_secs":
                 _check_number(f.name, getattr(self, f.name), positive=True)
-        _check_number("settle_s", self.settle_s)
+        _check_number("settle_secs", self.settle_secs)
 
 
 __all__ = ["BrakingSettings", "MaxSpeedSettings", "PushSettings", "RampSettings"]

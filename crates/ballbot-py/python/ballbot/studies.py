@@ -102,35 +102,35 @@ def max_speed_study(
 def braking_run(
     params: Optional[WorldParams] = None,
     *,
-    duration_s: float,
+    duration_secs: float,
     heading_deg: float = 0.0,
     settings: Optional[BrakingSettings] = None,
     **overrides: Any,
 ) -> BrakingRun:
     """One braking run: settle, ramp to the cruise speed along ``heading_deg``, cruise, then
-    the optimal braking trajectory to rest in ``duration_s``, flown by the core's
+    the optimal braking trajectory to rest in ``duration_secs``, flown by the core's
     controller."""
     s = _settings(BrakingSettings, settings, overrides)
-    return _core.braking_run(params, duration_s=duration_s, heading_deg=heading_deg, **s.to_dict())
+    return _core.braking_run(params, duration_secs=duration_secs, heading_deg=heading_deg, **s.to_dict())
 
 
 def braking_study(
     params: Optional[WorldParams] = None,
     *,
     heading_deg: float = 0.0,
-    durations_s: Optional[list[float]] = None,
-    bisection_resolution_s: Optional[float] = 0.05,
+    durations_secs: Optional[list[float]] = None,
+    bisection_resolution_secs: Optional[float] = 0.05,
     settings: Optional[BrakingSettings] = None,
     **overrides: Any,
 ) -> BrakingStudy:
-    """The minimum braking time at ``heading_deg``: the descent over ``durations_s`` (the
-    paper's from 5 s) and the bisection to ``bisection_resolution_s`` (``None`` skips it)."""
+    """The minimum braking time at ``heading_deg``: the descent over ``durations_secs`` (the
+    paper's from 5 s) and the bisection to ``bisection_resolution_secs`` (``None`` skips it)."""
     s = _settings(BrakingSettings, settings, overrides)
     return _core.braking_study(
         params,
         heading_deg=heading_deg,
-        durations_s=durations_s,
-        bisection_resolution_s=bisection_resolution_s,
+        durations_secs=durations_secs,
+        bisection_resolution_secs=bisection_resolution_secs,
         **s.to_dict(),
     )
 

@@ -25,16 +25,16 @@ fn braking_params(
     py: Python<'_>,
     cruise_speed_m_per_s: Option<f64>,
     approach_accel_m_per_s2: Option<f64>,
-    settle_s: Option<f64>,
-    cruise_s: Option<f64>,
+    settle_secs: Option<f64>,
+    cruise_secs: Option<f64>,
     trajectory_tilt_limit_rad: Option<f64>,
     intervals: Option<usize>,
-    sample_every_s: Option<f64>,
+    sample_every_secs: Option<f64>,
     feedforward: &str,
 ) -> PyResult<BrakingParams> {
     let mut p = BrakingParams::default();
-    if let Some(v) = settle_s {
-        p.settle_s = v;
+    if let Some(v) = settle_secs {
+        p.settle_secs = v;
     }
     if let Some(v) = cruise_speed_m_per_s {
         p.cruise_speed_m_per_s = v;
@@ -42,8 +42,8 @@ fn braking_params(
     if let Some(v) = approach_accel_m_per_s2 {
         p.approach_accel_m_per_s2 = v;
     }
-    if let Some(v) = cruise_s {
-        p.cruise_s = v;
+    if let Some(v) = cruise_secs {
+        p.cruise_secs = v;
     }
     if let Some(v) = trajectory_tilt_limit_rad {
         p.trajectory_tilt_limit_rad = v;
@@ -51,8 +51,8 @@ fn braking_params(
     if let Some(v) = intervals {
         p.intervals = v;
     }
-    if let Some(v) = sample_every_s {
-        p.sample_every_s = v;
+    if let Some(v) = sample_every_secs {
+        p.sample_every_secs = v;
     }
     p.feedforward = match feedforward {
         "full" => TrajectoryFeedforward::Full,
@@ -80,7 +80,7 @@ fn triples<'py>(
 fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'py, PyAny>> {
     let d = PyDict::new(py);
     d.set_item("heading_deg", run.heading_deg)?;
-    d.set_item("duration_s", run.duration_s)?;
+    d.set_item("duration_secs", run.duration_secs)?;
     d.set_item("outcome", crate::enums::braking_outcome(py, &run.outcome)?)?;
     d.set_item("success", run.outcome.is_success())?;
     let (failure, rest_speed, status) = match run.outcome {
@@ -99,7 +99,7 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
             .map(|s| crate::enums::solve_status(py, s))
             .transpose()?,
     )?;
-    d.set_item("brake_start_s", run.brake_start_s)?;
+    d.set_item("brake_start_secs", run.brake_start_secs)?;
     d.set_item("plan_peak_tilt_rad", run.plan_peak_tilt_rad)?;
     d.set_item("plan_cost_n2m2s", run.plan_cost_n2m2s)?;
     let peaks = PyDict::new(py);
@@ -109,11 +109,11 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
     peaks.set_item("actuator_utilisation", p.actuator_utilisation.to_vec())?;
     peaks.set_item("tilt_rad", p.tilt_rad)?;
     peaks.set_item("speed_error_m_per_s", p.speed_error_m_per_s)?;
-    peaks.set_item("slip_s", p.slip_s)?;
+    peaks.set_item("slip_secs", p.slip_secs)?;
     d.set_item("peaks", crate::results::make(py, "BrakingPeaks", peaks)?)?;
     let s = &run.samples;
     let column = |f: fn(&BrakingSample) -> f64| PyArray1::from_vec(py, s.iter().map(f).collect());
-    d.set_item("time_s", column(|x| x.time_s))?;
+    d.set_item("time_secs", column(|x| x.time_secs))?;
     d.set_item("command_m_per_s", column(|x| x.command_m_per_s))?;
     d.set_item("speed_m_per_s", column(|x| x.speed_m_per_s))?;
     d.set_item("command_tilt_rad", column(|x| x.command_tilt_rad))?;
@@ -130,38 +130,38 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
 
 /// One braking run of the paper's Sec. V in the 3D world
 /// (`ballbot_sim::studies::world_braking::braking_run`): settle, a jerk-limited ramp to
-/// `cruise_speed_m_per_s` along `heading_deg`, cruise for `cruise_s`, then the optimal braking
-/// trajectory to rest in `duration_s` (solved here under the actuator, traction and tilt
+/// `cruise_speed_m_per_s` along `heading_deg`, cruise for `cruise_secs`, then the optimal braking
+/// trajectory to rest in `duration_secs` (solved here under the actuator, traction and tilt
 /// limits), flown through the core's trajectory command. `feedforward` is `"full"` (the
 /// trajectory's whole torque) or `"core"` (ablation: the equilibrium-lean feedforward only). Runs
 /// without the GIL.
 ///
 /// Returns a `BrakingRun`: `outcome` (a `BrakingOutcome`),
 /// `success`, `failure`, `rest_speed_m_per_s`, `solve_status` (for `no_trajectory`),
-/// `brake_start_s`, `plan_peak_tilt_rad`, `plan_cost_n2m2s`, `peaks` (braking-phase extremes),
-/// `telemetry_hash` (equal for bit-identical runs) and samples every `sample_every_s`:
-/// `time_s`, `command_m_per_s`, `speed_m_per_s`, `command_tilt_rad`, `tilt_rad` (n,);
+/// `brake_start_secs`, `plan_peak_tilt_rad`, `plan_cost_n2m2s`, `peaks` (braking-phase extremes),
+/// `telemetry_hash` (equal for bit-identical runs) and samples every `sample_every_secs`:
+/// `time_secs`, `command_m_per_s`, `speed_m_per_s`, `command_tilt_rad`, `tilt_rad` (n,);
 /// `cone_utilisation`, `normal_force_n`, `actuator_utilisation` (n, 3).
 #[pyfunction(name = "braking_run")]
 #[pyo3(signature = (
-    params = None, *, duration_s, heading_deg = 0.0, cruise_speed_m_per_s = None,
-    approach_accel_m_per_s2 = None, settle_s = None, cruise_s = None,
-    trajectory_tilt_limit_rad = None, intervals = None, sample_every_s = None,
+    params = None, *, duration_secs, heading_deg = 0.0, cruise_speed_m_per_s = None,
+    approach_accel_m_per_s2 = None, settle_secs = None, cruise_secs = None,
+    trajectory_tilt_limit_rad = None, intervals = None, sample_every_secs = None,
     feedforward = "full",
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn py_braking_run<'py>(
     py: Python<'py>,
     params: Option<PyWorldParams>,
-    duration_s: f64,
+    duration_secs: f64,
     heading_deg: f64,
     cruise_speed_m_per_s: Option<f64>,
     approach_accel_m_per_s2: Option<f64>,
-    settle_s: Option<f64>,
-    cruise_s: Option<f64>,
+    settle_secs: Option<f64>,
+    cruise_secs: Option<f64>,
     trajectory_tilt_limit_rad: Option<f64>,
     intervals: Option<usize>,
-    sample_every_s: Option<f64>,
+    sample_every_secs: Option<f64>,
     feedforward: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
@@ -169,33 +169,33 @@ pub(crate) fn py_braking_run<'py>(
         py,
         cruise_speed_m_per_s,
         approach_accel_m_per_s2,
-        settle_s,
-        cruise_s,
+        settle_secs,
+        cruise_secs,
         trajectory_tilt_limit_rad,
         intervals,
-        sample_every_s,
+        sample_every_secs,
         feedforward,
     )?;
     let run = py
-        .detach(|| braking_run(world, &protocol, heading_deg, duration_s, None))
+        .detach(|| braking_run(world, &protocol, heading_deg, duration_secs, None))
         .map_err(|e| braking_error(py, e))?;
     braking_run_dict(py, &run)
 }
 
 /// The paper's minimum-braking-time protocol at one heading
-/// (`ballbot_sim::studies::world_braking::braking_study`): braking times `durations_s` (default 5.0,
+/// (`ballbot_sim::studies::world_braking::braking_study`): braking times `durations_secs` (default 5.0,
 /// 4.5, ..., 0.5 s) in order until a run fails, then (beyond the paper) bisection between the
-/// shortest success and the first failure down to `bisection_resolution_s` (`None` skips it).
+/// shortest success and the first failure down to `bisection_resolution_secs` (`None` skips it).
 /// The protocol keywords are `braking_run`'s. Runs without the GIL.
 ///
-/// Returns a `BrakingStudy`: `shortest_success_s` (the paper's figure), `first_failure_s`, `limit_s`,
-/// `limit_failure_s` (after the bisection), and `descent`, `bisection`: lists of runs as
+/// Returns a `BrakingStudy`: `shortest_success_secs` (the paper's figure), `first_failure_secs`, `limit_secs`,
+/// `limit_failure_secs` (after the bisection), and `descent`, `bisection`: lists of runs as
 /// `braking_run` returns them.
 #[pyfunction(name = "braking_study")]
 #[pyo3(signature = (
-    params = None, *, heading_deg = 0.0, durations_s = None, bisection_resolution_s = Some(0.05),
-    cruise_speed_m_per_s = None, approach_accel_m_per_s2 = None, settle_s = None,
-    cruise_s = None, trajectory_tilt_limit_rad = None, intervals = None, sample_every_s = None,
+    params = None, *, heading_deg = 0.0, durations_secs = None, bisection_resolution_secs = Some(0.05),
+    cruise_speed_m_per_s = None, approach_accel_m_per_s2 = None, settle_secs = None,
+    cruise_secs = None, trajectory_tilt_limit_rad = None, intervals = None, sample_every_secs = None,
     feedforward = "full",
 ))]
 #[allow(clippy::too_many_arguments)]
@@ -203,15 +203,15 @@ pub(crate) fn py_braking_study<'py>(
     py: Python<'py>,
     params: Option<PyWorldParams>,
     heading_deg: f64,
-    durations_s: Option<Vec<f64>>,
-    bisection_resolution_s: Option<f64>,
+    durations_secs: Option<Vec<f64>>,
+    bisection_resolution_secs: Option<f64>,
     cruise_speed_m_per_s: Option<f64>,
     approach_accel_m_per_s2: Option<f64>,
-    settle_s: Option<f64>,
-    cruise_s: Option<f64>,
+    settle_secs: Option<f64>,
+    cruise_secs: Option<f64>,
     trajectory_tilt_limit_rad: Option<f64>,
     intervals: Option<usize>,
-    sample_every_s: Option<f64>,
+    sample_every_secs: Option<f64>,
     feedforward: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
@@ -219,27 +219,27 @@ pub(crate) fn py_braking_study<'py>(
         py,
         cruise_speed_m_per_s,
         approach_accel_m_per_s2,
-        settle_s,
-        cruise_s,
+        settle_secs,
+        cruise_secs,
         trajectory_tilt_limit_rad,
         intervals,
-        sample_every_s,
+        sample_every_secs,
         feedforward,
     )?;
     let mut study = BrakingStudyParams::paper();
-    if let Some(d) = durations_s {
-        study.durations_s = d;
+    if let Some(d) = durations_secs {
+        study.durations_secs = d;
     }
-    study.bisection_resolution_s = bisection_resolution_s;
+    study.bisection_resolution_secs = bisection_resolution_secs;
     let result = py
         .detach(|| braking_study(world, &protocol, &study, heading_deg, &mut |_| {}))
         .map_err(|e| braking_error(py, e))?;
     let d = PyDict::new(py);
     d.set_item("heading_deg", result.heading_deg)?;
-    d.set_item("shortest_success_s", result.shortest_success_s)?;
-    d.set_item("first_failure_s", result.first_failure_s)?;
-    d.set_item("limit_s", result.limit_s)?;
-    d.set_item("limit_failure_s", result.limit_failure_s)?;
+    d.set_item("shortest_success_secs", result.shortest_success_secs)?;
+    d.set_item("first_failure_secs", result.first_failure_secs)?;
+    d.set_item("limit_secs", result.limit_secs)?;
+    d.set_item("limit_failure_secs", result.limit_failure_secs)?;
     let runs = |runs: &[BrakingRun]| -> PyResult<Vec<Bound<'py, PyAny>>> {
         runs.iter().map(|r| braking_run_dict(py, r)).collect()
     };

@@ -77,7 +77,7 @@ fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, P
     d.set_item("peak_cone_utilisation", o.peak_cone_utilisation)?;
     d.set_item("min_normal_force_n", o.min_normal_force_n)?;
     d.set_item("peak_tilt_rad", o.peak_tilt_rad)?;
-    d.set_item("supervisor_stop_s", o.supervisor_stop_s)?;
+    d.set_item("supervisor_stop_secs", o.supervisor_stop_secs)?;
     crate::results::make(py, "TrialOutcome", d)
 }
 
@@ -107,7 +107,7 @@ fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, Py
 /// the command shaper's caps lifted as in the study. Returns a `SlowRampTrial`: the ramp (as
 /// `max_speed_ramp`) plus `outcome`: `max_speed_m_per_s`, `censored` (no failure: the speed is
 /// only a lower bound), `failure`, `peak_cone_utilisation`, `min_normal_force_n`,
-/// `peak_tilt_rad`, `supervisor_stop_s`, `seed`, `accel_m_per_s2`, `heading_deg`.
+/// `peak_tilt_rad`, `supervisor_stop_secs`, `seed`, `accel_m_per_s2`, `heading_deg`.
 #[pyfunction(name = "slow_ramp_trial")]
 #[pyo3(signature = (params = None, *, heading_deg = 0.0, seed = 1))]
 pub(crate) fn py_slow_ramp_trial<'py>(
@@ -178,7 +178,7 @@ pub(crate) fn py_failing_acceleration<'py>(
 #[pyfunction(name = "max_speed_study")]
 #[pyo3(signature = (
     params = None, *, quick = false, trial_headings_deg = None, seeds = None,
-    map_headings_deg = None, sensitivity_headings_deg = None, sensitivity_mu = None,
+    map_headings_deg = None, sensitivity_headings_deg = None, sensitivity_wheel_ball_friction = None,
     sensitivity_com_height_m = None, threads = 0, fast_top_m_per_s = None,
     accel_bracket_m_per_s2 = None, accel_resolution_m_per_s2 = None,
 ))]
@@ -191,7 +191,7 @@ pub(crate) fn py_max_speed_study<'py>(
     seeds: Option<Vec<u64>>,
     map_headings_deg: Option<Vec<f64>>,
     sensitivity_headings_deg: Option<Vec<f64>>,
-    sensitivity_mu: Option<Vec<f64>>,
+    sensitivity_wheel_ball_friction: Option<Vec<f64>>,
     sensitivity_com_height_m: Option<Vec<f64>>,
     threads: usize,
     fast_top_m_per_s: Option<f64>,
@@ -228,9 +228,9 @@ pub(crate) fn py_max_speed_study<'py>(
             "sensitivity_headings_deg",
         ),
         (
-            &mut settings.sensitivity_mu,
-            sensitivity_mu,
-            "sensitivity_mu",
+            &mut settings.sensitivity_wheel_ball_friction,
+            sensitivity_wheel_ball_friction,
+            "sensitivity_wheel_ball_friction",
         ),
         (
             &mut settings.sensitivity_com_height_m,

@@ -12,27 +12,27 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 fn push_params(
-    push_duration_s: Option<f64>,
-    settle_s: Option<f64>,
-    observe_s: Option<f64>,
-    rest_within_s: Option<f64>,
-    sample_every_s: Option<f64>,
+    push_duration_secs: Option<f64>,
+    settle_secs: Option<f64>,
+    observe_secs: Option<f64>,
+    rest_within_secs: Option<f64>,
+    sample_every_secs: Option<f64>,
 ) -> PushParams {
     let mut p = PushParams::default();
-    if let Some(v) = rest_within_s {
-        p.rest_within_s = v;
+    if let Some(v) = rest_within_secs {
+        p.rest_within_secs = v;
     }
-    if let Some(v) = push_duration_s {
-        p.push_duration_s = v;
+    if let Some(v) = push_duration_secs {
+        p.push_duration_secs = v;
     }
-    if let Some(v) = settle_s {
-        p.settle_s = v;
+    if let Some(v) = settle_secs {
+        p.settle_secs = v;
     }
-    if let Some(v) = observe_s {
-        p.observe_s = v;
+    if let Some(v) = observe_secs {
+        p.observe_secs = v;
     }
-    if let Some(v) = sample_every_s {
-        p.sample_every_s = v;
+    if let Some(v) = sample_every_secs {
+        p.sample_every_secs = v;
     }
     p
 }
@@ -53,7 +53,7 @@ fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, P
     d.set_item("rest_speed_m_per_s", t.rest_speed_m_per_s)?;
     let s = &t.samples;
     let column = |f: fn(&PushSample) -> f64| PyArray1::from_vec(py, s.iter().map(f).collect());
-    d.set_item("time_s", column(|x| x.time_s))?;
+    d.set_item("time_secs", column(|x| x.time_secs))?;
     d.set_item("tilt_rad", column(|x| x.tilt_rad))?;
     d.set_item("speed_m_per_s", column(|x| x.speed_m_per_s))?;
     d.set_item("max_cone_utilisation", column(|x| x.max_cone_utilisation))?;
@@ -64,19 +64,19 @@ fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, P
 }
 
 /// One push-recovery trial (`ballbot_sim::studies::push::push_trial`): the robot stands still
-/// under the core's controller for `settle_s`, a horizontal impulse `impulse_ns` towards
-/// `heading_deg` (body frame) spread over `push_duration_s` hits the body's centre of mass,
-/// and the run is watched for `observe_s` (defaults 1.0, 0.1, 4.0 s); recovered means no
+/// under the core's controller for `settle_secs`, a horizontal impulse `impulse_ns` towards
+/// `heading_deg` (body frame) spread over `push_duration_secs` hits the body's centre of mass,
+/// and the run is watched for `observe_secs` (defaults 1.0, 0.1, 4.0 s); recovered means no
 /// failure, tilt below 15 deg, and at rest (ball under 0.1 m/s, tilt under 3 deg) from
-/// `rest_within_s` (default 3.0 s) after the push on. Runs without the GIL.
+/// `rest_within_secs` (default 3.0 s) after the push on. Runs without the GIL.
 /// Returns a `PushTrial`: `outcome` (a `PushOutcome`),
 /// `recovered`, `failure`, `peak_tilt_rad`, `peak_speed_m_per_s`, `rest_speed_m_per_s`,
-/// `telemetry_hash`, and samples: `time_s` (since the push), `tilt_rad`, `speed_m_per_s`,
+/// `telemetry_hash`, and samples: `time_secs` (since the push), `tilt_rad`, `speed_m_per_s`,
 /// `max_cone_utilisation` (n,), `ball_velocity_m_per_s` (n, 2).
 #[pyfunction(name = "push_trial")]
 #[pyo3(signature = (
-    params = None, *, impulse_ns, heading_deg = 0.0, push_duration_s = None, settle_s = None,
-    observe_s = None, rest_within_s = None, sample_every_s = None,
+    params = None, *, impulse_ns, heading_deg = 0.0, push_duration_secs = None, settle_secs = None,
+    observe_secs = None, rest_within_secs = None, sample_every_secs = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn py_push_trial<'py>(
@@ -84,19 +84,19 @@ pub(crate) fn py_push_trial<'py>(
     params: Option<PyWorldParams>,
     impulse_ns: f64,
     heading_deg: f64,
-    push_duration_s: Option<f64>,
-    settle_s: Option<f64>,
-    observe_s: Option<f64>,
-    rest_within_s: Option<f64>,
-    sample_every_s: Option<f64>,
+    push_duration_secs: Option<f64>,
+    settle_secs: Option<f64>,
+    observe_secs: Option<f64>,
+    rest_within_secs: Option<f64>,
+    sample_every_secs: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = push_params(
-        push_duration_s,
-        settle_s,
-        observe_s,
-        rest_within_s,
-        sample_every_s,
+        push_duration_secs,
+        settle_secs,
+        observe_secs,
+        rest_within_secs,
+        sample_every_secs,
     );
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(impulse_ns.is_finite() && heading_deg.is_finite()) {
@@ -120,8 +120,8 @@ pub(crate) fn py_push_trial<'py>(
 #[pyfunction(name = "push_recovery_limit")]
 #[pyo3(signature = (
     params = None, *, heading_deg = 0.0, upper_ns = 100.0, resolution_ns = 0.5,
-    push_duration_s = None, settle_s = None, observe_s = None, rest_within_s = None,
-    sample_every_s = None,
+    push_duration_secs = None, settle_secs = None, observe_secs = None, rest_within_secs = None,
+    sample_every_secs = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn py_push_recovery_limit<'py>(
@@ -130,19 +130,19 @@ pub(crate) fn py_push_recovery_limit<'py>(
     heading_deg: f64,
     upper_ns: f64,
     resolution_ns: f64,
-    push_duration_s: Option<f64>,
-    settle_s: Option<f64>,
-    observe_s: Option<f64>,
-    rest_within_s: Option<f64>,
-    sample_every_s: Option<f64>,
+    push_duration_secs: Option<f64>,
+    settle_secs: Option<f64>,
+    observe_secs: Option<f64>,
+    rest_within_secs: Option<f64>,
+    sample_every_secs: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = push_params(
-        push_duration_s,
-        settle_s,
-        observe_s,
-        rest_within_s,
-        sample_every_s,
+        push_duration_secs,
+        settle_secs,
+        observe_secs,
+        rest_within_secs,
+        sample_every_secs,
     );
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(resolution_ns.is_finite() && resolution_ns > 0.0 && upper_ns / resolution_ns <= 1e9) {

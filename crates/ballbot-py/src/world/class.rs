@@ -53,8 +53,8 @@ macro_rules! world_class {
 
             /// Simulated time (s).
             #[getter]
-            fn time_s(&self) -> f64 {
-                self.world().time_s()
+            fn time_secs(&self) -> f64 {
+                self.world().time_secs()
             }
 
             /// The record of the last step (before the first step: the initial poses).
@@ -157,10 +157,10 @@ macro_rules! world_class {
 
             /// Sets the omniwheel-ball static friction coefficient `mu` (>= 0); the kinetic
             /// one follows with the configured ratio.
-            fn set_wheel_friction(&mut self, py: Python<'_>, friction: f64) -> PyResult<()> {
+            fn set_wheel_ball_friction(&mut self, py: Python<'_>, friction: f64) -> PyResult<()> {
                 non_negative(py, friction, "friction")?;
                 self.world_mut()
-                    .set_wheel_friction(friction)
+                    .set_wheel_ball_friction(friction)
                     .map_err(|e| world_error(py, e))
             }
 
@@ -247,7 +247,7 @@ world_class! {
         /// (N m), shape (3,) held for every step or (n_steps, 3), default zeros. Records every
         /// `record_every`-th step (the first one included); `stop_on_failure` ends the run at
         /// the step that detects a failure (recorded too). Returns a `WorldRun` of numpy arrays, one
-        /// row per recorded step: `time_s` (n,), `torque_nm` (n, 3) (the commands),
+        /// row per recorded step: `time_secs` (n,), `torque_nm` (n, 3) (the commands),
         /// per wheel (n, 3) `normal_force_n`, `traction_n`, `traction_demand_n`,
         /// `cone_utilisation`, `slip_speed_m_per_s`, `slipping` (bool), `motor_torque_nm`,
         /// `wheel_speed_rad_per_s`, `wheel_angle_rad`; `ball_position_m`,

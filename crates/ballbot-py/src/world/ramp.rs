@@ -17,11 +17,11 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
     d.set_item("heading_deg", r.heading_deg)?;
     d.set_item("max_speed_m_per_s", r.max_speed_m_per_s)?;
     d.set_item("failure", r.failure.map(PyFailure::from))?;
-    d.set_item("supervisor_stop_s", r.supervisor_stop_s)?;
+    d.set_item("supervisor_stop_secs", r.supervisor_stop_secs)?;
     let column = |f: fn(&ballbot_sim::studies::ramp::RampSample) -> f64| {
         r.samples.iter().map(f).collect::<Vec<f64>>()
     };
-    d.set_item("time_s", PyArray1::from_vec(py, column(|s| s.time_s)))?;
+    d.set_item("time_secs", PyArray1::from_vec(py, column(|s| s.time_secs)))?;
     d.set_item(
         "command_m_per_s",
         PyArray1::from_vec(py, column(|s| s.command_m_per_s)),
@@ -48,7 +48,7 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
 
 /// The maximum-speed experiment of the paper's Sec. V in the 3D world
 /// (`ballbot_sim::studies::ramp::max_speed_ramp`): the core's controller follows a
-/// velocity ramp towards `heading_deg` (body frame; 0 is towards OW1) after `settle_s`, rising
+/// velocity ramp towards `heading_deg` (body frame; 0 is towards OW1) after `settle_secs`, rising
 /// at `accel_m_per_s2` to `max_command_m_per_s`, until the world detects a failure or the top
 /// speed has been held for 1 s. Runs in Rust without the GIL. The shaping keywords lift the
 /// controller's caps as in `WorldLoop` (by default the shaper caps the command at 2.0 m/s
@@ -56,15 +56,15 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
 ///
 /// Returns a `RampRun`: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
 /// before failure), `failure` (`Failure` or `None` if the ramp ended first),
-/// `supervisor_stop_s` (when the core's safety supervisor stopped balancing, e.g. at its
+/// `supervisor_stop_secs` (when the core's safety supervisor stopped balancing, e.g. at its
 /// wheel-speed limit, or `None`), and samples every
-/// `sample_every_s`: `time_s`, `command_m_per_s` (the ramp), `shaped_command_m_per_s` (after
+/// `sample_every_secs`: `time_secs`, `command_m_per_s` (the ramp), `shaped_command_m_per_s` (after
 /// the controller's command shaper), `speed_m_per_s`, `tilt_rad` (from the vertical),
 /// `max_cone_utilisation` (n,); `normal_force_n`, `cone_utilisation` (n, 3).
 #[pyfunction]
 #[pyo3(signature = (
     params = None, *, heading_deg = 0.0, accel_m_per_s2 = 0.25, max_command_m_per_s = 3.5,
-    settle_s = 0.5, sample_every_s = 0.01, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
+    settle_secs = 0.5, sample_every_secs = 0.01, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
     max_jerk_m_per_s3 = None, max_tilt_command_rad = None, max_tilt_rate_command_rad_per_s = None,
 ))]
 #[allow(clippy::too_many_arguments)]
@@ -74,8 +74,8 @@ pub(crate) fn max_speed_ramp<'py>(
     heading_deg: f64,
     accel_m_per_s2: f64,
     max_command_m_per_s: f64,
-    settle_s: f64,
-    sample_every_s: f64,
+    settle_secs: f64,
+    sample_every_secs: f64,
     max_speed_m_per_s: Option<f64>,
     max_accel_m_per_s2: Option<f64>,
     max_jerk_m_per_s3: Option<f64>,
@@ -95,7 +95,7 @@ pub(crate) fn max_speed_ramp<'py>(
     for (value, name) in [
         (accel_m_per_s2, "accel_m_per_s2"),
         (max_command_m_per_s, "max_command_m_per_s"),
-        (sample_every_s, "sample_every_s"),
+        (sample_every_secs, "sample_every_secs"),
     ] {
         if !(value.is_finite() && value > 0.0) {
             return Err(error(
@@ -105,12 +105,12 @@ pub(crate) fn max_speed_ramp<'py>(
             ));
         }
     }
-    non_negative(py, settle_s, "settle_s")?;
+    non_negative(py, settle_secs, "settle_secs")?;
     let ramp = RampParams {
         accel_m_per_s2,
         max_command_m_per_s,
-        settle_s,
-        sample_every_s,
+        settle_secs,
+        sample_every_secs,
     };
     let result = py
         .detach(|| max_speed_ramp_with_config(params, config, heading_deg, &ramp))

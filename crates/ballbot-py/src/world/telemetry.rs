@@ -81,8 +81,8 @@ pub struct PyStepTelemetry {
 impl PyStepTelemetry {
     /// Simulated time at the end of the step (s).
     #[getter]
-    fn time_s(&self) -> f64 {
-        self.inner.time_s
+    fn time_secs(&self) -> f64 {
+        self.inner.time_secs
     }
 
     /// The three omniwheels (OW1, OW2, OW3).
@@ -158,9 +158,9 @@ impl PyStepTelemetry {
     fn __repr__(&self) -> String {
         let t = &self.inner;
         format!(
-            "StepTelemetry(time_s={:.6}, normal_force_n={:?}, ball_velocity_m_per_s={:?}, \
+            "StepTelemetry(time_secs={:.6}, normal_force_n={:?}, ball_velocity_m_per_s={:?}, \
              tilt_rad={:?})",
-            t.time_s,
+            t.time_secs,
             t.wheels.map(|w| w.normal_force_n),
             [
                 t.ball_velocity_m_per_s.x,
@@ -183,8 +183,8 @@ pub struct PyMeasurement {
 impl PyMeasurement {
     /// Time of the sample (s).
     #[getter]
-    fn time_s(&self) -> f64 {
-        self.inner.time_s
+    fn time_secs(&self) -> f64 {
+        self.inner.time_secs
     }
 
     /// IMU `(roll, pitch)` (rad); pitch > 0 leans towards +x (OW1).
@@ -220,9 +220,9 @@ impl PyMeasurement {
     fn __repr__(&self) -> String {
         let m = &self.inner;
         format!(
-            "Measurement(time_s={:.6}, tilt_rad={:?}, yaw_rad={:?}, body_rate_rad_per_s={:?}, \
+            "Measurement(time_secs={:.6}, tilt_rad={:?}, yaw_rad={:?}, body_rate_rad_per_s={:?}, \
              wheel_speed_rad_per_s={:?})",
-            m.time_s, m.tilt_rad, m.yaw_rad, m.body_rate_rad_per_s, m.wheel_speed_rad_per_s
+            m.time_secs, m.tilt_rad, m.yaw_rad, m.body_rate_rad_per_s, m.wheel_speed_rad_per_s
         )
     }
 }
@@ -252,8 +252,8 @@ impl PyFailure {
 
     /// Simulated time of detection (s).
     #[getter]
-    fn time_s(&self) -> f64 {
-        self.inner.time_s
+    fn time_secs(&self) -> f64 {
+        self.inner.time_secs
     }
 
     /// The wheel, `"OW1"`, `"OW2"` or `"OW3"`, for slip and lift-off.
@@ -282,9 +282,9 @@ impl PyFailure {
             _ => String::new(),
         };
         format!(
-            "Failure(kind=FailureKind.{}, time_s={:.4}{detail})",
+            "Failure(kind=FailureKind.{}, time_secs={:.4}{detail})",
             kind.as_str().to_uppercase(),
-            self.inner.time_s
+            self.inner.time_secs
         )
     }
 }

@@ -17,7 +17,7 @@ use std::path::Path;
 /// Per-step records of a run, column by column.
 #[derive(Default)]
 pub(crate) struct Trace {
-    time_s: Vec<f64>,
+    time_secs: Vec<f64>,
     input: Vec<[f64; 3]>,
     normal_force_n: Vec<[f64; 3]>,
     traction_n: Vec<[f64; 3]>,
@@ -48,7 +48,7 @@ pub(crate) fn reserved<T>(len: usize) -> PyResult<Vec<T>> {
 impl Trace {
     pub(crate) fn with_capacity(len: usize) -> PyResult<Self> {
         Ok(Self {
-            time_s: reserved(len)?,
+            time_secs: reserved(len)?,
             input: reserved(len)?,
             normal_force_n: reserved(len)?,
             traction_n: reserved(len)?,
@@ -75,7 +75,7 @@ impl Trace {
     fn push(&mut self, t: &StepTelemetry, input: [f64; 3]) {
         let wheels = |f: fn(&WheelTelemetry) -> f64| t.wheels.each_ref().map(f);
         let v = |v: &Vector3<f64>| [v.x, v.y, v.z];
-        self.time_s.push(t.time_s);
+        self.time_secs.push(t.time_secs);
         self.input.push(input);
         self.normal_force_n.push(wheels(|w| w.normal_force_n));
         self.traction_n.push(wheels(|w| w.traction_n));
@@ -105,7 +105,7 @@ impl Trace {
     /// The columns as a dict; the input column is named `input_name`.
     fn into_dict<'py>(self, py: Python<'py>, input_name: &str) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        d.set_item("time_s", PyArray1::from_vec(py, self.time_s))?;
+        d.set_item("time_secs", PyArray1::from_vec(py, self.time_secs))?;
         d.set_item(input_name, table(py, self.input)?)?;
         d.set_item("normal_force_n", table(py, self.normal_force_n)?)?;
         d.set_item("traction_n", table(py, self.traction_n)?)?;

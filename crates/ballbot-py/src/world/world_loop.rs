@@ -190,7 +190,7 @@ world_class! {
                 run_steps(options, &inputs, trace, |cmd| {
                     let command = velocity(cmd);
                     if let Some(log) = log.as_mut() {
-                        log.record_command(sim.world().time_s(), &command)?;
+                        log.record_command(sim.world().time_secs(), &command)?;
                     }
                     let telemetry = *sim.step(Command::Velocity(command));
                     if let Some(log) = log.as_mut() {

@@ -11,13 +11,13 @@
 //! `tau_f = -(T_c sign(v) + b_v v)` (Coulomb plus viscous).
 //!
 //! Inside the window the joint is treated as stuck: `tau_f` is the torque that holds it, i.e.
-//! that makes the relative acceleration `v_dot` equal to `-v / t_s` (zero, plus a first-order
-//! pull of the residual window velocity to zero with time constant `t_s`, so a stuck joint does
+//! that makes the relative acceleration `v_dot` equal to `-v / t_secs` (zero, plus a first-order
+//! pull of the residual window velocity to zero with time constant `t_secs`, so a stuck joint does
 //! not creep). Because `q_ddot` is affine in the joint torque,
 //! `v_dot(tau) = v_dot(tau_m) + k (tau - tau_m)` with `k = [-1, 1] M^-1 [-1, 1]^T > 0`, so
 //!
 //! ```text
-//! tau_hold = -(v_dot(tau_m) + v / t_s) / k
+//! tau_hold = -(v_dot(tau_m) + v / t_secs) / k
 //! ```
 //!
 //! If `|tau_hold| <= T_s` (the breakaway or stiction torque) the joint sticks with
@@ -42,7 +42,7 @@ pub struct TransmissionFriction {
     pub viscous_nm_s_per_rad: f64,
     /// Half-width `w` of the Karnopp stick window on the joint rate (rad/s).
     pub stick_window_rad_per_s: f64,
-    /// Time constant `t_s` with which a stuck joint's residual rate is pulled to zero (s).
+    /// Time constant `t_secs` with which a stuck joint's residual rate is pulled to zero (s).
     pub stick_settle_time_secs: f64,
 }
 

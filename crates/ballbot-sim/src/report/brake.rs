@@ -24,7 +24,7 @@ pub fn solution_json(sol: &BrakingSolution) -> Value {
             Method::Trapezoidal => "trapezoidal",
         },
         "v0_m_per_s": p.initial_speed_m_per_s,
-        "duration_s": p.duration_secs,
+        "duration_secs": p.duration_secs,
         "peak_tilt_deg": sol.peak_tilt_rad().to_degrees(),
         "peak_ball_speed_m_per_s": peak_speed,
         "primal_residual": sol.primal_residual,
@@ -33,10 +33,10 @@ pub fn solution_json(sol: &BrakingSolution) -> Value {
 }
 
 /// The trajectory sampled every 10 ms as CSV, with a header:
-/// `t_s,theta_rad,phi_rad,theta_dot_rad_per_s,phi_dot_rad_per_s,tau_nm`.
+/// `t_secs,theta_rad,phi_rad,theta_dot_rad_per_s,phi_dot_rad_per_s,tau_nm`.
 pub fn trajectory_csv(sol: &BrakingSolution) -> String {
     let mut text =
-        String::from("t_s,theta_rad,phi_rad,theta_dot_rad_per_s,phi_dot_rad_per_s,tau_nm\n");
+        String::from("t_secs,theta_rad,phi_rad,theta_dot_rad_per_s,phi_dot_rad_per_s,tau_nm\n");
     for (t, s, u) in sol.trajectory.sample(0.01) {
         text.push_str(&format!("{t},{},{},{},{},{u}\n", s[0], s[1], s[2], s[3]));
     }
@@ -50,7 +50,7 @@ pub fn trajectory_csv(sol: &BrakingSolution) -> String {
 pub struct BrakeReproduction {
     /// The unconstrained optimum.
     pub solution: BrakingSolution,
-    /// The summary record `{cost, status, intervals, solve_ms, min_braking_time_s, ...}`.
+    /// The summary record `{cost, status, intervals, solve_ms, min_braking_time_secs, ...}`.
     pub record: Value,
     /// The line `ballbot reproduce` prints.
     pub text: String,
@@ -72,7 +72,7 @@ pub fn reproduce_brake(quick: bool) -> Result<BrakeReproduction, ReportError> {
         ..MinTimeOptions::default()
     };
     let r = min_braking_time(&limited, &SolveOptions::default(), &search)?;
-    record["min_braking_time_s"] = json!(r.min_duration_secs);
+    record["min_braking_time_secs"] = json!(r.min_duration_secs);
     record["min_braking_time_intervals"] = json!(intervals);
     let text = format!(
         "brake (MiaPURE 1.4 m/s -> rest in 2 s, Hermite-Simpson N = 100): J = {:.2} N^2 m^2 s \

@@ -17,7 +17,7 @@ fn failure_json(failure: Option<Failure>) -> Value {
         Some(f) => json!({
             "kind": f.kind.as_str(),
             "wheel": f.kind.wheel_name(),
-            "time_s": f.time_s,
+            "time_secs": f.time_secs,
         }),
     }
 }
@@ -37,7 +37,7 @@ impl TrialOutcome {
             "max_speed_m_per_s": self.max_speed_m_per_s,
             "censored": self.censored(),
             "failure": failure_json(self.failure),
-            "supervisor_stop_s": self.supervisor_stop_s,
+            "supervisor_stop_secs": self.supervisor_stop_secs,
             "peak_cone_utilisation": self.peak_cone_utilisation,
             "min_normal_force_n": self.min_normal_force_n,
             "peak_tilt_deg": self.peak_tilt_rad.to_degrees(),
@@ -149,12 +149,12 @@ impl MaxSpeedStudy {
                 "slow_ramp": {
                     "accel_m_per_s2": s.accel_m_per_s2,
                     "top_m_per_s": s.max_command_m_per_s,
-                    "settle_s": s.settle_s,
-                    "hold_s": 1.0,
+                    "settle_secs": s.settle_secs,
+                    "hold_secs": 1.0,
                 },
                 "failing_accel_search": {
                     "top_m_per_s": p.fast_top_m_per_s,
-                    "hold_s": 1.0,
+                    "hold_secs": 1.0,
                     "bracket_m_per_s2": p.accel_bracket_m_per_s2,
                     "resolution_m_per_s2": p.accel_resolution_m_per_s2,
                     "sensor_seed": 0,
@@ -170,7 +170,7 @@ impl MaxSpeedStudy {
                 "seeds": self.settings.seeds,
                 "seed_drives": "sensor noise (IMU tilt and gyro)",
             },
-            "mu": robot.drivetrain.wheel_ball_friction,
+            "wheel_ball_friction": robot.drivetrain.wheel_ball_friction,
             "com_height_m": robot.sagittal.com_height_m,
             "trials": trials,
             "failing_accel_by_heading": Value::Object(failing),
@@ -261,7 +261,7 @@ impl MaxSpeedStudy {
         for h in &self.trials {
             for t in &h.trials {
                 if let Some(f) = t.failure {
-                    let stop = t.supervisor_stop_s.map_or(String::new(), |s| {
+                    let stop = t.supervisor_stop_secs.map_or(String::new(), |s| {
                         format!(", after the supervisor's controlled stop at {s:.2} s")
                     });
                     out.push_str(&format!(

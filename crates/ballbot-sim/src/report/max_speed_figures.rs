@@ -87,7 +87,7 @@ impl MaxSpeedStudy {
 /// forces and cone utilisations against time, the failure instant as a vertical line.
 pub fn acc_figure(run: &RampResult, title: &str) -> TimeSeriesFigure {
     let s = &run.samples;
-    let t: Vec<f64> = s.iter().map(|x| x.time_s).collect();
+    let t: Vec<f64> = s.iter().map(|x| x.time_secs).collect();
     let col = |f: &dyn Fn(&RampSample) -> f64| -> Vec<f64> { s.iter().map(f).collect() };
     let mut normal = Subplot::new("normal force N (N)");
     let mut cone = Subplot::new("cone use |F|/(μN)");
@@ -117,7 +117,7 @@ pub fn acc_figure(run: &RampResult, title: &str) -> TimeSeriesFigure {
         .with(normal)
         .with(cone);
     if let Some(f) = run.failure {
-        fig = fig.marker(f.time_s, &format!("failure: {f}"));
+        fig = fig.marker(f.time_secs, &format!("failure: {f}"));
     }
     fig
 }

@@ -8,7 +8,7 @@
 //!
 //! Summary keys of the 3D world: `max_speed_by_heading` (heading in deg as text -> mean
 //! slow-ramp maximum speed in m/s) and `max_speed_study` ([`crate::report::max_speed`]);
-//! `min_braking_time_3d_s`, `push_recovery_ns`, `world_braking`, `world_push`
+//! `min_braking_time_3d_secs`, `push_recovery_ns`, `world_braking`, `world_push`
 //! ([`crate::report::world_suite`]). Figures: `max_speed_polar`, `failing_accel_polar`,
 //! `acc_h{0,90,180}` (slow ramp, first seed), `acc_fail_h{0,90,180}` (the ramp at the smallest
 //! failing acceleration), `world_braking_success`, `world_braking_failure`, `world_push`.
@@ -273,7 +273,7 @@ fn world_suite_section(
                     run,
                     &format!(
                         "MiaPURE braking 1.4 m/s → rest at 180° in T = {:.1} s (shortest success, 3D world)",
-                        run.duration_s
+                        run.duration_secs
                     ),
                 )
                 .save_svg_and_png(&out.join("world_braking_success"))?;
@@ -283,7 +283,7 @@ fn world_suite_section(
                     run,
                     &format!(
                         "MiaPURE braking at 180° in T = {:.1} s (first failure: {})",
-                        run.duration_s,
+                        run.duration_secs,
                         match run.outcome {
                             BrakingOutcome::Failed(f) => f.kind.to_string(),
                             o => o.label().to_owned(),

@@ -1,10 +1,10 @@
 //! The world suite ([`crate::studies::world_suite`]: 3D braking time and push recovery) as the
-//! summary's JSON (`min_braking_time_3d_s`, `push_recovery_ns`, `world_braking`,
+//! summary's JSON (`min_braking_time_3d_secs`, `push_recovery_ns`, `world_braking`,
 //! `world_push`) and as comparison tables.
 
 use crate::studies::push::{PushOutcome, PushRecovery, PushTrial};
 use crate::studies::world_braking::{BrakingOutcome, BrakingRun, BrakingStudy};
-use crate::studies::world_suite::{PAPER_MIN_BRAKING_TIME_S, SEED, WorldSuite};
+use crate::studies::world_suite::{PAPER_MIN_BRAKING_TIME_SECS, SEED, WorldSuite};
 use crate::world::{Failure, wheel_name};
 use serde_json::{Map, Value, json};
 use std::fmt::Write;
@@ -13,7 +13,7 @@ fn failure_json(f: &Failure) -> Value {
     json!({
         "kind": f.kind.as_str(),
         "wheel": f.kind.wheel_name(),
-        "time_s": f.time_s,
+        "time_secs": f.time_secs,
         "label": f.to_string(),
     })
 }
@@ -40,7 +40,7 @@ pub fn limiting(run: &BrakingRun) -> String {
         BrakingOutcome::Failed(f) => format!(
             "{} ({:.3} s after braking started); {used}",
             f,
-            f.time_s - run.brake_start_s
+            f.time_secs - run.brake_start_secs
         ),
         BrakingOutcome::NoTrajectory { status } => format!("no trajectory ({status})"),
         BrakingOutcome::NotAtRest {
@@ -67,7 +67,7 @@ fn run_json(run: &BrakingRun) -> Value {
         }),
     };
     json!({
-        "duration_s": run.duration_s,
+        "duration_secs": run.duration_secs,
         "outcome": run.outcome.label(),
         "success": run.outcome.is_success(),
         "detail": outcome,
@@ -79,21 +79,21 @@ fn run_json(run: &BrakingRun) -> Value {
         "peak_actuator_utilisation": p.actuator_utilisation,
         "peak_tilt_deg": p.tilt_rad.to_degrees(),
         "peak_speed_error_m_per_s": p.speed_error_m_per_s,
-        "slip_s": p.slip_s,
-        "brake_start_s": run.brake_start_s,
+        "slip_secs": p.slip_secs,
+        "brake_start_secs": run.brake_start_secs,
     })
 }
 
-fn study_json(study: &BrakingStudy, planar_s: Option<f64>) -> Value {
+fn study_json(study: &BrakingStudy, planar_secs: Option<f64>) -> Value {
     json!({
         "heading_deg": study.heading_deg,
         "descent": study.descent.iter().map(run_json).collect::<Vec<_>>(),
         "bisection": study.bisection.iter().map(run_json).collect::<Vec<_>>(),
-        "shortest_success_s": study.shortest_success_s,
-        "first_failure_s": study.first_failure_s,
-        "limit_s": study.limit_s,
-        "limit_failure_s": study.limit_failure_s,
-        "planar_min_braking_time_s": planar_s,
+        "shortest_success_secs": study.shortest_success_secs,
+        "first_failure_secs": study.first_failure_secs,
+        "limit_secs": study.limit_secs,
+        "limit_failure_secs": study.limit_failure_secs,
+        "planar_min_braking_time_secs": planar_secs,
     })
 }
 
@@ -130,13 +130,13 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 impl WorldSuite {
     fn planar_json(&self) -> Map<String, Value> {
         let mut planar = Map::new();
-        for &(h, t) in &self.planar_min_braking_time_s {
+        for &(h, t) in &self.planar_min_braking_time_secs {
             planar.insert(key(h), json!(t));
         }
         planar
     }
 
-    /// Adds `min_braking_time_3d_s` (the shortest successful braking at 180 deg, s),
+    /// Adds `min_braking_time_3d_secs` (the shortest successful braking at 180 deg, s),
     /// `push_recovery_ns` (heading -> largest push recovered, N s), `world_braking` and
     /// `world_push` (protocols and every run) to `summary`.
     pub fn add_to_summary(&self, summary: &mut Map<String, Value>) {
@@ -154,8 +154,8 @@ impl WorldSuite {
         });
         let b = &self.settings.braking;
         summary.insert(
-            "min_braking_time_3d_s".to_owned(),
-            json!(self.paper_heading().and_then(|st| st.shortest_success_s)),
+            "min_braking_time_3d_secs".to_owned(),
+            json!(self.paper_heading().and_then(|st| st.shortest_success_secs)),
         );
         let mut push_map = Map::new();
         for p in &self.pushes {
@@ -165,15 +165,15 @@ impl WorldSuite {
         summary.insert(
             "world_braking".to_owned(),
             json!({
-                "paper_min_braking_time_s": PAPER_MIN_BRAKING_TIME_S,
+                "paper_min_braking_time_secs": PAPER_MIN_BRAKING_TIME_SECS,
                 "seed": SEED,
                 "protocol": {
                     "cruise_speed_m_per_s": b.cruise_speed_m_per_s,
                     "approach_accel_m_per_s2": b.approach_accel_m_per_s2,
                     "approach_jerk_m_per_s3": b.approach_jerk_m_per_s3,
-                    "cruise_s": b.cruise_s,
-                    "rest_within_s": b.rest_within_s,
-                    "rest_hold_s": b.rest_hold_s,
+                    "cruise_secs": b.cruise_secs,
+                    "rest_within_secs": b.rest_within_secs,
+                    "rest_hold_secs": b.rest_hold_secs,
                     "rest_speed_m_per_s": b.rest_speed_m_per_s,
                     "rest_tilt_deg": b.rest_tilt_rad.to_degrees(),
                     "trajectory_tilt_limit_deg": b.trajectory_tilt_limit_rad.to_degrees(),
@@ -182,7 +182,7 @@ impl WorldSuite {
                 },
                 "headings": headings,
                 "ablation_core_feedforward_180": ablation,
-                "planar_min_braking_time_s": planar,
+                "planar_min_braking_time_secs": planar,
             }),
         );
         let pp = &self.settings.push;
@@ -191,13 +191,13 @@ impl WorldSuite {
             json!({
                 "seed": SEED,
                 "protocol": {
-                    "settle_s": pp.settle_s,
-                    "observe_s": pp.observe_s,
+                    "settle_secs": pp.settle_secs,
+                    "observe_secs": pp.observe_secs,
                     "max_tilt_deg": pp.max_tilt_rad.to_degrees(),
-                    "rest_within_s": pp.rest_within_s,
+                    "rest_within_secs": pp.rest_within_secs,
                     "rest_speed_m_per_s": pp.rest_speed_m_per_s,
                     "rest_tilt_deg": pp.rest_tilt_rad.to_degrees(),
-                    "push_duration_s": pp.push_duration_s,
+                    "push_duration_secs": pp.push_duration_secs,
                 },
                 "headings": self.pushes.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
                 "impulsive": self.impulsive.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
@@ -208,7 +208,7 @@ impl WorldSuite {
     /// The comparison tables (braking, push recovery), as `ballbot reproduce` prints them.
     pub fn table(&self) -> String {
         let mut out = String::new();
-        let shove_s = self.settings.push.push_duration_s;
+        let shove_secs = self.settings.push.push_duration_secs;
         let _ = writeln!(
             out,
             "world braking (MiaPURE 60 kg, 1.4 m/s at heading h -> rest in T, optimal trajectories \
@@ -229,16 +229,16 @@ impl WorldSuite {
                 out,
                 "  {:>6.0}° | {:>22} s | {:>13} s | {:>13} s | {:>11} s | {}",
                 st.heading_deg,
-                opt(st.shortest_success_s, 2),
-                opt(st.limit_s, 3),
-                opt(st.first_failure_s, 2),
+                opt(st.shortest_success_secs, 2),
+                opt(st.limit_secs, 3),
+                opt(st.first_failure_secs, 2),
                 opt(self.planar_at(st.heading_deg), 3),
                 fail
             );
         }
         let _ = writeln!(
             out,
-            "  paper (hardware, 180°): shortest success {PAPER_MIN_BRAKING_TIME_S:.1} s \
+            "  paper (hardware, 180°): shortest success {PAPER_MIN_BRAKING_TIME_SECS:.1} s \
              (descent from 5 s by 0.5 s)"
         );
         if let Some(a) = &self.ablation {
@@ -246,13 +246,13 @@ impl WorldSuite {
                 out,
                 "  ablation, 180° with the equilibrium feedforward only (no c θ̈* term): shortest success \
                  {} s, first failure {} s",
-                opt(a.shortest_success_s, 2),
-                opt(a.first_failure_s, 2)
+                opt(a.shortest_success_secs, 2),
+                opt(a.first_failure_secs, 2)
             );
         }
         let _ = writeln!(
             out,
-            "push recovery (standing; impulse at the body's COM as a {shove_s} s force pulse, and in \
+            "push recovery (standing; impulse at the body's COM as a {shove_secs} s force pulse, and in \
              one step; recovered: tilt < 15°, at rest < 0.1 m/s within 3 s):"
         );
         let _ = writeln!(
@@ -263,7 +263,7 @@ impl WorldSuite {
         let rows = self
             .pushes
             .iter()
-            .map(|p| (p, format!("{shove_s} s")))
+            .map(|p| (p, format!("{shove_secs} s")))
             .chain(self.impulsive.iter().map(|p| (p, "1 step".to_owned())));
         for (p, kind) in rows {
             let how = p.smallest_failing().map_or_else(

@@ -14,11 +14,11 @@ pub fn braking_figure(run: &BrakingRun, title: &str) -> TimeSeriesFigure {
         _ => None,
     };
     // A failure comes within tens of ms of the onset: zoom in on it.
-    let from = run.brake_start_s - if failure.is_some() { 0.25 } else { 1.0 };
-    let samples: Vec<_> = run.samples.iter().filter(|s| s.time_s >= from).collect();
+    let from = run.brake_start_secs - if failure.is_some() { 0.25 } else { 1.0 };
+    let samples: Vec<_> = run.samples.iter().filter(|s| s.time_secs >= from).collect();
     let t: Vec<f64> = samples
         .iter()
-        .map(|s| s.time_s - run.brake_start_s)
+        .map(|s| s.time_secs - run.brake_start_secs)
         .collect();
     let col =
         |f: &dyn Fn(&BrakingSample) -> f64| -> Vec<f64> { samples.iter().map(|s| f(s)).collect() };
@@ -54,11 +54,11 @@ pub fn braking_figure(run: &BrakingRun, title: &str) -> TimeSeriesFigure {
     let end = t
         .last()
         .copied()
-        .unwrap_or(run.duration_s)
-        .min(run.duration_s);
+        .unwrap_or(run.duration_secs)
+        .min(run.duration_secs);
     let fig = fig.shade(0.0, end, "braking");
     match failure {
-        Some(f) => fig.marker(f.time_s - run.brake_start_s, &f.kind.to_string()),
+        Some(f) => fig.marker(f.time_secs - run.brake_start_secs, &f.kind.to_string()),
         None => fig,
     }
 }
@@ -78,7 +78,7 @@ pub fn push_figure(push: &[&PushRecovery]) -> TimeSeriesFigure {
         ];
         for (trial, what) in trials {
             if let Some(tr) = trial {
-                let t: Vec<f64> = tr.samples.iter().map(|s| s.time_s).collect();
+                let t: Vec<f64> = tr.samples.iter().map(|s| s.time_secs).collect();
                 let v: Vec<f64> = tr.samples.iter().map(|s| s.tilt_rad.to_degrees()).collect();
                 sub = sub.with(Series::new(
                     &format!("{:.1} N·s {what}", tr.impulse_ns),

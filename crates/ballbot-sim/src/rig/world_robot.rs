@@ -135,7 +135,7 @@ impl WorldRobot {
     pub fn step(&mut self, command: Command<'_, f64>) -> &StepTelemetry {
         if self.step_index.is_multiple_of(self.steps_per_outer) {
             let m = self.world.measure();
-            let now_us = (m.time_s * 1e6).round() as u64;
+            let now_us = (m.time_secs * 1e6).round() as u64;
             let (imu, encoders, _, clock) = self.robot.devices_mut();
             imu.sample = ImuSample {
                 timestamp_us: now_us,
@@ -158,7 +158,7 @@ impl WorldRobot {
         }
         self.step_index += 1;
         let speeds = Vector3::from(self.world.encoder_speeds_rad_per_s());
-        let now_us = (self.world.time_s() * 1e6).round() as u64;
+        let now_us = (self.world.time_secs() * 1e6).round() as u64;
         let (_, encoders, _, _) = self.robot.devices_mut();
         encoders.sample = EncoderSample {
             timestamp_us: now_us,

@@ -2,7 +2,7 @@
 //! velocity command), a horizontal impulse hits the body's centre of mass
 //! ([`BallbotWorld::push_body`](crate::world::BallbotWorld::push_body)), and the robot must recover.
 //!
-//! The impulse is spread evenly over `push_duration_s` (a constant force for that long, the
+//! The impulse is spread evenly over `push_duration_secs` (a constant force for that long, the
 //! default 0.1 s being a shove with the hands), or applied in one physics step when that is
 //! 0. An instantaneous impulse jumps the body's velocity while the ball has not moved yet: the
 //! compliant omniwheel contacts on the side the body moves away from open at once, and from
@@ -11,8 +11,8 @@
 //! balance, which is why the default spreads the push.
 //!
 //! **Recovered**: the tilt from the vertical stays below `max_tilt_rad` (15 deg) for the whole
-//! run, the world reports no failure, and from `rest_within_s` after the push to the end of
-//! the run (`observe_s`) the horizontal ball speed stays below `rest_speed_m_per_s` and the
+//! run, the world reports no failure, and from `rest_within_secs` after the push to the end of
+//! the run (`observe_secs`) the horizontal ball speed stays below `rest_speed_m_per_s` and the
 //! tilt below `rest_tilt_rad` ([`PushParams`]). [`push_recovery_limit`] bisects the impulse
 //! for the largest one recovered.
 
@@ -27,35 +27,35 @@ use nalgebra::{Rotation3, Vector3};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PushParams {
     /// Standing still before the push (s). Default 1.0.
-    pub settle_s: f64,
+    pub settle_secs: f64,
     /// Run time after the push starts (s). Default 4.0.
-    pub observe_s: f64,
+    pub observe_secs: f64,
     /// Duration of the push: the impulse is applied as a constant force for this long (s);
     /// 0 applies it in one physics step. Default 0.1.
-    pub push_duration_s: f64,
+    pub push_duration_secs: f64,
     /// The tilt from the vertical must stay below this (rad). Default 15 deg.
     pub max_tilt_rad: f64,
     /// At rest from this long after the push on (s). Default 3.0.
-    pub rest_within_s: f64,
+    pub rest_within_secs: f64,
     /// At rest: horizontal ball speed at most this (m/s). Default 0.1.
     pub rest_speed_m_per_s: f64,
     /// At rest: tilt from the vertical at most this (rad). Default 3 deg.
     pub rest_tilt_rad: f64,
     /// Sample period of the returned series (s). Default 0.01.
-    pub sample_every_s: f64,
+    pub sample_every_secs: f64,
 }
 
 impl Default for PushParams {
     fn default() -> Self {
         Self {
-            settle_s: 1.0,
-            observe_s: 4.0,
-            push_duration_s: 0.1,
+            settle_secs: 1.0,
+            observe_secs: 4.0,
+            push_duration_secs: 0.1,
             max_tilt_rad: 15.0_f64.to_radians(),
-            rest_within_s: 3.0,
+            rest_within_secs: 3.0,
             rest_speed_m_per_s: 0.1,
             rest_tilt_rad: 3.0_f64.to_radians(),
-            sample_every_s: 0.01,
+            sample_every_secs: 0.01,
         }
     }
 }
@@ -67,7 +67,7 @@ impl PushParams {
     /// use ballbot_sim::studies::push::PushParams;
     /// assert!(PushParams::default().validate().is_ok());
     /// // The rest window must start before the run ends.
-    /// let late = PushParams { rest_within_s: 5.0, ..PushParams::default() };
+    /// let late = PushParams { rest_within_secs: 5.0, ..PushParams::default() };
     /// assert!(late.validate().is_err());
     /// ```
     pub fn validate(&self) -> Result<(), WorldError> {
@@ -80,17 +80,21 @@ impl PushParams {
         };
         let pos = |v: f64| v.is_finite() && v > 0.0;
         check(
-            self.settle_s.is_finite() && self.settle_s >= 0.0,
-            "settle_s",
+            self.settle_secs.is_finite() && self.settle_secs >= 0.0,
+            "settle_secs",
             "must be finite and >= 0",
         )?;
-        check(pos(self.observe_s), "observe_s", "must be finite and > 0")?;
         check(
-            self.push_duration_s.is_finite()
-                && self.push_duration_s >= 0.0
-                && self.push_duration_s < self.observe_s,
-            "push_duration_s",
-            "must be finite, >= 0 and < observe_s",
+            pos(self.observe_secs),
+            "observe_secs",
+            "must be finite and > 0",
+        )?;
+        check(
+            self.push_duration_secs.is_finite()
+                && self.push_duration_secs >= 0.0
+                && self.push_duration_secs < self.observe_secs,
+            "push_duration_secs",
+            "must be finite, >= 0 and < observe_secs",
         )?;
         check(
             pos(self.max_tilt_rad),
@@ -98,11 +102,11 @@ impl PushParams {
             "must be finite and > 0",
         )?;
         check(
-            self.rest_within_s.is_finite()
-                && self.rest_within_s >= 0.0
-                && self.rest_within_s < self.observe_s,
-            "rest_within_s",
-            "must be finite, >= 0 and < observe_s",
+            self.rest_within_secs.is_finite()
+                && self.rest_within_secs >= 0.0
+                && self.rest_within_secs < self.observe_secs,
+            "rest_within_secs",
+            "must be finite, >= 0 and < observe_secs",
         )?;
         check(
             pos(self.rest_speed_m_per_s),
@@ -115,8 +119,8 @@ impl PushParams {
             "must be finite and > 0",
         )?;
         check(
-            pos(self.sample_every_s),
-            "sample_every_s",
+            pos(self.sample_every_secs),
+            "sample_every_secs",
             "must be finite and > 0",
         )
     }
@@ -151,7 +155,7 @@ impl PushOutcome {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PushSample {
     /// Time since the push (s; negative before it).
-    pub time_s: f64,
+    pub time_secs: f64,
     /// Tilt from the vertical (rad).
     pub tilt_rad: f64,
     /// Horizontal ball speed (m/s).
@@ -177,7 +181,7 @@ pub struct PushTrial {
     pub peak_speed_m_per_s: f64,
     /// Largest horizontal ball speed in the rest window (m/s).
     pub rest_speed_m_per_s: f64,
-    /// Samples every `sample_every_s`.
+    /// Samples every `sample_every_secs`.
     pub samples: Vec<PushSample>,
     /// FNV-1a hash of every step's telemetry (bit-identical runs have equal hashes).
     pub telemetry_hash: u64,
@@ -190,10 +194,10 @@ impl PushTrial {
     }
 }
 
-/// Stands the robot still for `settle_s`, pushes its body's centre of mass with a horizontal
+/// Stands the robot still for `settle_secs`, pushes its body's centre of mass with a horizontal
 /// impulse of `impulse_ns` towards `heading_deg` (body frame at the start of the push) spread
-/// over `push_duration_s`, and watches for `observe_s` (or until
-/// [`AFTER_FAILURE_S`](super::world_braking::AFTER_FAILURE_S) after the world fails: the samples
+/// over `push_duration_secs`, and watches for `observe_secs` (or until
+/// [`AFTER_FAILURE_SECS`](super::world_braking::AFTER_FAILURE_SECS) after the world fails: the samples
 /// show what followed, the peaks and outcome are those at the failure).
 pub fn push_trial(
     world_params: WorldParams,
@@ -222,12 +226,12 @@ pub fn push_trial_observed(
     }
     let mut sim = WorldRobot::new(world_params)?;
     let dt = world_params.dt_secs;
-    let push_step = (params.settle_s / dt).round() as u64;
-    let push_steps = (params.push_duration_s / dt).round().max(1.0) as u64;
+    let push_step = (params.settle_secs / dt).round() as u64;
+    let push_steps = (params.push_duration_secs / dt).round().max(1.0) as u64;
     let mut direction = Vector3::x();
-    let rest_step = push_step + (params.rest_within_s / dt).round() as u64;
-    let end_step = push_step + (params.observe_s / dt).round() as u64;
-    let every = (params.sample_every_s / dt).round().max(1.0) as u64;
+    let rest_step = push_step + (params.rest_within_secs / dt).round() as u64;
+    let end_step = push_step + (params.observe_secs / dt).round() as u64;
+    let every = (params.sample_every_secs / dt).round().max(1.0) as u64;
     let still = Command::Velocity(VelocityCommand::zero());
     let mut trial = PushTrial {
         heading_deg,
@@ -240,7 +244,7 @@ pub fn push_trial_observed(
         telemetry_hash: crate::world::telemetry::FNV_OFFSET_BASIS,
     };
     let mut rest_tilt: f64 = 0.0;
-    let after_failure_steps = (super::world_braking::AFTER_FAILURE_S / dt).round() as u64;
+    let after_failure_steps = (super::world_braking::AFTER_FAILURE_SECS / dt).round() as u64;
     let mut failed_at: Option<u64> = None;
     for k in 0..end_step {
         if k == push_step {
@@ -270,7 +274,7 @@ pub fn push_trial_observed(
         }
         if k % every == 0 {
             trial.samples.push(PushSample {
-                time_s: tel.time_s - push_step as f64 * dt,
+                time_secs: tel.time_secs - push_step as f64 * dt,
                 tilt_rad: tilt,
                 speed_m_per_s: speed,
                 ball_velocity_m_per_s: [v.x, v.y],

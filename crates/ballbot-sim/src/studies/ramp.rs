@@ -15,7 +15,7 @@ use nalgebra::Vector3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RampSample {
     /// Time (s).
-    pub time_s: f64,
+    pub time_secs: f64,
     /// Commanded speed along the heading (m/s): the ramp given to the controller.
     pub command_m_per_s: f64,
     /// The command after the core's shaper (speed, acceleration and jerk limits) along the
@@ -45,8 +45,8 @@ pub struct RampResult {
     /// When the controller's safety supervisor left balancing (e.g. a controlled stop at a
     /// wheel's speed limit) (s); `None` if it balanced to the end. A failure after it is the
     /// stop's, not the ramp's.
-    pub supervisor_stop_s: Option<f64>,
-    /// Samples every `sample_every_s`.
+    pub supervisor_stop_secs: Option<f64>,
+    /// Samples every `sample_every_secs`.
     pub samples: Vec<RampSample>,
 }
 
@@ -58,9 +58,9 @@ pub struct RampParams {
     /// The ramp stops rising at this speed (m/s). Default 3.5.
     pub max_command_m_per_s: f64,
     /// Hold time before the ramp starts (s). Default 0.5.
-    pub settle_s: f64,
+    pub settle_secs: f64,
     /// Sample period of the returned series (s). Default 0.01.
-    pub sample_every_s: f64,
+    pub sample_every_secs: f64,
 }
 
 impl Default for RampParams {
@@ -68,8 +68,8 @@ impl Default for RampParams {
         Self {
             accel_m_per_s2: 0.25,
             max_command_m_per_s: 3.5,
-            settle_s: 0.5,
-            sample_every_s: 0.01,
+            settle_secs: 0.5,
+            sample_every_secs: 0.01,
         }
     }
 }
@@ -110,7 +110,10 @@ pub fn max_speed_ramp_observed(
     ramp: &RampParams,
     observe: &mut dyn FnMut(&WorldRobot, &VelocityCommand<f64>),
 ) -> Result<RampResult, WorldError> {
-    if !(ramp.accel_m_per_s2 > 0.0 && ramp.max_command_m_per_s > 0.0 && ramp.sample_every_s > 0.0) {
+    if !(ramp.accel_m_per_s2 > 0.0
+        && ramp.max_command_m_per_s > 0.0
+        && ramp.sample_every_secs > 0.0)
+    {
         return Err(WorldError::InvalidParameter {
             field: "ramp",
             requirement: "accel, top speed and sample period must be > 0",
@@ -120,16 +123,17 @@ pub fn max_speed_ramp_observed(
     let (s, c) = heading_deg.to_radians().sin_cos();
     let dir = Vector3::new(c, s, 0.0);
     let dt = params.dt_secs;
-    let ramp_s = ramp.max_command_m_per_s / ramp.accel_m_per_s2;
-    let end_s = ramp.settle_s + ramp_s + 1.0;
-    let steps = (end_s / dt).ceil() as u64;
-    let every = (ramp.sample_every_s / dt).round().max(1.0) as u64;
+    let ramp_secs = ramp.max_command_m_per_s / ramp.accel_m_per_s2;
+    let end_secs = ramp.settle_secs + ramp_secs + 1.0;
+    let steps = (end_secs / dt).ceil() as u64;
+    let every = (ramp.sample_every_secs / dt).round().max(1.0) as u64;
     let mut samples = Vec::with_capacity((steps / every + 1) as usize);
     let mut max_speed: f64 = 0.0;
-    let mut supervisor_stop_s = None;
+    let mut supervisor_stop_secs = None;
     for k in 0..steps {
         let t = k as f64 * dt;
-        let v = ((t - ramp.settle_s).max(0.0) * ramp.accel_m_per_s2).min(ramp.max_command_m_per_s);
+        let v =
+            ((t - ramp.settle_secs).max(0.0) * ramp.accel_m_per_s2).min(ramp.max_command_m_per_s);
         let cmd = VelocityCommand {
             vx_m_per_s: v * c,
             vy_m_per_s: v * s,
@@ -137,8 +141,10 @@ pub fn max_speed_ramp_observed(
         };
         let tel = *sim.step(Command::Velocity(cmd));
         observe(&sim, &cmd);
-        if supervisor_stop_s.is_none() && matches!(sim.mode(), Mode::ControlledStop | Mode::Fault) {
-            supervisor_stop_s = Some(tel.time_s);
+        if supervisor_stop_secs.is_none()
+            && matches!(sim.mode(), Mode::ControlledStop | Mode::Fault)
+        {
+            supervisor_stop_secs = Some(tel.time_secs);
         }
         // Ball velocity expressed in the body's yaw frame, along the heading.
         let (_, _, yaw) = tel.body_orientation.euler_angles();
@@ -159,7 +165,7 @@ pub fn max_speed_ramp_observed(
             });
             samples.push(RampSample {
                 shaped_command_m_per_s: shaped,
-                time_s: tel.time_s,
+                time_secs: tel.time_secs,
                 command_m_per_s: v,
                 speed_m_per_s: speed,
                 tilt_rad: tilt_from_vertical_rad(&tel),
@@ -177,7 +183,7 @@ pub fn max_speed_ramp_observed(
         heading_deg,
         max_speed_m_per_s: max_speed,
         failure: sim.world().failure(),
-        supervisor_stop_s,
+        supervisor_stop_secs,
         samples,
     })
 }

@@ -119,10 +119,10 @@ pub fn log_slow_ramp(
         &what,
         |log| {
             let observe = &mut |sim: &WorldRobot, cmd: &VelocityCommand<f64>| {
-                let time_s = sim.world().time_s();
+                let time_secs = sim.world().time_secs();
                 log.record(|l| {
                     l.record_robot(sim)?;
-                    l.record_command(time_s, cmd)
+                    l.record_command(time_secs, cmd)
                 });
             };
             Ok(max_speed_ramp_observed(
@@ -150,7 +150,7 @@ pub fn log_braking(
     let Some(plan) = &run.plan else {
         return Ok(());
     };
-    let what = format!("braking run at T = {} s", run.duration_s);
+    let what = format!("braking run at T = {} s", run.duration_secs);
     let mut braking = false;
     replay_and_check(
         path,
@@ -159,20 +159,20 @@ pub fn log_braking(
         &what,
         |log| {
             let observe = &mut |sim: &WorldRobot, cmd: Option<&VelocityCommand<f64>>| {
-                let time_s = sim.world().time_s();
+                let time_secs = sim.world().time_secs();
                 log.record(|l| {
                     l.record_robot(sim)?;
                     if let Some(v) = cmd {
-                        l.record_command(time_s, v)?;
+                        l.record_command(time_secs, v)?;
                     }
                     if !braking && cmd.is_none() {
                         braking = true;
                         let what = format!(
                             "optimal braking from {:.2} m/s to rest in {:.3} s at {:.0} deg",
-                            params.cruise_speed_m_per_s, run.duration_s, run.heading_deg
+                            params.cruise_speed_m_per_s, run.duration_secs, run.heading_deg
                         );
                         let tilt = tilt_from_vertical_rad(sim.world().telemetry());
-                        l.record_event(time_s, "brake", &what, tilt)?;
+                        l.record_event(time_secs, "brake", &what, tilt)?;
                     }
                     Ok(())
                 });
@@ -203,17 +203,17 @@ pub fn log_push(
         &what,
         |log| {
             let observe = &mut |sim: &WorldRobot| {
-                let time_s = sim.world().time_s();
+                let time_secs = sim.world().time_secs();
                 log.record(|l| {
                     l.record_robot(sim)?;
-                    if !pushed && time_s >= params.settle_s {
+                    if !pushed && time_secs >= params.settle_secs {
                         pushed = true;
                         let what = format!(
                             "push {:.2} N s at the body's COM towards {:.0} deg over {} s",
-                            trial.impulse_ns, trial.heading_deg, params.push_duration_s
+                            trial.impulse_ns, trial.heading_deg, params.push_duration_secs
                         );
                         let tilt = tilt_from_vertical_rad(sim.world().telemetry());
-                        l.record_event(time_s, "push", &what, tilt)?;
+                        l.record_event(time_secs, "push", &what, tilt)?;
                     }
                     Ok(())
                 });

@@ -1,5 +1,5 @@
 //! One run of the 3D world with the core's controller in the loop, written to an MCAP log
-//! ([`WorldLogger`]): a velocity ramp towards a heading after a [`SETTLE_S`] hold, optionally a
+//! ([`WorldLogger`]): a velocity ramp towards a heading after a [`SETTLE_SECS`] hold, optionally a
 //! push of the body; reduced to a [`WorldOutcome`]. What `ballbot world` runs.
 
 use crate::log::LogError;
@@ -13,7 +13,7 @@ use nalgebra::{Rotation3, Vector3};
 use std::path::{Path, PathBuf};
 
 /// Hold before the ramp starts (s).
-pub const SETTLE_S: f64 = 0.5;
+pub const SETTLE_SECS: f64 = 0.5;
 
 /// The command and the push of a run (checked by the caller: finite, ramp acceleration > 0,
 /// the rest >= 0).
@@ -26,15 +26,15 @@ pub struct WorldRunSettings {
     /// Top commanded speed (m/s); the ramp holds it.
     pub top_speed_m_per_s: f64,
     /// Simulated time (s).
-    pub duration_s: f64,
+    pub duration_secs: f64,
     /// Horizontal impulse applied to the body at its centre of mass (N s); 0: no push.
     pub push_ns: f64,
     /// When the push is applied (s).
-    pub push_at_s: f64,
+    pub push_at_secs: f64,
     /// Direction of the push in the body frame (deg).
     pub push_heading_deg: f64,
     /// Simulated time kept running after a failure (s).
-    pub after_failure_s: f64,
+    pub after_failure_secs: f64,
 }
 
 /// What can go wrong in a logged world run.
@@ -70,7 +70,7 @@ pub struct WorldOutcome {
     /// The wheel concerned by the failure, 1-based (OW1 is 1), if any.
     pub failure_wheel: Option<usize>,
     /// When the failure was detected (s).
-    pub failure_time_s: Option<f64>,
+    pub failure_time_secs: Option<f64>,
     /// Highest ball speed along the heading before any failure (m/s).
     pub max_speed_m_per_s: f64,
     /// Highest friction-cone utilisation of any wheel before any failure.
@@ -82,7 +82,7 @@ pub struct WorldOutcome {
     /// Largest tilt from the vertical before any failure (deg).
     pub max_tilt_deg: f64,
     /// Simulated time reached (s).
-    pub end_time_s: f64,
+    pub end_time_secs: f64,
     /// The MCAP log.
     pub log: String,
     /// Size of the log (bytes).
@@ -114,34 +114,34 @@ pub fn run_logged_world(
     let dt = params.dt_secs;
     let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
     let heading = Vector3::new(cos_h, sin_h, 0.0);
-    let steps = (args.duration_s / dt).ceil() as u64;
+    let steps = (args.duration_secs / dt).ceil() as u64;
     let mut pushed = args.push_ns <= 0.0;
     let mut failure: Option<Failure> = None;
     let mut outcome = WorldOutcome {
         failure: None,
         failure_wheel: None,
-        failure_time_s: None,
+        failure_time_secs: None,
         max_speed_m_per_s: 0.0,
         peak_cone_utilisation: 0.0,
         peak_cone_wheel: 1,
         min_normal_force_n: f64::INFINITY,
         max_tilt_deg: 0.0,
-        end_time_s: 0.0,
+        end_time_secs: 0.0,
         log: out.display().to_string(),
         log_bytes: 0,
     };
     for k in 0..steps {
         let t = k as f64 * dt;
-        if failure.is_some_and(|f| t > f.time_s + args.after_failure_s) {
+        if failure.is_some_and(|f| t > f.time_secs + args.after_failure_secs) {
             break;
         }
-        let v = ((t - SETTLE_S).max(0.0) * args.accel_m_per_s2).min(args.top_speed_m_per_s);
+        let v = ((t - SETTLE_SECS).max(0.0) * args.accel_m_per_s2).min(args.top_speed_m_per_s);
         let command = VelocityCommand {
             vx_m_per_s: v * cos_h,
             vy_m_per_s: v * sin_h,
             yaw_rate_rad_per_s: 0.0,
         };
-        if !pushed && t + 0.5 * dt >= args.push_at_s {
+        if !pushed && t + 0.5 * dt >= args.push_at_secs {
             pushed = true;
             let telemetry = sim.world().telemetry();
             let (_, _, yaw) = telemetry.body_orientation.euler_angles();
@@ -167,7 +167,7 @@ pub fn run_logged_world(
         log.record_command(t, &command).map_err(log_error)?;
         let telemetry = *sim.step(Command::Velocity(command));
         log.record_robot(&sim).map_err(log_error)?;
-        outcome.end_time_s = telemetry.time_s;
+        outcome.end_time_secs = telemetry.time_secs;
         if failure.is_none() {
             failure = sim.world().failure();
         }
@@ -194,7 +194,7 @@ pub fn run_logged_world(
     if let Some(f) = failure {
         outcome.failure = Some(f.kind.as_str().to_owned());
         outcome.failure_wheel = f.kind.wheel().map(|w| w + 1);
-        outcome.failure_time_s = Some(f.time_s);
+        outcome.failure_time_secs = Some(f.time_secs);
     }
     outcome.log_bytes = std::fs::metadata(out)
         .map_err(|source| WorldRunError::Io {

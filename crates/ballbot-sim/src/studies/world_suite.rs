@@ -20,7 +20,7 @@ use crate::trajopt::{MinTimeOptions, SolveOptions, min_braking_time};
 use crate::world::WorldParams;
 
 /// The paper's minimum braking time from 1.4 m/s at 180 deg (s).
-pub const PAPER_MIN_BRAKING_TIME_S: f64 = 2.0;
+pub const PAPER_MIN_BRAKING_TIME_SECS: f64 = 2.0;
 
 /// Sensor-noise seed of every world run of the suite.
 pub const SEED: u64 = 6;
@@ -44,7 +44,7 @@ pub enum SuiteJob {
         /// The bisection's range and resolution.
         search: PushSearch,
         /// The push's duration (s); 0: one physics step.
-        duration_s: f64,
+        duration_secs: f64,
     },
 }
 
@@ -60,7 +60,7 @@ pub struct WorldSuiteSettings {
     /// Headings of the planar model's minimum braking time (deg).
     pub planar_headings_deg: Vec<f64>,
     /// Resolution of that minimum braking time (s).
-    pub planar_resolution_s: f64,
+    pub planar_resolution_secs: f64,
 }
 
 impl WorldSuiteSettings {
@@ -68,7 +68,7 @@ impl WorldSuiteSettings {
     pub fn quick() -> Self {
         let braking = BrakingParams {
             approach_accel_m_per_s2: 1.0,
-            cruise_s: 1.5,
+            cruise_secs: 1.5,
             ..BrakingParams::default()
         };
         Self {
@@ -79,8 +79,8 @@ impl WorldSuiteSettings {
                     heading_deg: 180.0,
                     feedforward: TrajectoryFeedforward::Full,
                     study: BrakingStudyParams {
-                        durations_s: vec![5.0, 3.0, 2.0],
-                        bisection_resolution_s: None,
+                        durations_secs: vec![5.0, 3.0, 2.0],
+                        bisection_resolution_secs: None,
                     },
                 },
                 SuiteJob::Push {
@@ -89,11 +89,11 @@ impl WorldSuiteSettings {
                         upper_ns: 96.0,
                         resolution_ns: 12.0,
                     },
-                    duration_s: PushParams::default().push_duration_s,
+                    duration_secs: PushParams::default().push_duration_secs,
                 },
             ],
             planar_headings_deg: vec![180.0],
-            planar_resolution_s: 0.05,
+            planar_resolution_secs: 0.05,
         }
     }
 
@@ -103,19 +103,19 @@ impl WorldSuiteSettings {
             heading_deg,
             feedforward,
             study: BrakingStudyParams {
-                bisection_resolution_s: bisect.then_some(0.05),
+                bisection_resolution_secs: bisect.then_some(0.05),
                 ..BrakingStudyParams::paper()
             },
         };
-        let push = |heading_deg, duration_s| SuiteJob::Push {
+        let push = |heading_deg, duration_secs| SuiteJob::Push {
             heading_deg,
             search: PushSearch {
                 upper_ns: 200.0,
                 resolution_ns: 0.5,
             },
-            duration_s,
+            duration_secs,
         };
-        let shove = PushParams::default().push_duration_s;
+        let shove = PushParams::default().push_duration_secs;
         Self {
             braking: BrakingParams::default(),
             push: PushParams::default(),
@@ -133,7 +133,7 @@ impl WorldSuiteSettings {
                 push(180.0, 0.0),
             ],
             planar_headings_deg: vec![180.0, 0.0, 90.0],
-            planar_resolution_s: 0.01,
+            planar_resolution_secs: 0.01,
         }
     }
 
@@ -144,8 +144,8 @@ impl WorldSuiteSettings {
             .iter()
             .map(|j| match j {
                 SuiteJob::Braking { study, .. } => {
-                    study.durations_s.len().min(8) as u64
-                        + if study.bisection_resolution_s.is_some() {
+                    study.durations_secs.len().min(8) as u64
+                        + if study.bisection_resolution_secs.is_some() {
                             4
                         } else {
                             0
@@ -179,7 +179,7 @@ pub struct WorldSuite {
     pub impulsive: Vec<PushRecovery>,
     /// The planar model's minimum braking time per heading: `(heading_deg, T_s)`, `None` if
     /// none was found in the searched range.
-    pub planar_min_braking_time_s: Vec<(f64, Option<f64>)>,
+    pub planar_min_braking_time_secs: Vec<(f64, Option<f64>)>,
 }
 
 impl WorldSuite {
@@ -190,7 +190,7 @@ impl WorldSuite {
 
     /// The planar model's minimum braking time at `heading_deg` (s), if computed and found.
     pub fn planar_at(&self, heading_deg: f64) -> Option<f64> {
-        self.planar_min_braking_time_s
+        self.planar_min_braking_time_secs
             .iter()
             .find(|(h, _)| format!("{h:.0}") == format!("{heading_deg:.0}"))
             .and_then(|(_, t)| *t)
@@ -222,7 +222,7 @@ fn run_job(
                 progress(&format!(
                     "brake {:.0} deg T {:.2} s: {}",
                     run.heading_deg,
-                    run.duration_s,
+                    run.duration_secs,
                     run.outcome.label()
                 ));
             })?;
@@ -231,10 +231,10 @@ fn run_job(
         SuiteJob::Push {
             heading_deg,
             search,
-            duration_s,
+            duration_secs,
         } => {
             let params = PushParams {
-                push_duration_s: *duration_s,
+                push_duration_secs: *duration_secs,
                 ..s.push
             };
             let result = push_recovery_limit(world, &params, search, *heading_deg, &mut |t| {
@@ -245,7 +245,7 @@ fn run_job(
                     t.outcome.label()
                 ));
             })?;
-            Ok(JobResult::Push(result, *duration_s))
+            Ok(JobResult::Push(result, *duration_secs))
         }
     }
 }
@@ -266,14 +266,14 @@ pub fn run_world_suite(
     for &h in &s.planar_headings_deg {
         let problem = braking_problem(&world.robot, &s.braking, h, 2.0);
         let search = MinTimeOptions {
-            resolution_secs: s.planar_resolution_s,
+            resolution_secs: s.planar_resolution_secs,
             ..MinTimeOptions::default()
         };
         let r = min_braking_time(&problem, &SolveOptions::default(), &search)?;
         planar.push((h, r.min_duration_secs));
     }
 
-    let shove_s = s.push.push_duration_s;
+    let shove_secs = s.push.push_duration_secs;
     let mut suite = WorldSuite {
         settings: s.clone(),
         world,
@@ -281,13 +281,13 @@ pub fn run_world_suite(
         ablation: None,
         pushes: Vec::new(),
         impulsive: Vec::new(),
-        planar_min_braking_time_s: planar,
+        planar_min_braking_time_secs: planar,
     };
     for r in results {
         match r {
             JobResult::Braking(study, TrajectoryFeedforward::Full) => suite.braking.push(study),
             JobResult::Braking(study, TrajectoryFeedforward::Core) => suite.ablation = Some(study),
-            JobResult::Push(p, d) if d == shove_s => suite.pushes.push(p),
+            JobResult::Push(p, d) if d == shove_secs => suite.pushes.push(p),
             JobResult::Push(p, _) => suite.impulsive.push(p),
         }
     }

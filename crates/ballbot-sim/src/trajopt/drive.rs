@@ -81,7 +81,7 @@ pub(crate) struct Contacts {
     /// `kappa`: omniwheel torque per planar torque.
     kappa: Vector3<f64>,
     /// Roller-ball friction coefficient.
-    pub friction: f64,
+    pub wheel_ball_friction: f64,
 }
 
 /// All actuators of a drive.
@@ -129,7 +129,7 @@ impl DriveMap {
                         kin,
                         heading_rad,
                         kappa,
-                        friction: params.wheel_ball_friction,
+                        wheel_ball_friction: params.wheel_ball_friction,
                     }),
                 })
             }

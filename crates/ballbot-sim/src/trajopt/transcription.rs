@@ -449,7 +449,7 @@ impl Transcription {
                 .as_ref()
                 .and_then(|d| d.contacts.as_ref().map(|c| (d, c)))
         {
-            let mu = c.friction;
+            let mu = c.wheel_ball_friction;
             for k in 0..=n {
                 let f = c.forces(&self.wip, &self.knot_state(z, k), z[self.torque(k)]);
                 let cols = self.knot_columns(k);

@@ -13,12 +13,12 @@ pub enum FailureKind {
     },
     /// A corner of the chassis reached the floor.
     BodyTouchedFloor,
-    /// A wheel slipped for longer than `max_slip_duration_s`.
+    /// A wheel slipped for longer than `max_slip_duration_secs`.
     SustainedSlip {
         /// Wheel index, 0-based (OW1 is 0).
         wheel: usize,
     },
-    /// A wheel lost contact for longer than `max_lift_off_duration_s`.
+    /// A wheel lost contact for longer than `max_lift_off_duration_secs`.
     LiftOff {
         /// Wheel index, 0-based.
         wheel: usize,
@@ -31,7 +31,7 @@ pub struct Failure {
     /// What failed.
     pub kind: FailureKind,
     /// Simulated time of detection (s).
-    pub time_s: f64,
+    pub time_secs: f64,
 }
 
 /// The paper's name of omniwheel `index` (0-based): `OW1`, `OW2`, `OW3`. The one form in which
@@ -142,23 +142,23 @@ fn kind_entries<M: serde::ser::SerializeMap>(
 ///
 /// ```
 /// use ballbot_sim::world::{Failure, FailureKind};
-/// let f = Failure { kind: FailureKind::LiftOff { wheel: 0 }, time_s: 6.0861 };
+/// let f = Failure { kind: FailureKind::LiftOff { wheel: 0 }, time_secs: 6.0861 };
 /// assert_eq!(f.to_string(), "lift-off OW1 at 6.086 s");
 /// ```
 impl core::fmt::Display for Failure {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "{} at {:.3} s", self.kind, self.time_s)
+        write!(f, "{} at {:.3} s", self.kind, self.time_secs)
     }
 }
 
-/// The kind's fields and `time_s` in one JSON object:
-/// `{"kind": "lift_off", "wheel": "OW1", "time_s": 6.086}`.
+/// The kind's fields and `time_secs` in one JSON object:
+/// `{"kind": "lift_off", "wheel": "OW1", "time_secs": 6.086}`.
 impl serde::Serialize for Failure {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
         let mut map = serializer.serialize_map(None)?;
         kind_entries(&mut map, &self.kind)?;
-        map.serialize_entry("time_s", &self.time_s)?;
+        map.serialize_entry("time_secs", &self.time_secs)?;
         map.end()
     }
 }
@@ -231,16 +231,16 @@ impl FailureMonitor {
             } else {
                 0.0
             };
-            if kind.is_none() && self.slip_secs[i] > p.max_slip_duration_s {
+            if kind.is_none() && self.slip_secs[i] > p.max_slip_duration_secs {
                 kind = Some(FailureKind::SustainedSlip { wheel: i });
             }
-            if kind.is_none() && self.lift_off_secs[i] > p.max_lift_off_duration_s {
+            if kind.is_none() && self.lift_off_secs[i] > p.max_lift_off_duration_secs {
                 kind = Some(FailureKind::LiftOff { wheel: i });
             }
         }
         self.first = kind.map(|kind| Failure {
             kind,
-            time_s: t.time_s,
+            time_secs: t.time_secs,
         });
         self.first
     }

@@ -74,11 +74,11 @@ pub struct FailureParams {
     /// A wheel slipping faster than this counts as slipping (m/s). Default 0.05.
     pub slip_speed_threshold_m_per_s: f64,
     /// Slip of any wheel lasting longer than this is a failure (s). Default 0.1.
-    pub max_slip_duration_s: f64,
+    pub max_slip_duration_secs: f64,
     /// Normal force below which a wheel has lifted off (N). Default 1.
     pub lift_off_force_n: f64,
     /// Lift-off lasting longer than this is a failure (s). Default 0.02.
-    pub max_lift_off_duration_s: f64,
+    pub max_lift_off_duration_secs: f64,
 }
 
 impl Default for FailureParams {
@@ -86,9 +86,9 @@ impl Default for FailureParams {
         Self {
             max_tilt_rad: 25.0_f64.to_radians(),
             slip_speed_threshold_m_per_s: 0.05,
-            max_slip_duration_s: 0.1,
+            max_slip_duration_secs: 0.1,
             lift_off_force_n: 1.0,
-            max_lift_off_duration_s: 0.02,
+            max_lift_off_duration_secs: 0.02,
         }
     }
 }

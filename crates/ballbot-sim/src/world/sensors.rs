@@ -12,7 +12,7 @@ use rand_distr::{Distribution, StandardNormal};
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Measurement {
     /// Time of the sample (s).
-    pub time_s: f64,
+    pub time_secs: f64,
     /// IMU tilt `[roll, pitch]` (rad), ZYX Euler angles of the body (as the core's
     /// `ImuSample`): rotation about the body x and y axes, right-handed (pitch > 0 leans
     /// towards +x, OW1).
@@ -108,7 +108,7 @@ impl Sensors {
         let (roll, pitch, yaw) = truth.body_orientation.euler_angles();
         let rate = truth.body_rate_rad_per_s;
         Measurement {
-            time_s: truth.time_s,
+            time_secs: truth.time_secs,
             tilt_rad: [roll + self.noise(tilt), pitch + self.noise(tilt)],
             yaw_rad: yaw + self.noise(tilt),
             body_rate_rad_per_s: [

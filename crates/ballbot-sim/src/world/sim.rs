@@ -182,7 +182,7 @@ impl BallbotWorld {
             wheels: [WheelState::default(); 3],
             motor_cmd_nm: [0.0; 3],
             telemetry: StepTelemetry {
-                time_s: 0.0,
+                time_secs: 0.0,
                 wheels: [WheelTelemetry::default(); 3],
                 ball_position_m: Vector3::zeros(),
                 ball_orientation: UnitQuaternion::identity(),
@@ -215,8 +215,8 @@ impl BallbotWorld {
     }
 
     /// Simulated time (s).
-    pub fn time_s(&self) -> f64 {
-        self.telemetry.time_s
+    pub fn time_secs(&self) -> f64 {
+        self.telemetry.time_secs
     }
 
     /// The telemetry of the last step (at construction: the initial poses).
@@ -331,7 +331,7 @@ impl BallbotWorld {
     /// Errors (the world unchanged): [`WorldError::InvalidParameter`] naming
     /// `robot.drivetrain.wheel_ball_friction` unless the value is finite and >= 0 (0 is the
     /// frictionless test rig; construction asks for > 0).
-    pub fn set_wheel_friction(&mut self, friction: f64) -> Result<(), WorldError> {
+    pub fn set_wheel_ball_friction(&mut self, friction: f64) -> Result<(), WorldError> {
         non_negative(friction, "robot.drivetrain.wheel_ball_friction")?;
         self.params.robot.drivetrain.wheel_ball_friction = friction;
         self.law.static_friction = friction;
@@ -537,9 +537,9 @@ impl BallbotWorld {
         let r = self.params.robot.ball_radius_m();
         let roll_max = self.params.rolling_resistance * floor_n * r;
         let w_h_len = w_h.length();
-        const ROLL_EPS_RAD_PER_S: f64 = 0.05;
+        const ROLL_EPS_RAD_PER_SECS: f64 = 0.05;
         if w_h_len > 0.0 {
-            ball_torque -= w_h * (roll_max / w_h_len.max(ROLL_EPS_RAD_PER_S));
+            ball_torque -= w_h * (roll_max / w_h_len.max(ROLL_EPS_RAD_PER_SECS));
         }
         let spin_max = self.params.spin_friction_m * floor_n;
         let spin = (self.spin_friction_gain_nm_s * w_ball.z).clamp(-spin_max, spin_max);
@@ -565,7 +565,7 @@ impl BallbotWorld {
             .narrow_phase
             .contact_pair(self.floor_collider, self.ball_collider)
             .map_or(0.0, |pair| pair.total_impulse().z.abs());
-        self.telemetry.time_s += dt;
+        self.telemetry.time_secs += dt;
         self.telemetry.wheels = wheel_tel;
         self.telemetry.floor_force_n = floor_impulse / dt;
         self.sensors.record_encoders(wheel_tel.map(|w| w.angle_rad));

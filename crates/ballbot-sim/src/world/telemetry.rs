@@ -36,7 +36,7 @@ pub struct WheelTelemetry {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct StepTelemetry {
     /// Simulated time at the end of the step (s).
-    pub time_s: f64,
+    pub time_secs: f64,
     /// The omniwheels OW1, OW2, OW3 ([`super::wheel_name`]).
     pub wheels: [WheelTelemetry; 3],
     /// Ball centre `[x, y, z]` (m).
@@ -78,7 +78,7 @@ impl StepTelemetry {
     /// telemetry (the determinism check).
     pub fn hash_into(&self, hash: &mut u64) {
         let mut eat = |x: f64| fnv1a(hash, x.to_bits());
-        eat(self.time_s);
+        eat(self.time_secs);
         for w in &self.wheels {
             eat(w.normal_force_n);
             eat(w.traction_n);

@@ -149,28 +149,28 @@ impl WorldLogger {
         let every = u64::from(self.options.telemetry_every_steps);
         if self.records.is_multiple_of(every) {
             let msg = WorldTelemetryMsg::new(t, failure.is_some());
-            self.log.write(&self.telemetry, t.time_s, &msg)?;
+            self.log.write(&self.telemetry, t.time_secs, &msg)?;
         }
         self.records += 1;
-        if self.transform_grid.due(t.time_s) {
+        if self.transform_grid.due(t.time_secs) {
             let frames = self.scene.frames(t);
-            self.log.write(&self.transforms, t.time_s, &frames)?;
+            self.log.write(&self.transforms, t.time_secs, &frames)?;
         }
-        if self.scene_grid.due(t.time_s) {
+        if self.scene_grid.due(t.time_secs) {
             let update = self.scene.scene(t);
-            self.log.write(&self.scene_channel, t.time_s, &update)?;
+            self.log.write(&self.scene_channel, t.time_secs, &update)?;
         }
         if let (Some(f), false) = (failure, self.failure_logged) {
             self.failure_logged = true;
             let msg = WorldEventMsg::failure(&f, tilt_from_vertical_rad(t));
-            self.log.write(&self.events, f.time_s.max(0.0), &msg)?;
+            self.log.write(&self.events, f.time_secs.max(0.0), &msg)?;
         }
         Ok(())
     }
 
     fn record_outer(&mut self, t: &StepTelemetry, out: &OuterOutput<f64>) -> Result<(), LogError> {
         // The physics step that has just ended started at `steps_done - 1`.
-        let steps_done = (t.time_s / self.dt_secs).round();
+        let steps_done = (t.time_secs / self.dt_secs).round();
         if steps_done.is_nan() || steps_done < 1.0 {
             return Ok(());
         }
@@ -179,9 +179,12 @@ impl WorldLogger {
             return Ok(());
         }
         self.last_outer_index = Some(outer_index);
-        let computed_s = (outer_index * self.steps_per_outer) as f64 * self.dt_secs;
-        self.log
-            .write(&self.controller, computed_s, &WorldControllerMsg::from(out))?;
+        let computed_secs = (outer_index * self.steps_per_outer) as f64 * self.dt_secs;
+        self.log.write(
+            &self.controller,
+            computed_secs,
+            &WorldControllerMsg::from(out),
+        )?;
         let mode = out.safety.mode;
         if self.last_mode != Some(mode) {
             self.last_mode = Some(mode);
@@ -191,21 +194,21 @@ impl WorldLogger {
                 wheel: None,
                 tilt_rad: tilt_from_vertical_rad(t),
             };
-            self.log.write(&self.events, computed_s, &msg)?;
+            self.log.write(&self.events, computed_secs, &msg)?;
         }
         Ok(())
     }
 
-    /// Records the velocity command in force at `time_s`, at most once per
+    /// Records the velocity command in force at `time_secs`, at most once per
     /// `controller_interval_secs` (call it every step; repeated calls in between are skipped).
     pub fn record_command(
         &mut self,
-        time_s: f64,
+        time_secs: f64,
         command: &VelocityCommand<f64>,
     ) -> Result<(), LogError> {
-        if self.command_grid.due(time_s) {
+        if self.command_grid.due(time_secs) {
             self.log
-                .write(&self.command, time_s, &WorldCommandMsg::from(command))?;
+                .write(&self.command, time_secs, &WorldCommandMsg::from(command))?;
         }
         Ok(())
     }
@@ -214,7 +217,7 @@ impl WorldLogger {
     /// description of the impulse; `tilt_rad` is the tilt from the vertical at the event.
     pub fn record_event(
         &mut self,
-        time_s: f64,
+        time_secs: f64,
         kind: &str,
         description: &str,
         tilt_rad: f64,
@@ -225,7 +228,7 @@ impl WorldLogger {
             wheel: None,
             tilt_rad,
         };
-        self.log.write(&self.events, time_s, &msg)
+        self.log.write(&self.events, time_secs, &msg)
     }
 
     /// The channels registered, with the number of messages written to each so far.

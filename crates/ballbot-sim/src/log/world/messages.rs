@@ -17,7 +17,7 @@ use crate::world::telemetry::StepTelemetry;
 /// schema is the telemetry type's own), followed by quantities derived from it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct WorldTelemetryMsg {
-    /// The step's telemetry; `time_s` equals the log time.
+    /// The step's telemetry; `time_secs` equals the log time.
     #[serde(flatten)]
     pub step: StepTelemetry,
     /// Horizontal ball speed `|(v_x, v_y)|` (m/s).

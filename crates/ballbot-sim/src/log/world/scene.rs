@@ -50,7 +50,7 @@ impl WorldScene {
             Isometry3::from_parts(Translation3::from(t.body_position_m), t.body_orientation);
         let mut frames = self
             .robot
-            .frames(t.time_s, &world_from_ball, &world_from_body);
+            .frames(t.time_secs, &world_from_ball, &world_from_body);
         for ((name, body_from_wheel), wheel) in self
             .wheel_frames
             .iter()
@@ -60,7 +60,7 @@ impl WorldScene {
             let spin = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), wheel.angle_rad);
             let body_from_spinning_wheel = body_from_wheel * spin;
             frames.transforms.push(FrameTransform::new(
-                t.time_s,
+                t.time_secs,
                 &self.robot.body_frame,
                 name,
                 &body_from_spinning_wheel,
@@ -72,7 +72,7 @@ impl WorldScene {
     /// The entities of one step: `floor`, `ball`, `body`, `ow1`..`ow3`, `contact_forces` and
     /// `labels` (the wheel names).
     pub fn scene(&self, t: &StepTelemetry) -> SceneUpdate {
-        let time_secs = t.time_s;
+        let time_secs = t.time_secs;
         let mut update = self.robot.scene(time_secs);
         // The robot's own wheels are drawn in the spinning wheel frames instead.
         update.entities.retain(|e| e.id != "wheels");

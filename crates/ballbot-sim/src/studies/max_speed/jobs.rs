@@ -90,7 +90,7 @@ pub(super) fn jobs(params: &WorldParams, settings: &MaxSpeedStudySettings) -> Ve
 /// runs, not repeated).
 fn sensitivity_variants(settings: &MaxSpeedStudySettings) -> Vec<Variant> {
     let mut v: Vec<Variant> = settings
-        .sensitivity_mu
+        .sensitivity_wheel_ball_friction
         .iter()
         .map(|&mu| Variant::WheelBallFriction(mu))
         .collect();

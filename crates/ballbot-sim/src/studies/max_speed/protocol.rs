@@ -105,8 +105,8 @@ impl Default for MaxSpeedProtocol {
             slow_ramp: RampParams {
                 accel_m_per_s2: 0.25,
                 max_command_m_per_s: 6.0,
-                settle_s: 0.5,
-                sample_every_s: 0.01,
+                settle_secs: 0.5,
+                sample_every_secs: 0.01,
             },
             fast_top_m_per_s: 3.0,
             accel_bracket_m_per_s2: [0.5, 3.0],
@@ -132,7 +132,7 @@ pub struct MaxSpeedStudySettings {
     /// Headings of the sensitivity study (deg). Default 0 and 180.
     pub sensitivity_headings_deg: Vec<f64>,
     /// Roller-ball friction coefficients of the sensitivity study. Default 0.4, 0.6, 0.8.
-    pub sensitivity_mu: Vec<f64>,
+    pub sensitivity_wheel_ball_friction: Vec<f64>,
     /// COM heights of the sensitivity study (m). Default 0.4, 0.5, 0.7.
     pub sensitivity_com_height_m: Vec<f64>,
     /// Worker threads; 0 uses every available core. Default 0.
@@ -148,7 +148,7 @@ impl MaxSpeedStudySettings {
             seeds: vec![1, 2, 3],
             map_headings_deg: (0..24).map(|i| f64::from(i) * 15.0).collect(),
             sensitivity_headings_deg: vec![0.0, 180.0],
-            sensitivity_mu: vec![0.4, 0.6, 0.8],
+            sensitivity_wheel_ball_friction: vec![0.4, 0.6, 0.8],
             sensitivity_com_height_m: vec![0.4, 0.5, 0.7],
             threads: 0,
         }
@@ -175,7 +175,7 @@ impl MaxSpeedStudySettings {
             seeds: vec![1],
             map_headings_deg: vec![0.0, 180.0],
             sensitivity_headings_deg: Vec::new(),
-            sensitivity_mu: Vec::new(),
+            sensitivity_wheel_ball_friction: Vec::new(),
             sensitivity_com_height_m: Vec::new(),
             threads: 0,
         }
@@ -188,7 +188,7 @@ impl MaxSpeedStudySettings {
             return invalid("seeds", "need at least one seed");
         }
         let positive = |x: &f64| x.is_finite() && *x > 0.0;
-        if !self.sensitivity_mu.iter().all(positive)
+        if !self.sensitivity_wheel_ball_friction.iter().all(positive)
             || !self.sensitivity_com_height_m.iter().all(positive)
         {
             return invalid("sensitivity", "mu and COM heights must be > 0");

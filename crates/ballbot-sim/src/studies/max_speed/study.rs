@@ -197,7 +197,7 @@ fn assemble(
     let mut sensitivity = Vec::new();
     let mu0 = params.robot.drivetrain.wheel_ball_friction;
     let l0 = params.robot.sagittal.com_height_m;
-    let mut mus = settings.sensitivity_mu.clone();
+    let mut mus = settings.sensitivity_wheel_ball_friction.clone();
     let mut ls = settings.sensitivity_com_height_m.clone();
     if !mus.iter().any(|&m| same(m, mu0)) && !mus.is_empty() {
         mus.push(mu0);
@@ -209,7 +209,7 @@ fn assemble(
     ls.sort_by(f64::total_cmp);
     let rows = mus
         .iter()
-        .map(|&mu| ("mu", mu, Variant::WheelBallFriction(mu)))
+        .map(|&mu| ("wheel_ball_friction", mu, Variant::WheelBallFriction(mu)))
         .chain(
             ls.iter()
                 .map(|&l| ("com_height_m", l, Variant::ComHeight(l))),

@@ -23,7 +23,7 @@ pub struct TrialOutcome {
     pub failure: Option<Failure>,
     /// When the controller's supervisor stopped balancing (controlled stop, e.g. at a wheel's
     /// speed limit) (s), if it did; a failure after it is the stop's.
-    pub supervisor_stop_s: Option<f64>,
+    pub supervisor_stop_secs: Option<f64>,
     /// Largest friction-cone utilisation of any wheel in the samples.
     pub peak_cone_utilisation: f64,
     /// Smallest normal force of any wheel in the samples (N).
@@ -41,7 +41,7 @@ impl TrialOutcome {
             accel_m_per_s2,
             max_speed_m_per_s: run.max_speed_m_per_s,
             failure: run.failure,
-            supervisor_stop_s: run.supervisor_stop_s,
+            supervisor_stop_secs: run.supervisor_stop_secs,
             peak_cone_utilisation: s.iter().map(|x| x.max_cone_utilisation).fold(0.0, f64::max),
             min_normal_force_n: s
                 .iter()

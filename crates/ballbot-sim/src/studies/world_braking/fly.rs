@@ -7,9 +7,9 @@ use crate::world::failure::tilt_from_vertical_rad;
 use crate::world::telemetry::StepTelemetry;
 use nalgebra::{Rotation3, Vector3};
 
-/// `samples` (period `period_s`) linearly interpolated at `t_s`, held after the end.
-fn sample_linear(samples: &[WipState<f64>], period_s: f64, t_s: f64) -> WipState<f64> {
-    let x = (t_s / period_s).max(0.0);
+/// `samples` (period `period_secs`) linearly interpolated at `t_secs`, held after the end.
+fn sample_linear(samples: &[WipState<f64>], period_secs: f64, t_secs: f64) -> WipState<f64> {
+    let x = (t_secs / period_secs).max(0.0);
     let k = x.floor() as usize;
     match (samples.get(k), samples.get(k + 1)) {
         (Some(a), Some(b)) => a + (b - a) * (x - k as f64),
@@ -45,32 +45,38 @@ fn actuator_utilisation(world_params: &WorldParams, tel: &StepTelemetry) -> [f64
 }
 
 /// Runs one braking experiment: settle, jerk-limited ramp to the cruise speed along
-/// `heading_deg`, cruise, then the optimal braking trajectory to rest in `duration_s`
+/// `heading_deg`, cruise, then the optimal braking trajectory to rest in `duration_secs`
 /// (solved here, warm-started from `warm`), followed until the end of the rest window.
 pub fn braking_run(
     world_params: WorldParams,
     params: &BrakingParams,
     heading_deg: f64,
-    duration_s: f64,
+    duration_secs: f64,
     warm: Option<&Trajectory>,
 ) -> Result<BrakingRun, BrakingError> {
     params.validate()?;
-    if !(duration_s.is_finite() && duration_s > 0.0) {
-        return Err(invalid("duration_s", "must be finite and > 0"));
+    if !(duration_secs.is_finite() && duration_secs > 0.0) {
+        return Err(invalid("duration_secs", "must be finite and > 0"));
     }
     if !heading_deg.is_finite() {
         return Err(invalid("heading_deg", "must be finite"));
     }
-    let plan = plan_braking(&world_params.robot, params, heading_deg, duration_s, warm)?;
+    let plan = plan_braking(
+        &world_params.robot,
+        params,
+        heading_deg,
+        duration_secs,
+        warm,
+    )?;
     if !plan.is_solved() {
         let config = braking_controller_config(&world_params.robot)?;
         return Ok(BrakingRun {
             heading_deg,
-            duration_s,
+            duration_secs,
             outcome: BrakingOutcome::NoTrajectory {
                 status: plan.status,
             },
-            brake_start_s: brake_start_step(&world_params, params, &config) as f64
+            brake_start_secs: brake_start_step(&world_params, params, &config) as f64
                 * world_params.dt_secs,
             plan: None,
             plan_peak_tilt_rad: None,
@@ -100,8 +106,8 @@ pub(super) fn brake_start_step(
 ) -> u64 {
     let dt = world_params.dt_secs;
     let steps_per_outer = (config.outer_dt_secs / dt).round().max(1.0) as u64;
-    let before_brake_s = params.settle_s + params.approach_secs() + params.cruise_s;
-    (before_brake_s / dt / steps_per_outer as f64).ceil() as u64 * steps_per_outer
+    let before_brake_secs = params.settle_secs + params.approach_secs() + params.cruise_secs;
+    (before_brake_secs / dt / steps_per_outer as f64).ceil() as u64 * steps_per_outer
 }
 
 /// Flies one braking run with a given braking trajectory `plan` (its duration is the braking
@@ -121,7 +127,7 @@ pub fn fly_braking(
     if !heading_deg.is_finite() {
         return Err(invalid("heading_deg", "must be finite"));
     }
-    let duration_s = plan.duration_secs();
+    let duration_secs = plan.duration_secs();
     let config = braking_controller_config(&world_params.robot)?;
     let dt = world_params.dt_secs;
     let brake_step = brake_start_step(&world_params, params, &config);
@@ -129,11 +135,11 @@ pub fn fly_braking(
     let plane = plane_for_heading(&world_params.robot, heading_rad);
     let mut run = BrakingRun {
         heading_deg,
-        duration_s,
+        duration_secs,
         outcome: BrakingOutcome::NoTrajectory {
             status: SolveStatus::Solved,
         },
-        brake_start_s: brake_step as f64 * dt,
+        brake_start_secs: brake_step as f64 * dt,
         plan: Some(plan.clone()),
         plan_peak_tilt_rad: Some(
             plan.knot_states()
@@ -184,11 +190,12 @@ pub fn fly_braking(
         max_jerk_per_s2: params.approach_jerk_m_per_s3,
     };
     let mut ramp = JerkLimiter::at(0.0);
-    let settle_steps = (params.settle_s / dt).round() as u64;
-    let rest_from_step = brake_step + ((duration_s + params.rest_within_s) / dt).round() as u64;
-    let end_step = rest_from_step + (params.rest_hold_s / dt).round() as u64;
-    let every = (params.sample_every_s / dt).round().max(1.0) as u64;
-    let after_failure_steps = (AFTER_FAILURE_S / dt).round() as u64;
+    let settle_steps = (params.settle_secs / dt).round() as u64;
+    let rest_from_step =
+        brake_step + ((duration_secs + params.rest_within_secs) / dt).round() as u64;
+    let end_step = rest_from_step + (params.rest_hold_secs / dt).round() as u64;
+    let every = (params.sample_every_secs / dt).round().max(1.0) as u64;
+    let after_failure_steps = (AFTER_FAILURE_SECS / dt).round() as u64;
     let mut failed_at: Option<u64> = None;
     let mut peaks = BrakingPeaks {
         min_normal_force_n: [f64::INFINITY; 3],
@@ -246,14 +253,14 @@ pub fn fly_braking(
                 .iter()
                 .any(|w| w.slipping && w.slip_speed_m_per_s.abs() > slip_threshold)
             {
-                p.slip_s += dt;
+                p.slip_secs += dt;
             }
             p.tilt_rad = p.tilt_rad.max(tilt_from_vertical_rad(&tel));
             p.speed_error_m_per_s = p.speed_error_m_per_s.max((command_speed - speed).abs());
         }
         if k % every == 0 {
             run.samples.push(BrakingSample {
-                time_s: tel.time_s,
+                time_secs: tel.time_secs,
                 command_m_per_s: command_speed,
                 speed_m_per_s: speed,
                 command_tilt_rad: command_tilt,

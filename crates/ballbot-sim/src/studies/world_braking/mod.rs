@@ -7,7 +7,7 @@
 //!
 //! A run succeeds when the world reports no failure (tilt, body touched the floor, sustained
 //! slip, lift-off: [`crate::world::failure`]) and the robot is **at rest** from
-//! `rest_within_s` after `T` on for `rest_hold_s`: horizontal ball speed at most
+//! `rest_within_secs` after `T` on for `rest_hold_secs`: horizontal ball speed at most
 //! `rest_speed_m_per_s` and tilt from the vertical at most `rest_tilt_rad` at every physics
 //! step of that window ([`BrakingParams`]).
 //!
@@ -107,14 +107,14 @@ pub struct BrakingParams {
     /// Jerk of the approach ramp (m/s^3). Default 2 (the core shaper's default).
     pub approach_jerk_m_per_s3: f64,
     /// Standing still before the ramp starts (s). Default 0.5.
-    pub settle_s: f64,
+    pub settle_secs: f64,
     /// Cruising at the cruise speed before braking (s). Default 2.5 (the LQR-PI's slowest
     /// closed-loop pole, -2.06 rad/s, has decayed to below 1 %).
-    pub cruise_s: f64,
+    pub cruise_secs: f64,
     /// The robot must be at rest from this long after the braking time on (s). Default 0.5.
-    pub rest_within_s: f64,
+    pub rest_within_secs: f64,
     /// ... and stay at rest for this long (s). Default 1.0.
-    pub rest_hold_s: f64,
+    pub rest_hold_secs: f64,
     /// At rest: horizontal ball speed at most this (m/s). Default 0.1.
     pub rest_speed_m_per_s: f64,
     /// At rest: tilt from the vertical at most this (rad). Default 3 deg.
@@ -125,7 +125,7 @@ pub struct BrakingParams {
     /// Collocation intervals of the braking trajectory. Default 100 (Hermite-Simpson).
     pub intervals: usize,
     /// Sample period of the returned series (s). Default 0.01.
-    pub sample_every_s: f64,
+    pub sample_every_secs: f64,
     /// What the trajectory command feeds forward. Default [`TrajectoryFeedforward::Full`].
     pub feedforward: TrajectoryFeedforward,
 }
@@ -136,15 +136,15 @@ impl Default for BrakingParams {
             cruise_speed_m_per_s: 1.4,
             approach_accel_m_per_s2: 0.5,
             approach_jerk_m_per_s3: 2.0,
-            settle_s: 0.5,
-            cruise_s: 2.5,
-            rest_within_s: 0.5,
-            rest_hold_s: 1.0,
+            settle_secs: 0.5,
+            cruise_secs: 2.5,
+            rest_within_secs: 0.5,
+            rest_hold_secs: 1.0,
             rest_speed_m_per_s: 0.1,
             rest_tilt_rad: 3.0_f64.to_radians(),
             trajectory_tilt_limit_rad: 15.0_f64.to_radians(),
             intervals: 100,
-            sample_every_s: 0.01,
+            sample_every_secs: 0.01,
             feedforward: TrajectoryFeedforward::Full,
         }
     }
@@ -170,14 +170,14 @@ impl BrakingParams {
         positive(self.cruise_speed_m_per_s, "cruise_speed_m_per_s")?;
         positive(self.approach_accel_m_per_s2, "approach_accel_m_per_s2")?;
         positive(self.approach_jerk_m_per_s3, "approach_jerk_m_per_s3")?;
-        non_negative(self.settle_s, "settle_s")?;
-        non_negative(self.cruise_s, "cruise_s")?;
-        non_negative(self.rest_within_s, "rest_within_s")?;
-        positive(self.rest_hold_s, "rest_hold_s")?;
+        non_negative(self.settle_secs, "settle_secs")?;
+        non_negative(self.cruise_secs, "cruise_secs")?;
+        non_negative(self.rest_within_secs, "rest_within_secs")?;
+        positive(self.rest_hold_secs, "rest_hold_secs")?;
         positive(self.rest_speed_m_per_s, "rest_speed_m_per_s")?;
         positive(self.rest_tilt_rad, "rest_tilt_rad")?;
         positive(self.trajectory_tilt_limit_rad, "trajectory_tilt_limit_rad")?;
-        positive(self.sample_every_s, "sample_every_s")?;
+        positive(self.sample_every_secs, "sample_every_secs")?;
         if self.intervals < 2 {
             return Err(invalid("intervals", "must be >= 2"));
         }
@@ -232,7 +232,7 @@ pub(crate) fn plane_for_heading(robot: &BallbotParams<f64>, heading_rad: f64) ->
 }
 
 /// The braking problem of a run: `robot`'s plane along `heading_deg` from the cruise speed to
-/// rest in `duration_s`, Hermite-Simpson, torques pinned to 0 at both ends (a command that
+/// rest in `duration_secs`, Hermite-Simpson, torques pinned to 0 at both ends (a command that
 /// starts and ends without a step), with the actuator limits of all three omniwheels, their
 /// traction cones (`mu N`) and the tilt bound.
 ///
@@ -251,13 +251,13 @@ pub fn braking_problem(
     robot: &BallbotParams<f64>,
     params: &BrakingParams,
     heading_deg: f64,
-    duration_s: f64,
+    duration_secs: f64,
 ) -> BrakingProblem {
     let heading_rad = heading_deg.to_radians();
     BrakingProblem {
         plane: plane_for_heading(robot, heading_rad),
         initial_speed_m_per_s: params.cruise_speed_m_per_s,
-        duration_secs: duration_s,
+        duration_secs,
         intervals: params.intervals,
         method: Method::HermiteSimpson,
         zero_end_torques: true,
@@ -275,13 +275,13 @@ pub fn braking_problem(
 
 /// A failed run goes on for this long after the failure (s): its samples show what followed;
 /// its peaks and outcome are those at the failure.
-pub const AFTER_FAILURE_S: f64 = 0.25;
+pub const AFTER_FAILURE_SECS: f64 = 0.25;
 
 /// One sample of a braking run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BrakingSample {
     /// Time since the start of the run (s).
-    pub time_s: f64,
+    pub time_secs: f64,
     /// Commanded speed along the heading (m/s): the approach ramp, the cruise speed, then the
     /// trajectory's `r phi_dot`.
     pub command_m_per_s: f64,
@@ -315,13 +315,13 @@ pub struct BrakingPeaks {
     /// Largest difference between the commanded and the actual speed along the heading (m/s).
     pub speed_error_m_per_s: f64,
     /// Time any wheel spent slipping faster than the failure threshold (s).
-    pub slip_s: f64,
+    pub slip_secs: f64,
 }
 
 /// How a braking run ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum BrakingOutcome {
-    /// At rest within the tolerance from `rest_within_s` after `T` on, no failure.
+    /// At rest within the tolerance from `rest_within_secs` after `T` on, no failure.
     Stopped {
         /// Largest horizontal ball speed in the rest window (m/s).
         rest_speed_m_per_s: f64,
@@ -366,11 +366,11 @@ pub struct BrakingRun {
     /// Heading of travel in the body frame (deg; 0 towards OW1).
     pub heading_deg: f64,
     /// Braking time `T` commanded (s).
-    pub duration_s: f64,
+    pub duration_secs: f64,
     /// How it ended.
     pub outcome: BrakingOutcome,
     /// Time braking started, since the start of the run (s).
-    pub brake_start_s: f64,
+    pub brake_start_secs: f64,
     /// The braking trajectory flown (`None` if none was found).
     pub plan: Option<Trajectory>,
     /// The planned trajectory's peak tilt (rad); `None` without a trajectory.
@@ -380,7 +380,7 @@ pub struct BrakingRun {
     pub plan_cost_n2m2s: Option<f64>,
     /// Extremes of the braking phase.
     pub peaks: BrakingPeaks,
-    /// Samples every `sample_every_s` (empty without a trajectory).
+    /// Samples every `sample_every_secs` (empty without a trajectory).
     pub samples: Vec<BrakingSample>,
     /// FNV-1a hash of every step's telemetry (bit-identical runs have equal hashes).
     pub telemetry_hash: u64,
@@ -391,10 +391,10 @@ pub fn plan_braking(
     robot: &BallbotParams<f64>,
     params: &BrakingParams,
     heading_deg: f64,
-    duration_s: f64,
+    duration_secs: f64,
     warm: Option<&Trajectory>,
 ) -> Result<BrakingSolution, BrakingError> {
-    let problem = braking_problem(robot, params, heading_deg, duration_s);
+    let problem = braking_problem(robot, params, heading_deg, duration_secs);
     let options = SolveOptions {
         initial_guess: warm.map_or(InitialGuess::LinearQuadratic, |t| {
             InitialGuess::Trajectory(t.clone())

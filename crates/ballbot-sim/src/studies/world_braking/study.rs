@@ -7,18 +7,18 @@ use super::*;
 #[derive(Clone, Debug, PartialEq)]
 pub struct BrakingStudyParams {
     /// Braking times of the descent, tried in order until one fails (s).
-    pub durations_s: Vec<f64>,
+    pub durations_secs: Vec<f64>,
     /// Bisect between the shortest success and the first failure down to this bracket (s);
     /// `None` skips the bisection.
-    pub bisection_resolution_s: Option<f64>,
+    pub bisection_resolution_secs: Option<f64>,
 }
 
 impl BrakingStudyParams {
     /// The paper's descent, `T = 5, 4.5, ..., 0.5 s`, and a bisection to 0.05 s.
     pub fn paper() -> Self {
         Self {
-            durations_s: (0..10).map(|k| 5.0 - 0.5 * f64::from(k)).collect(),
-            bisection_resolution_s: Some(0.05),
+            durations_secs: (0..10).map(|k| 5.0 - 0.5 * f64::from(k)).collect(),
+            bisection_resolution_secs: Some(0.05),
         }
     }
 }
@@ -35,26 +35,26 @@ pub struct BrakingStudy {
     pub bisection: Vec<BrakingRun>,
     /// Shortest successful `T` of the descent (s), the paper's figure; `None` if the first
     /// already failed.
-    pub shortest_success_s: Option<f64>,
+    pub shortest_success_secs: Option<f64>,
     /// First failing `T` of the descent (s); `None` if none failed.
-    pub first_failure_s: Option<f64>,
+    pub first_failure_secs: Option<f64>,
     /// Shortest successful `T` after the bisection (s).
-    pub limit_s: Option<f64>,
+    pub limit_secs: Option<f64>,
     /// Longest failing `T` after the bisection (s).
-    pub limit_failure_s: Option<f64>,
+    pub limit_failure_secs: Option<f64>,
 }
 
 impl BrakingStudy {
     /// The run of the descent at its shortest success.
     pub fn shortest_success(&self) -> Option<&BrakingRun> {
-        let t = self.shortest_success_s?;
-        self.descent.iter().find(|r| r.duration_s == t)
+        let t = self.shortest_success_secs?;
+        self.descent.iter().find(|r| r.duration_secs == t)
     }
 
     /// The descent's first failing run.
     pub fn first_failure(&self) -> Option<&BrakingRun> {
-        let t = self.first_failure_s?;
-        self.descent.iter().find(|r| r.duration_s == t)
+        let t = self.first_failure_secs?;
+        self.descent.iter().find(|r| r.duration_secs == t)
     }
 }
 
@@ -72,15 +72,15 @@ pub fn braking_study(
     on_run: &mut dyn FnMut(&BrakingRun),
 ) -> Result<BrakingStudy, BrakingError> {
     let ok = |v: f64| v.is_finite() && v > 0.0;
-    if study.durations_s.is_empty() || !study.durations_s.iter().all(|&t| ok(t)) {
+    if study.durations_secs.is_empty() || !study.durations_secs.iter().all(|&t| ok(t)) {
         return Err(invalid(
-            "study.durations_s",
+            "study.durations_secs",
             "must be non-empty, every duration finite and > 0",
         ));
     }
-    if study.bisection_resolution_s.is_some_and(|r| !ok(r)) {
+    if study.bisection_resolution_secs.is_some_and(|r| !ok(r)) {
         return Err(invalid(
-            "study.bisection_resolution_s",
+            "study.bisection_resolution_secs",
             "must be finite and > 0",
         ));
     }
@@ -88,13 +88,13 @@ pub fn braking_study(
         heading_deg,
         descent: Vec::new(),
         bisection: Vec::new(),
-        shortest_success_s: None,
-        first_failure_s: None,
-        limit_s: None,
-        limit_failure_s: None,
+        shortest_success_secs: None,
+        first_failure_secs: None,
+        limit_secs: None,
+        limit_failure_secs: None,
     };
     let mut warm: Option<Trajectory> = None;
-    for &t in &study.durations_s {
+    for &t in &study.durations_secs {
         let run = braking_run(world_params, params, heading_deg, t, warm.as_ref())?;
         on_run(&run);
         if run.plan.is_some() {
@@ -103,18 +103,18 @@ pub fn braking_study(
         let success = run.outcome.is_success();
         out.descent.push(run);
         if success {
-            out.shortest_success_s = Some(t);
+            out.shortest_success_secs = Some(t);
         } else {
-            out.first_failure_s = Some(t);
+            out.first_failure_secs = Some(t);
             break;
         }
     }
-    out.limit_s = out.shortest_success_s;
-    out.limit_failure_s = out.first_failure_s;
+    out.limit_secs = out.shortest_success_secs;
+    out.limit_failure_secs = out.first_failure_secs;
     if let (Some(resolution), Some(mut lo), Some(mut hi)) = (
-        study.bisection_resolution_s,
-        out.first_failure_s,
-        out.shortest_success_s,
+        study.bisection_resolution_secs,
+        out.first_failure_secs,
+        out.shortest_success_secs,
     ) {
         while (hi - lo).abs() > resolution + 1e-9 && lo < hi {
             let mid = 0.5 * (lo + hi);
@@ -130,8 +130,8 @@ pub fn braking_study(
             }
             out.bisection.push(run);
         }
-        out.limit_s = Some(hi);
-        out.limit_failure_s = Some(lo);
+        out.limit_secs = Some(hi);
+        out.limit_failure_secs = Some(lo);
     }
     Ok(out)
 }
