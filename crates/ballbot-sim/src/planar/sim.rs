@@ -15,6 +15,7 @@ use super::{
 };
 use ballbot_core::PlanarRobotParams;
 use ballbot_core::WipState;
+use ballbot_core::rates::{INNER_LOOP_RATE_HZ, OUTER_LOOP_RATE_HZ};
 use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
 
 /// Rates and timing of a simulation.
@@ -36,9 +37,9 @@ pub struct SimConfig {
 impl Default for SimConfig {
     fn default() -> Self {
         Self {
-            plant_rate_hz: 8000.0,
-            drive_rate_hz: 8000.0,
-            outer_rate_hz: 400.0,
+            plant_rate_hz: INNER_LOOP_RATE_HZ,
+            drive_rate_hz: INNER_LOOP_RATE_HZ,
+            outer_rate_hz: OUTER_LOOP_RATE_HZ,
             computation_delay: true,
             max_tilt_rad: 0.6,
         }

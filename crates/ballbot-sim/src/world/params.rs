@@ -5,6 +5,7 @@
 
 use super::WorldError;
 use ballbot_core::BallbotParams;
+use ballbot_core::rates::INNER_LOOP_DT_SECS;
 
 /// The compliant omniwheel-ball contact (see [`crate::world::contact`] for the model).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -151,7 +152,7 @@ impl WorldParams {
             spin_friction_m: 0.01,
             chassis_half_width_m: 0.18,
             chassis_height_m: 0.45,
-            dt_secs: 1.0 / 8000.0,
+            dt_secs: INNER_LOOP_DT_SECS,
             sensors: SensorParams::default(),
             failure: FailureParams::default(),
         }

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use crate::log::{LogError, LoggerOptions};
+use ballbot_core::rates::OUTER_LOOP_DT_SECS;
 
 /// What a [`WorldLogger`](super::WorldLogger) writes and how often.
 ///
@@ -40,7 +41,7 @@ impl Default for WorldLogOptions {
             telemetry_every_steps: 1,
             transform_interval_secs: 0.01,
             scene_interval_secs: 0.02,
-            controller_interval_secs: 1.0 / 400.0,
+            controller_interval_secs: OUTER_LOOP_DT_SECS,
             metres_per_newton: 5e-4,
             logger: LoggerOptions::default(),
         }
