@@ -113,7 +113,7 @@ class SolveStatus(str, enum.Enum):
 
 
 class BrakingOutcome(str, enum.Enum):
-    """How a braking run ended (``ballbot_sim::world::braking::BrakingOutcome``)."""
+    """How a braking run ended (``ballbot_sim::studies::world_braking::BrakingOutcome``)."""
 
     STOPPED = "stopped"
     """Came to rest as planned."""
@@ -126,7 +126,7 @@ class BrakingOutcome(str, enum.Enum):
 
 
 class PushOutcome(str, enum.Enum):
-    """How a push trial ended (``ballbot_sim::world::push::PushOutcome``)."""
+    """How a push trial ended (``ballbot_sim::studies::push::PushOutcome``)."""
 
     RECOVERED = "recovered"
     """Recovered and came back to rest."""

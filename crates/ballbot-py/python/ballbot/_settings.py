@@ -75,7 +75,7 @@ class _Settings:
 
 @dataclasses.dataclass(frozen=True)
 class MaxSpeedSettings(_Settings):
-    """Settings of the maximum-speed study (``ballbot_sim::world::max_speed``); the lists are
+    """Settings of the maximum-speed study (``ballbot_sim::studies::max_speed``); the lists are
     stored as tuples."""
 
     quick: bool = False
@@ -137,7 +137,7 @@ class MaxSpeedSettings(_Settings):
 
 @dataclasses.dataclass(frozen=True)
 class BrakingSettings(_Settings):
-    """The braking protocol (``ballbot_sim::world::braking::BrakingParams``)."""
+    """The braking protocol (``ballbot_sim::studies::world_braking::BrakingParams``)."""
 
     cruise_speed_m_per_s: Optional[float] = None
     """Cruise speed before braking (m/s; protocol 1.4, the paper)."""
@@ -174,7 +174,7 @@ class BrakingSettings(_Settings):
 
 @dataclasses.dataclass(frozen=True)
 class PushSettings(_Settings):
-    """The push-recovery protocol (``ballbot_sim::world::push::PushParams``)."""
+    """The push-recovery protocol (``ballbot_sim::studies::push::PushParams``)."""
 
     push_duration_secs: Optional[float] = None
     """How long the impulse is spread over (s; protocol 0.1)."""
