@@ -51,7 +51,7 @@ fn an_lqr_rollout_is_the_core_wip_integrated_with_the_held_torque() {
 }
 
 #[test]
-fn an_lqr_pi_rollout_recovers_and_its_pi_sees_the_joint_rate() {
+fn an_lqr_pi_rollout_recovers_follows_the_lqr_and_differs_slightly_from_an_exact_ball_rate_pi() {
     let plane = WipParams::miapure_60kg();
     let wip = Wip::new(plane).unwrap();
     let gains = LqrGains::for_wip(&wip, 83.9).unwrap();
@@ -115,7 +115,8 @@ fn an_lqr_pi_rollout_recovers_and_its_pi_sees_the_joint_rate() {
         worst = worst.max((run.states[k + 1][0] - s[0]).abs());
     }
     println!("LQR-PI rollout: tilt within {worst:.3e} rad of an exact-ball-rate PI");
-    assert!(worst < 2e-4, "{worst}");
+    // Small, but not zero: the drive does not see the exact ball rate.
+    assert!(worst < 2e-4 && worst > 1e-6, "{worst}");
 }
 
 #[test]

@@ -88,43 +88,13 @@ pub(super) fn code_view(source: &str) -> String {
             }
         }
         if c == '"' {
-            out.push('"');
-            i += 1;
-            while i < n {
-                if b[i] == '\\' && i + 1 < n {
-                    blank(&mut out, b[i]);
-                    blank(&mut out, b[i + 1]);
-                    i += 2;
-                } else if b[i] == '"' {
-                    out.push('"');
-                    i += 1;
-                    break;
-                } else {
-                    blank(&mut out, b[i]);
-                    i += 1;
-                }
-            }
+            i = quoted(&b, i, '"', &mut out);
             continue;
         }
         if c == '\'' {
             // A char literal ('x', '\n', '\u{..}') or a lifetime ('a).
             if next == Some('\\') {
-                out.push('\'');
-                i += 1;
-                while i < n {
-                    if b[i] == '\\' && i + 1 < n {
-                        blank(&mut out, b[i]);
-                        blank(&mut out, b[i + 1]);
-                        i += 2;
-                    } else if b[i] == '\'' {
-                        out.push('\'');
-                        i += 1;
-                        break;
-                    } else {
-                        blank(&mut out, b[i]);
-                        i += 1;
-                    }
-                }
+                i = quoted(&b, i, '\'', &mut out);
                 continue;
             }
             if b.get(i + 2) == Some(&'\'') {
@@ -139,4 +109,26 @@ pub(super) fn code_view(source: &str) -> String {
         i += 1;
     }
     out
+}
+
+/// Copies the quoted literal that opens at `b[start] == quote` with its contents blanked
+/// (escapes `\x` included) and returns the index after the closing quote.
+fn quoted(b: &[char], start: usize, quote: char, out: &mut String) -> usize {
+    let n = b.len();
+    out.push(quote);
+    let mut i = start + 1;
+    while i < n {
+        if b[i] == '\\' && i + 1 < n {
+            blank(out, b[i]);
+            blank(out, b[i + 1]);
+            i += 2;
+        } else if b[i] == quote {
+            out.push(quote);
+            return i + 1;
+        } else {
+            blank(out, b[i]);
+            i += 1;
+        }
+    }
+    i
 }
