@@ -22,7 +22,7 @@ import numpy as np
 
 import ballbot
 
-TOP_SPEED_M_PER_SECS = 1.4
+TOP_SPEED_M_PER_S = 1.4
 JERK_SECS = 0.5  # the acceleration rises and falls smoothly over this time
 SETTLE_SECS = 1.0  # simulated after reaching the top speed
 DT_SECS = 1.0 / 400.0
@@ -31,9 +31,9 @@ BISECTION_STEPS = 12
 
 def acceleration_profile(accel_m_per_s2: float) -> np.ndarray:
     """Ball acceleration (m/s^2) every DT_SECS: a smooth rise to `accel_m_per_s2`, a hold and a
-    smooth fall, reaching TOP_SPEED_M_PER_SECS, then SETTLE_SECS at that speed."""
-    rise = min(JERK_SECS, TOP_SPEED_M_PER_SECS / accel_m_per_s2)
-    hold = TOP_SPEED_M_PER_SECS / accel_m_per_s2 - rise
+    smooth fall, reaching TOP_SPEED_M_PER_S, then SETTLE_SECS at that speed."""
+    rise = min(JERK_SECS, TOP_SPEED_M_PER_S / accel_m_per_s2)
+    hold = TOP_SPEED_M_PER_S / accel_m_per_s2 - rise
     t = np.arange(0.0, 2 * rise + hold + SETTLE_SECS, DT_SECS)
     x_up = np.clip(t / rise, 0.0, 1.0)
     x_down = np.clip((2 * rise + hold - t) / rise, 0.0, 1.0)

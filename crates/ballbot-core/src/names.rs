@@ -1,7 +1,8 @@
 //! The canonical names of the core's statuses ([`Mode`], [`StepStatus`], [`RiccatiStatus`],
-//! [`Fault`], [`FaultSet`]): one snake_case string per value, used by `as_str`, `Display`,
-//! `FromStr` and, with the `serde` feature, serialization. This module holds what they share: the parse
-//! error and the serde plumbing.
+//! [`Fault`]): one snake_case string per value, used by `as_str`, `Display`, `FromStr` and,
+//! with the `serde` feature, serialization. A [`FaultSet`] is written as its faults' names
+//! (comma-separated in `Display`/`FromStr`, a sequence in serde). This module holds what they
+//! share: the parse error and the serde plumbing.
 //!
 //! [`Mode`]: crate::safety::Mode
 //! [`StepStatus`]: crate::control::StepStatus
@@ -11,8 +12,8 @@
 
 use core::fmt;
 
-/// A string that is not the name of any value of a status type (`Mode`, `StepStatus`, `Fault`,
-/// `FaultSet`): the error of their `FromStr` parses.
+/// A string that is not the name of any value of a status type (`Mode`, `StepStatus`,
+/// `RiccatiStatus`, `Fault`, `FaultSet`): the error of their `FromStr` parses.
 ///
 /// ```
 /// use ballbot_core::ParseNameError;

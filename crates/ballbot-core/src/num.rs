@@ -70,15 +70,14 @@ mod tests {
                 );
             }
         }
-        for (a, b) in [
-            (1.0, 2.0),
-            (2.0, 1.0),
-            (f64::NAN, 1.0),
-            (1.0, f64::NAN),
-            (0.0, -0.0),
-        ] {
-            assert_eq!(min(a, b).to_bits(), (if a < b { a } else { b }).to_bits());
-            assert_eq!(max(a, b).to_bits(), (if a > b { a } else { b }).to_bits());
-        }
+        // The documented choices: the second argument wins ties and NaN comparisons (the
+        // branch-free select the hot paths rely on), so -0.0 and a NaN in `b` pass through.
+        let bits = |x: f64| x.to_bits();
+        assert_eq!((min(1.0, 2.0), min(2.0, 1.0)), (1.0, 1.0));
+        assert_eq!((max(1.0, 2.0), max(2.0, 1.0)), (2.0, 2.0));
+        assert_eq!((min(f64::NAN, 1.0), max(f64::NAN, 1.0)), (1.0, 1.0));
+        assert!(min(1.0, f64::NAN).is_nan() && max(1.0, f64::NAN).is_nan());
+        assert_eq!(bits(min(0.0, -0.0)), bits(-0.0));
+        assert_eq!(bits(max(0.0, -0.0)), bits(-0.0));
     }
 }

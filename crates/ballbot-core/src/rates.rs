@@ -42,18 +42,19 @@ pub const OUTER_LOOP_DT_SECS: f64 = 1.0 / OUTER_LOOP_RATE_HZ;
 /// ```
 pub const INNER_LOOP_DT_SECS: f64 = 1.0 / INNER_LOOP_RATE_HZ;
 
-/// The outer-loop period in microseconds, for loops clocked in whole microseconds.
+/// The outer-loop period in microseconds, for loops clocked in whole microseconds (derived
+/// from [`OUTER_LOOP_RATE_HZ`]).
 ///
 /// ```
 /// use ballbot_core::rates::OUTER_LOOP_PERIOD_US;
 /// assert_eq!(OUTER_LOOP_PERIOD_US, 2500);
 /// ```
-pub const OUTER_LOOP_PERIOD_US: u64 = 2500;
+pub const OUTER_LOOP_PERIOD_US: u64 = (1e6 / OUTER_LOOP_RATE_HZ) as u64;
 
-/// Inner steps per outer step: 20.
+/// Inner steps per outer step: 20 (derived from the two rates).
 ///
 /// ```
 /// use ballbot_core::rates::INNER_PER_OUTER;
 /// assert_eq!(INNER_PER_OUTER, 20);
 /// ```
-pub const INNER_PER_OUTER: u64 = 20;
+pub const INNER_PER_OUTER: u64 = (INNER_LOOP_RATE_HZ / OUTER_LOOP_RATE_HZ) as u64;

@@ -17,7 +17,7 @@ use nalgebra::{Vector3, Vector4};
 use proptest::prelude::*;
 
 const PEAK_NM: f64 = 43.2;
-const NO_LOAD_RAD_PER_SECS: f64 = 62.0;
+const NO_LOAD_RAD_PER_S: f64 = 62.0;
 
 /// Every output bounded and finite; motors off outside the balancing modes.
 fn assert_sane(out: &ballbot_core::ballbot::OuterOutput<f64>) {
@@ -30,7 +30,7 @@ fn assert_sane(out: &ballbot_core::ballbot::OuterOutput<f64>) {
         assert!(v.iter().all(|x| x.is_finite()), "{out:?}");
     }
     assert!(m.feedforward_torque_nm.amax() <= PEAK_NM + 1e-9);
-    assert!(m.speed_rad_per_s.amax() <= NO_LOAD_RAD_PER_SECS);
+    assert!(m.speed_rad_per_s.amax() <= NO_LOAD_RAD_PER_S);
     assert_eq!(m.enabled, out.safety.mode.motors_enabled());
     if !m.enabled {
         assert_eq!(m.feedforward_torque_nm, Vector3::zeros());

@@ -1,9 +1,10 @@
 //! # ballbot-runtime
 //!
 //! The robot's control loop on the core's hardware traits ([`ballbot_core::hal`]): the code a
-//! firmware calls from its timer interrupts, and the same code every closed-loop experiment of
-//! the project runs (the rapier3d world implements the traits in `ballbot-sim`, the decoupled
-//! demo plant in `ballbot-examples`).
+//! firmware calls from its timer interrupts, and the same code every 3D closed-loop experiment
+//! of the project runs (the rapier3d world implements the traits in `ballbot-sim`, the
+//! decoupled demo plant in `ballbot-examples`). The planar research controllers (PIPTB, the
+//! Python planar rollouts) run on the planar simulator's scheduler instead.
 //!
 //! - [`RobotLoop::outer_task`] at 400 Hz: sensors, supervisor, estimation, command shaping,
 //!   LQR-PI planes, kinematics; references for the inner loop.
@@ -26,7 +27,7 @@
 //! use core::convert::Infallible;
 //! use nalgebra::Vector3;
 //!
-//! // A robot standing still on a stand: upright IMU, still wheels, a 125 us clock.
+//! // A robot standing still on a stand: upright IMU, still wheels, a stopped clock.
 //! struct StillImu(u64);
 //! impl Imu<f64> for StillImu {
 //!     type Error = Infallible;

@@ -9,7 +9,7 @@
 use super::riccati::{RiccatiSettings, RiccatiSolution, RiccatiStatus, solve_care, solve_dare};
 use crate::check::lit;
 use crate::linalg::{eigenvalues, is_finite, zoh};
-use crate::rates::OUTER_LOOP_RATE_HZ;
+use crate::rates::OUTER_LOOP_DT_SECS;
 use crate::{Error, Spin, Wip};
 use nalgebra::allocator::Allocator;
 use nalgebra::{
@@ -25,7 +25,7 @@ use nalgebra::{
 /// assert_eq!(outer_loop_dt_secs::<f32>(), 0.0025);
 /// ```
 pub fn outer_loop_dt_secs<T: RealField + Copy>() -> T {
-    lit(1.0 / OUTER_LOOP_RATE_HZ)
+    lit(OUTER_LOOP_DT_SECS)
 }
 
 /// LQR weights for a single-input plant with `N` states: cost

@@ -16,7 +16,7 @@ pub(super) const INNER_HZ: f64 = 8000.0;
 pub(super) const PLANT_SUBSTEPS: usize = 1;
 pub(super) const INNER_PER_OUTER: usize = 20;
 /// Bandwidth of the inner speed PI's error dynamics (rad/s).
-pub(super) const INNER_BANDWIDTH_RAD_PER_SECS: f64 = 30.0;
+pub(super) const INNER_BANDWIDTH_RAD_PER_S: f64 = 30.0;
 
 pub(super) const TILT: usize = 0;
 pub(super) const TILT_RATE: usize = 2;
@@ -72,7 +72,7 @@ pub(super) fn wip(preset: &Preset) -> Wip<f64> {
 pub(super) fn inner_gains(preset: &Preset) -> SpeedPiGains<f64> {
     SpeedPiGains::for_wip_ball_rate(
         &wip(preset),
-        INNER_BANDWIDTH_RAD_PER_SECS,
+        INNER_BANDWIDTH_RAD_PER_S,
         preset.max_torque_nm,
     )
     .unwrap()

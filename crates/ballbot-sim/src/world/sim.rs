@@ -537,9 +537,9 @@ impl BallbotWorld {
         let r = self.params.robot.ball_radius_m();
         let roll_max = self.params.rolling_resistance * floor_n * r;
         let w_h_len = w_h.length();
-        const ROLL_EPS_RAD_PER_SECS: f64 = 0.05;
+        const ROLL_EPS_RAD_PER_S: f64 = 0.05;
         if w_h_len > 0.0 {
-            ball_torque -= w_h * (roll_max / w_h_len.max(ROLL_EPS_RAD_PER_SECS));
+            ball_torque -= w_h * (roll_max / w_h_len.max(ROLL_EPS_RAD_PER_S));
         }
         let spin_max = self.params.spin_friction_m * floor_n;
         let spin = (self.spin_friction_gain_nm_s * w_ball.z).clamp(-spin_max, spin_max);
