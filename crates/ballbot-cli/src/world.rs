@@ -17,7 +17,7 @@ use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::WorldLogOptions;
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
 use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world};
-use ballbot_sim::world::WorldParams;
+use ballbot_sim::world::{WorldParams, wheel_name};
 use std::path::PathBuf;
 
 /// Examples and log sizes shown after `ballbot world --help`.
@@ -279,9 +279,9 @@ pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
     }
     match (&o.failure, o.failure_time_secs) {
         (Some(kind), Some(time_secs)) => {
-            let wheel = o
-                .failure_wheel
-                .map_or_else(String::new, |w| format!(" of OW{w}"));
+            let wheel = o.failure_wheel.map_or_else(String::new, |w| {
+                format!(" of {}", wheel_name(w.saturating_sub(1)))
+            });
             println!("failure: {kind}{wheel} at {time_secs:.4} s");
         }
         _ => println!("failure: none ({:.3} s simulated)", o.end_time_secs),

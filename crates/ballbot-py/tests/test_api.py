@@ -76,7 +76,9 @@ def test_settings_validate_and_name_the_field() -> None:
     with pytest.raises(ballbot.ParameterError, match="cruise_speed_m_per_s"):
         ballbot.BrakingSettings(cruise_speed_m_per_s=float("nan"))
     with pytest.raises(ballbot.ParameterError, match="intervals"):
-        ballbot.BrakingSettings(intervals=0)
+        ballbot.BrakingSettings(intervals=1)  # the Rust protocol needs >= 2 as well
+    # The Python checks accept what the Rust protocol accepts: an instantaneous push is valid.
+    assert ballbot.PushSettings(push_duration_secs=0.0).push_duration_secs == 0.0
     with pytest.raises(ballbot.ParameterError, match="unknown parameter `cruise`.*cruise_secs"):
         s.replace(cruise=1.0)
     with pytest.raises(ballbot.ParameterError, match="observe_secs"):

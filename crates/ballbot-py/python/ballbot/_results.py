@@ -372,7 +372,7 @@ class PushTrial(_Result):
     max_cone_utilisation: _F64
     """Largest cone utilisation, ``(n,)``."""
     ball_velocity_m_per_s: _F64
-    """Ball velocity (m/s), ``(n, 3)``."""
+    """Horizontal ball velocity (m/s), ``(n, 2)``."""
     telemetry_hash: int
     """Hash of the run's telemetry (determinism checks)."""
 

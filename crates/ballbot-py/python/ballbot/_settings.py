@@ -1,10 +1,12 @@
 """Settings of the paper's studies: one validated, documented parameter class per study.
 
-Every field defaults to ``None``, which means the protocol's own value (given in the field's
-doc, from ``ballbot_sim``), exactly as the study functions' keyword arguments did. A field
+Most fields default to ``None``, which means the protocol's own value (given in the field's
+doc, from ``ballbot_sim``), exactly as the study functions' keyword arguments did; the others
+(``quick``, ``threads``, ``feedforward`` and the ramp's fields) give their default. A field
 that is set is checked here (finite numbers, positive counts; a ``ParameterError`` names the
-field); the range checks that depend on other fields stay with the Rust protocol, which runs
-them when the study starts and names the field too.
+field); most range checks that depend on other fields stay with the Rust protocol, which runs
+them when the study starts and names the field too (the acceleration bracket's order is
+checked here as well).
 """
 
 from __future__ import annotations
@@ -163,7 +165,7 @@ class BrakingSettings(_Settings):
         _check_number("trajectory_tilt_limit_rad", self.trajectory_tilt_limit_rad, positive=True)
         for name in ("settle_secs", "cruise_secs"):
             _check_number(name, getattr(self, name))
-        _check_count("intervals", self.intervals, minimum=1)
+        _check_count("intervals", self.intervals, minimum=2)
         try:
             object.__setattr__(self, "feedforward", Feedforward(self.feedforward))
         except ValueError:
@@ -177,20 +179,20 @@ class PushSettings(_Settings):
     """The push-recovery protocol (``ballbot_sim::studies::push::PushParams``)."""
 
     push_duration_secs: Optional[float] = None
-    """How long the impulse is spread over (s; protocol 0.1)."""
+    """How long the impulse is spread over (s, >= 0 and < ``observe_secs``; protocol 0.1)."""
     settle_secs: Optional[float] = None
     """Standing still before the push (s; protocol 1.0)."""
     observe_secs: Optional[float] = None
     """Watching after the push (s; protocol 4.0)."""
     rest_within_secs: Optional[float] = None
-    """At rest from this long after the push on (s; protocol 3.0); at most ``observe_secs``."""
+    """At rest from this long after the push on (s; protocol 3.0); below ``observe_secs``."""
     sample_every_secs: Optional[float] = None
     """Sampling period of the returned series (s; protocol 0.01)."""
 
     def __post_init__(self) -> None:
-        for name in ("push_duration_secs", "observe_secs", "sample_every_secs"):
+        for name in ("observe_secs", "sample_every_secs"):
             _check_number(name, getattr(self, name), positive=True)
-        for name in ("settle_secs", "rest_within_secs"):
+        for name in ("push_duration_secs", "settle_secs", "rest_within_secs"):
             _check_number(name, getattr(self, name))
 
 

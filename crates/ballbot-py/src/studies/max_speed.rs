@@ -171,7 +171,7 @@ pub(crate) fn py_failing_acceleration<'py>(
 /// other keywords override its lists and the search.
 ///
 /// Returns a `MaxSpeedStudy`: the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
-/// `mu`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
+/// `wheel_ball_friction`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
 /// plus `max_speed_by_heading` (mean slow-ramp maximum speed per heading), `table` (the text
 /// table `reproduce` prints) and `first_runs` (per trial heading, the first trial's series as
 /// `max_speed_ramp` returns them, for the paper's Fig. "acc").

@@ -3,6 +3,7 @@
 
 use super::row_at;
 use super::telemetry::PyFailure;
+use crate::arrays::reserve;
 use crate::errors::{Kind, error};
 use crate::log::log_error;
 use ballbot_sim::log::{WorldLogOptions, WorldLogger};
@@ -15,7 +16,6 @@ use pyo3::types::PyDict;
 use std::path::Path;
 
 /// Per-step records of a run, column by column.
-#[derive(Default)]
 pub(crate) struct Trace {
     time_secs: Vec<f64>,
     input: Vec<[f64; 3]>,
@@ -40,35 +40,30 @@ pub(crate) struct Trace {
     floor_force_n: Vec<f64>,
 }
 
-/// Reserves `len` elements or raises `MemoryError` (before the GIL is released).
-pub(crate) fn reserved<T>(len: usize) -> PyResult<Vec<T>> {
-    crate::arrays::reserve(len)
-}
-
 impl Trace {
     pub(crate) fn with_capacity(len: usize) -> PyResult<Self> {
         Ok(Self {
-            time_secs: reserved(len)?,
-            input: reserved(len)?,
-            normal_force_n: reserved(len)?,
-            traction_n: reserved(len)?,
-            traction_demand_n: reserved(len)?,
-            cone_utilisation: reserved(len)?,
-            slip_speed_m_per_s: reserved(len)?,
-            slipping: reserved(len)?,
-            motor_torque_nm: reserved(len)?,
-            wheel_speed_rad_per_s: reserved(len)?,
-            wheel_angle_rad: reserved(len)?,
-            ball_position_m: reserved(len)?,
-            ball_velocity_m_per_s: reserved(len)?,
-            ball_angular_velocity_rad_per_s: reserved(len)?,
-            body_position_m: reserved(len)?,
-            body_orientation: reserved(len)?,
-            body_rate_rad_per_s: reserved(len)?,
-            tilt_rad: reserved(len)?,
-            tilt_from_vertical_rad: reserved(len)?,
-            yaw_rad: reserved(len)?,
-            floor_force_n: reserved(len)?,
+            time_secs: reserve(len)?,
+            input: reserve(len)?,
+            normal_force_n: reserve(len)?,
+            traction_n: reserve(len)?,
+            traction_demand_n: reserve(len)?,
+            cone_utilisation: reserve(len)?,
+            slip_speed_m_per_s: reserve(len)?,
+            slipping: reserve(len)?,
+            motor_torque_nm: reserve(len)?,
+            wheel_speed_rad_per_s: reserve(len)?,
+            wheel_angle_rad: reserve(len)?,
+            ball_position_m: reserve(len)?,
+            ball_velocity_m_per_s: reserve(len)?,
+            ball_angular_velocity_rad_per_s: reserve(len)?,
+            body_position_m: reserve(len)?,
+            body_orientation: reserve(len)?,
+            body_rate_rad_per_s: reserve(len)?,
+            tilt_rad: reserve(len)?,
+            tilt_from_vertical_rad: reserve(len)?,
+            yaw_rad: reserve(len)?,
+            floor_force_n: reserve(len)?,
         })
     }
 

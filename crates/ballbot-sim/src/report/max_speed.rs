@@ -11,15 +11,11 @@ fn same(a: f64, b: f64) -> bool {
     (a - b).abs() < 1e-9
 }
 
+/// The failure's canonical JSON (`Failure`'s `Serialize`); `null` for none.
 fn failure_json(failure: Option<Failure>) -> Value {
-    match failure {
-        None => Value::Null,
-        Some(f) => json!({
-            "kind": f.kind.as_str(),
-            "wheel": f.kind.wheel_name(),
-            "time_secs": f.time_secs,
-        }),
-    }
+    failure.map_or(Value::Null, |f| {
+        serde_json::to_value(f).unwrap_or(Value::Null)
+    })
 }
 
 /// A failure as text ([`Failure`]'s `Display`, e.g. `slip OW3 at 13.090 s`); `-` for none.

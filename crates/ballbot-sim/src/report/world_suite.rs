@@ -9,13 +9,13 @@ use crate::world::{Failure, wheel_name};
 use serde_json::{Map, Value, json};
 use std::fmt::Write;
 
+/// The failure's canonical JSON (`Failure`'s `Serialize`) plus its `Display` as `label`.
 fn failure_json(f: &Failure) -> Value {
-    json!({
-        "kind": f.kind.as_str(),
-        "wheel": f.kind.wheel_name(),
-        "time_secs": f.time_secs,
-        "label": f.to_string(),
-    })
+    let mut v = serde_json::to_value(f).unwrap_or(Value::Null);
+    if let Value::Object(map) = &mut v {
+        map.insert("label".to_owned(), Value::String(f.to_string()));
+    }
+    v
 }
 
 /// What bounded a braking run: the failure, or the most used resource.

@@ -34,8 +34,9 @@ pub struct Failure {
     pub time_secs: f64,
 }
 
-/// The paper's name of omniwheel `index` (0-based): `OW1`, `OW2`, `OW3`. The one form in which
-/// every table, log, JSON record and Python result names a wheel.
+/// The paper's name of omniwheel `index` (0-based): `OW1`, `OW2`, `OW3`: how tables, logs, the
+/// reproduce summary and Python results name a wheel. (`ballbot world --json` still reports
+/// the 1-based numbers `failure_wheel` and `peak_cone_wheel`.)
 ///
 /// ```
 /// use ballbot_sim::world::wheel_name;
