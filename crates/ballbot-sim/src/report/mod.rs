@@ -6,7 +6,7 @@
 //!
 //! - [`reproduce`](mod@reproduce): `ballbot reproduce` as a library call: every study, its table, figures,
 //!   logs and `summary.json`.
-//! - [`piptb`], [`brake`], [`max_speed`], [`world_suite`]: one study's JSON and tables each;
+//! - [`piptb`], [`brake`], [`max_speed`], [`mechanisms`], [`world_suite`]: one study's JSON and tables each;
 //!   the `*_figures` modules draw its figures.
 
 pub mod brake;
@@ -14,6 +14,9 @@ mod error;
 pub mod max_speed;
 #[cfg(feature = "plot")]
 pub mod max_speed_figures;
+pub mod mechanisms;
+#[cfg(feature = "plot")]
+pub mod mechanisms_figures;
 pub mod piptb;
 #[cfg(feature = "plot")]
 pub mod piptb_figures;

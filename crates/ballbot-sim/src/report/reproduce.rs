@@ -21,6 +21,7 @@
 use super::ReportError;
 use crate::planar::ControllerKind;
 use crate::studies::max_speed::{self, MaxSpeedStudySettings};
+use crate::studies::mechanisms::{self, MechanismStudySettings};
 use crate::studies::piptb::{self, PiptbSettings};
 use crate::studies::replay::{log_braking, log_push, log_slow_ramp};
 use crate::studies::runner;
@@ -94,6 +95,9 @@ pub fn reproduce(
 
     // MiaPURE maximum speed per heading in the 3D world (paper Sec. V).
     max_speed_section(options, observer, &mut summary)?;
+
+    // What limits the slow ramp: mechanisms, controller ablation, sweep, ripple (issue 13).
+    mechanisms_section(options, observer, &mut summary)?;
 
     // 3D world: minimum braking time and push recovery (paper Sec. V, issue 6).
     world_suite_section(options, observer, &mut summary)?;
@@ -242,6 +246,44 @@ fn max_speed_section(
         study.max_speed_by_heading_json(),
     );
     summary.insert("max_speed_study".to_owned(), study.detail_json());
+    Ok(())
+}
+
+fn mechanisms_section(
+    options: &ReproduceOptions,
+    observer: &dyn ReproduceObserver,
+    summary: &mut Map<String, Value>,
+) -> Result<(), ReportError> {
+    let settings = if options.quick {
+        MechanismStudySettings::quick()
+    } else {
+        MechanismStudySettings::paper()
+    };
+    observer.start("mechanisms", mechanisms::job_count(&settings) as u64);
+    let robot = ballbot_core::BallbotParams::miapure_60kg();
+    let study = mechanisms::run_study(robot, &settings, &|what| observer.step(what))?;
+    observer.finish();
+    let table = study.table();
+    observer.text(table.strip_suffix('\n').unwrap_or(&table));
+    #[cfg(feature = "plot")]
+    if options.plots {
+        let out = &options.out;
+        study
+            .slow_ramp_figure()
+            .save_svg_and_png(&out.join("slow_ramp_mechanisms"))?;
+        study
+            .sweep_figure()
+            .save_svg_and_png(&out.join("failure_speed_vs_accel"))?;
+        if let Some(f) = study.ripple_spectrum_figure() {
+            f.save_svg_and_png(&out.join("contact_ripple_spectra"))?;
+        }
+        if let Some(f) = study.ripple_peak_figure() {
+            f.save_svg_and_png(&out.join("contact_ripple_peaks"))?;
+        }
+    }
+    summary.insert("slow_ramp_mechanisms".to_owned(), study.slow_ramp_json());
+    summary.insert("ramp_accel_sweep".to_owned(), study.sweep_json());
+    summary.insert("contact_ripple".to_owned(), study.ripple_json());
     Ok(())
 }
 

@@ -17,6 +17,7 @@
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
 
 pub mod max_speed;
+pub mod mechanisms;
 pub mod piptb;
 pub mod planar_braking;
 pub mod push;

@@ -140,6 +140,13 @@ impl WorldParams {
         Self::with_robot(BallbotParams::miapure_60kg())
     }
 
+    /// The given robot in the ideal world: stiff continuous-rim omniwheel contacts without
+    /// forces along the axle, and the actuator's straight torque-speed line (the world of the
+    /// first releases; every mechanism of the default world switched off).
+    pub fn ideal(robot: BallbotParams<f64>) -> Self {
+        Self::with_robot(robot)
+    }
+
     /// The given robot with the default world parameters.
     pub fn with_robot(robot: BallbotParams<f64>) -> Self {
         Self {

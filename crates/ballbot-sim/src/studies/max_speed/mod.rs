@@ -45,5 +45,6 @@ pub use protocol::{
 pub use study::{MapPoint, MaxSpeedStudy, SensitivityRow, run_study};
 pub use trial::{
     HeadingTrials, TrialOutcome, controller, quasi_static_failing_accel_m_per_s2, slow_ramp_trial,
+    slow_ramp_trial_with_config,
 };
 pub use variant::Variant;

@@ -148,9 +148,21 @@ pub fn slow_ramp_trial(
     heading_deg: f64,
     seed: u64,
 ) -> Result<(RampResult, TrialOutcome), WorldError> {
+    let config = controller(&params, protocol)?;
+    slow_ramp_trial_with_config(params, config, protocol, heading_deg, seed)
+}
+
+/// [`slow_ramp_trial`] with a given controller configuration (e.g. an ablation of the
+/// controller); the protocol's shaper limits are not applied to it.
+pub fn slow_ramp_trial_with_config(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    protocol: &MaxSpeedProtocol,
+    heading_deg: f64,
+    seed: u64,
+) -> Result<(RampResult, TrialOutcome), WorldError> {
     let mut p = params;
     p.sensors.seed = seed;
-    let config = controller(&p, protocol)?;
     let run = max_speed_ramp_with_config(p, config, heading_deg, &protocol.slow_ramp)?;
     let outcome = TrialOutcome::from_run(&run, seed, protocol.slow_ramp.accel_m_per_s2);
     Ok((run, outcome))

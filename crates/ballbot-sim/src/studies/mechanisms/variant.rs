@@ -1,0 +1,82 @@
+//! What the mechanism study varies: which contact/driver mechanism of the world is switched
+//! on ([`Mechanism`]), and which controller drives the robot ([`ControllerVariant`]).
+
+use crate::studies::max_speed::{self, MaxSpeedProtocol};
+use crate::world::{WorldError, WorldParams};
+use ballbot_core::ballbot::BallbotControllerConfig;
+
+/// A world variant: the ideal world, the ideal world with one realistic mechanism added, or
+/// every mechanism at once (the default world).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Mechanism {
+    /// [`WorldParams::ideal`]: stiff continuous-rim contacts, no axle forces, the straight
+    /// torque-speed line.
+    Ideal,
+}
+
+impl Mechanism {
+    /// Every variant, the ideal world first and all mechanisms together last.
+    pub const ALL: [Self; 1] = [Self::Ideal];
+
+    /// The canonical (snake_case) name, used as the summary's key.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Ideal => "ideal",
+        }
+    }
+
+    /// A short description for tables and legends.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Ideal => "ideal contact and drive",
+        }
+    }
+
+    /// The world of this variant for `robot`: [`WorldParams::ideal`] with the mechanism's
+    /// realistic parameters switched on.
+    pub fn params(self, robot: ballbot_core::BallbotParams<f64>) -> WorldParams {
+        let p = WorldParams::ideal(robot);
+        match self {
+            Self::Ideal => p,
+        }
+    }
+}
+
+/// The controller a run uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ControllerVariant {
+    /// The core's controller as shipped (wheel mapping with the lean term, jerk-limited
+    /// command), with the protocol's shaper caps lifted ([`max_speed::controller`]).
+    Corrected,
+}
+
+impl ControllerVariant {
+    /// Every variant.
+    pub const ALL: [Self; 1] = [Self::Corrected];
+
+    /// The canonical (snake_case) name, used as the summary's key.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Corrected => "corrected",
+        }
+    }
+
+    /// A short description for tables and legends.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Corrected => "corrected controller",
+        }
+    }
+
+    /// The controller configuration for `params` under `protocol`.
+    pub fn config(
+        self,
+        params: &WorldParams,
+        protocol: &MaxSpeedProtocol,
+    ) -> Result<BallbotControllerConfig<f64>, WorldError> {
+        let config = max_speed::controller(params, protocol)?;
+        match self {
+            Self::Corrected => Ok(config),
+        }
+    }
+}
