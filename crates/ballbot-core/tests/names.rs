@@ -5,6 +5,7 @@
 #![allow(clippy::unwrap_used)] // test code
 
 use ballbot_core::ParseNameError;
+use ballbot_core::ballbot::WheelMapping;
 use ballbot_core::control::StepStatus;
 use ballbot_core::lqr::RiccatiStatus;
 use ballbot_core::safety::{Fault, FaultSet, Mode};
@@ -43,6 +44,12 @@ where
 fn every_mode_has_one_name_that_round_trips() {
     check_names(Mode::ALL, Mode::as_str, "mode");
     assert_eq!(Mode::ControlledStop.as_str(), "controlled_stop");
+}
+
+#[test]
+fn every_wheel_mapping_has_one_name_that_round_trips() {
+    check_names(WheelMapping::ALL, WheelMapping::as_str, "wheel mapping");
+    assert_eq!(WheelMapping::RollingBall.as_str(), "rolling_ball");
 }
 
 #[test]
@@ -143,6 +150,11 @@ mod serde_form {
             let json = serde_json::to_string(&f).unwrap();
             assert_eq!(json, format!("\"{}\"", f.as_str()));
             assert_eq!(serde_json::from_str::<Fault>(&json).unwrap(), f);
+        }
+        for w in WheelMapping::ALL {
+            let json = serde_json::to_string(&w).unwrap();
+            assert_eq!(json, format!("\"{}\"", w.as_str()));
+            assert_eq!(serde_json::from_str::<WheelMapping>(&json).unwrap(), w);
         }
         assert!(serde_json::from_str::<Mode>("\"Balancing\"").is_err());
         assert!(serde_json::from_str::<Fault>("7").is_err());

@@ -2,9 +2,9 @@
 //! ([`BallbotControllerConfig::design`]), with the per-motor PI gains
 //! ([`motor_speed_pi_gains`]).
 
-use super::{SpinGains, SpinOuterConfig};
+use super::{SpinGains, SpinOuterConfig, WheelMapping};
 use crate::check::{lit, positive};
-use crate::command::CommandShaperParams;
+use crate::command::{AxisLimits, CommandShaperParams};
 use crate::control::{LqrGains, LqrPiOuterConfig, SpeedPiGains};
 use crate::lqr::{
     SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
@@ -44,6 +44,9 @@ pub struct BallbotControllerConfig<T> {
     pub safety: SafetyParams<T>,
     /// Outer-loop period (s): 1/400 on MiaPURE.
     pub outer_dt_secs: T,
+    /// How the reference rates map to the omniwheels (see [`WheelMapping`]). Default
+    /// [`WheelMapping::RollingBall`].
+    pub wheel_mapping: WheelMapping,
 }
 
 /// LQR weights and bandwidths for [`BallbotControllerConfig::design_with`].
@@ -173,7 +176,40 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
             shaping: CommandShaperParams::miapure(),
             safety: SafetyParams::for_actuator(&robot.drivetrain.actuator),
             outer_dt_secs: dt,
+            wheel_mapping: WheelMapping::RollingBall,
         })
+    }
+
+    /// **An ablation, not a recommendation**: the paper's controller as we read it, built from
+    /// [`Self::design`] with two changes, the upright wheel mapping of MODEL.md section 4
+    /// ([`WheelMapping::Upright`]) and no jerk limit on the translation command
+    /// ([`AxisLimits::unlimited_jerk_per_s2`]; the paper
+    /// describes no command shaping). Everything else (gains, speed and acceleration caps,
+    /// safety) is the designed configuration's. It exists to show in the world what the
+    /// designed controller's two departures from the paper change; the default controller
+    /// ([`Self::design`]) is the one to run.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, WheelMapping};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let paper = BallbotControllerConfig::with_paper_ablation(&robot)?;
+    /// let designed = BallbotControllerConfig::design(&robot)?;
+    /// assert_eq!(paper.wheel_mapping, WheelMapping::Upright);
+    /// assert_eq!(paper.shaping.translation.max_jerk_per_s2, f64::INFINITY);
+    /// // Nothing else differs.
+    /// let mut same = paper;
+    /// same.wheel_mapping = designed.wheel_mapping;
+    /// same.shaping.translation.max_jerk_per_s2 = designed.shaping.translation.max_jerk_per_s2;
+    /// assert_eq!(same, designed);
+    /// assert!(BallbotController::new(paper).is_ok());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn with_paper_ablation(robot: &BallbotParams<T>) -> Result<Self, Error> {
+        let mut config = Self::design(robot)?;
+        config.wheel_mapping = WheelMapping::Upright;
+        config.shaping.translation.max_jerk_per_s2 = AxisLimits::<T>::unlimited_jerk_per_s2();
+        Ok(config)
     }
 }
 

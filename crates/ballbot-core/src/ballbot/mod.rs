@@ -20,6 +20,8 @@
 //!      the rolling ball's rate about the leaning body's z axis when it does not spin about
 //!      the vertical; without it the wheels turn a sideways lean at speed into a yaw rate
 //!      (`-tan(roll) phi_dot_y`), which made the closed loop's yaw diverge above 2.6 m/s.
+//!      The paper's upright mapping (`k = 0`, MODEL.md section 4) remains available as an
+//!      ablation, [`WheelMapping::Upright`] ([`BallbotControllerConfig::with_paper_ablation`]).
 //!
 //!   Its output is a small [`MotorReferences`] value: what the main controller sends to the
 //!   motor drivers.
@@ -80,6 +82,7 @@
 
 mod design;
 mod feedforward;
+mod mapping;
 mod motor;
 mod outer;
 mod spin;
@@ -87,6 +90,7 @@ mod spin;
 mod tests;
 
 pub use design::{BallbotControllerConfig, BallbotDesign, motor_speed_pi_gains};
+pub use mapping::WheelMapping;
 pub use motor::{InnerOutput, MotorSpeedLoop, MotorSpeedPi};
 pub use outer::{BallbotController, MotorReferences, OuterInput, OuterOutput};
 pub use spin::{SpinGains, SpinOuter, SpinOuterConfig, SpinOuterOutput};

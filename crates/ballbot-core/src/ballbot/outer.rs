@@ -2,7 +2,7 @@
 //! [`MotorReferences`] sent to the motor drivers.
 
 use super::feedforward::InputFeedforward;
-use super::{BallbotControllerConfig, SpinOuter};
+use super::{BallbotControllerConfig, SpinOuter, WheelMapping};
 use crate::check::{lit, positive};
 use crate::command::{Command, CommandShaper, PlanarCommands};
 use crate::control::{LqrPiOuter, StepStatus};
@@ -446,8 +446,13 @@ impl<T: RealField + Copy> BallbotController<T> {
         );
         // The reference ball motion does not spin about the vertical: leaning, its rolling has
         // a component about the body's z axis that the wheels see like a yaw rate (see
-        // `ball_body_z_rate_per_ball_rate`).
-        let k = ball_body_z_rate_per_ball_rate_sin_cos(roll_sin_cos, pitch_sin_cos);
+        // `ball_body_z_rate_per_ball_rate`). The upright mapping (an ablation) drops it.
+        let k = match self.config.wheel_mapping {
+            WheelMapping::RollingBall => {
+                ball_body_z_rate_per_ball_rate_sin_cos(roll_sin_cos, pitch_sin_cos)
+            }
+            WheelMapping::Upright => [T::zero(); 2],
+        };
         let relative = Vector3::new(
             reference_rate[0] - states.frontal[TILT_RATE],
             reference_rate[1] - states.sagittal[TILT_RATE],

@@ -79,21 +79,17 @@ fn spin_outer_turns_towards_the_heading_command_and_anchors() {
     assert_eq!(out.reference_torque_nm, 0.0);
 }
 
-#[test]
-fn wheel_references_do_not_spin_the_ball_about_the_vertical() {
-    // Leaning sideways and pitched while the ball rolls: the wheel references (mid-period)
-    // must describe a ball rolling at the reference rates with no spin about the world's
-    // vertical, and the body yawing at the spin plane's reference rate. (The upright
-    // mapping `omega_rel_z = -theta_dot_rz` made the body yaw by `-tan(roll) phi_dot_y`
-    // instead: the high-speed yaw divergence of docs/world.md.)
+/// Runs the controller of `c` for 40 outer steps leaning sideways and pitched (roll 0.03,
+/// pitch -0.02 rad) while the ball rolls at 20 rad/s forward and -5 rad/s sideways without
+/// vertical spin; returns the ball rate implied by the last wheel references (mid-period, the
+/// body yawing at the spin plane's reference rate, tilt rates 0), the reference rates, and the
+/// body's vertical in body coordinates.
+fn implied_ball_rate(c: BallbotControllerConfig<f64>) -> [Vector3<f64>; 3] {
     use crate::command::VelocityCommand;
     use crate::safety::ModeRequest;
-    let c = config();
     let kin = OmniKinematics::from_ballbot(&c.robot).unwrap();
     let mut outer = BallbotController::new(c).unwrap();
     let (roll, pitch) = (0.03, -0.02);
-    // Body-frame ball rates of a ball rolling at 20 rad/s forward, -5 rad/s sideways,
-    // without vertical spin.
     let k = crate::estimation::ball_body_z_rate_per_ball_rate(roll, pitch);
     let ball = Vector3::new(-5.0, 20.0, k[0] * -5.0 + k[1] * 20.0);
     let command = Command::Velocity(VelocityCommand {
@@ -136,13 +132,47 @@ fn wheel_references_do_not_spin_the_ball_about_the_vertical() {
     // Ball = relative + body (measured tilt rates 0, yaw at the spin reference).
     let reference = out.reference_rate_rad_per_s;
     let implied = relative + Vector3::new(0.0, 0.0, reference[2]);
+    let (sr, cr) = f64::sin_cos(roll);
+    let (sp, cp) = f64::sin_cos(pitch);
+    [implied, reference, Vector3::new(-sp, cp * sr, cp * cr)]
+}
+
+#[test]
+fn wheel_references_do_not_spin_the_ball_about_the_vertical() {
+    // Leaning sideways and pitched while the ball rolls: the wheel references (mid-period)
+    // must describe a ball rolling at the reference rates with no spin about the world's
+    // vertical, and the body yawing at the spin plane's reference rate. (The upright
+    // mapping `omega_rel_z = -theta_dot_rz` made the body yaw by `-tan(roll) phi_dot_y`
+    // instead: the high-speed yaw divergence of docs/world.md.)
+    let c = config();
+    assert_eq!(c.wheel_mapping, WheelMapping::RollingBall, "the default");
+    let [implied, reference, vertical] = implied_ball_rate(c);
     assert_relative_eq!(implied[0], reference[0], epsilon = 1e-9);
     assert_relative_eq!(implied[1], reference[1], epsilon = 1e-9);
     assert!(reference[1].abs() > 1.0, "{reference}");
-    let (sr, cr) = f64::sin_cos(roll);
-    let (sp, cp) = f64::sin_cos(pitch);
-    let vertical = Vector3::new(-sp, cp * sr, cp * cr);
     assert!(vertical.dot(&implied).abs() < 1e-9, "{implied}");
+}
+
+#[test]
+fn upright_wheel_mapping_is_the_papers_formula() {
+    // The ablation: omega_rel_z = -theta_dot_rz (MODEL.md section 4), so the ball rate the
+    // references imply has no component about the body's z axis, whatever the lean; the ball
+    // then spins about the vertical by -(g_x phi_dot_x + g_y phi_dot_y) per the lean (here
+    // 0.02 * -5 ... + 0.03 * 20 rad/s: far from 0). The lean term would give k . phi_dot.
+    let mut c = config();
+    c.wheel_mapping = WheelMapping::Upright;
+    let [implied, reference, vertical] = implied_ball_rate(c);
+    assert_relative_eq!(implied[0], reference[0], epsilon = 1e-9);
+    assert_relative_eq!(implied[1], reference[1], epsilon = 1e-9);
+    assert!(implied[2].abs() < 1e-9, "{implied}");
+    let spin = vertical.dot(&implied);
+    let expected = vertical[0] * reference[0] + vertical[1] * reference[1];
+    assert_relative_eq!(spin, expected, epsilon = 1e-9);
+    assert!(spin.abs() > 0.1, "{spin}");
+    // The paper configuration uses it, the designed one does not.
+    let paper = BallbotControllerConfig::with_paper_ablation(&c.robot).unwrap();
+    assert_eq!(paper.wheel_mapping, WheelMapping::Upright);
+    assert_eq!(config().wheel_mapping, WheelMapping::RollingBall);
 }
 
 #[test]

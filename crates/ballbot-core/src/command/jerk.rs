@@ -30,7 +30,26 @@ pub struct AxisLimits<T> {
 }
 
 impl<T: RealField + Copy> AxisLimits<T> {
-    /// Checks that every limit is finite and positive.
+    /// The jerk limit that means "no jerk limit": positive infinity. The only non-finite limit
+    /// [`Self::validate`] accepts; with it the [`JerkLimiter`] is a plain rate limiter (the
+    /// acceleration may jump to any value within `max_rate_per_s` in one step).
+    ///
+    /// ```
+    /// use ballbot_core::command::{AxisLimits, JerkLimiter};
+    /// let jerk = AxisLimits::<f64>::unlimited_jerk_per_s2();
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: jerk };
+    /// assert!(limits.validate().is_ok());
+    /// // A step in the target: the full acceleration from the first step.
+    /// let mut limiter = JerkLimiter::at(0.0);
+    /// limiter.step(1.0, &limits, 0.0025);
+    /// assert_eq!(limiter.rate_per_s(), 1.0);
+    /// ```
+    pub fn unlimited_jerk_per_s2() -> T {
+        lit(f64::INFINITY)
+    }
+
+    /// Checks that every limit is finite and positive, except the jerk limit, which may also
+    /// be [`Self::unlimited_jerk_per_s2`] (positive infinity: no jerk limit).
     ///
     /// ```
     /// use ballbot_core::Error;
@@ -40,11 +59,23 @@ impl<T: RealField + Copy> AxisLimits<T> {
     ///     limits.validate(),
     ///     Err(Error::InvalidParameter { field: "max_jerk_per_s2", .. })
     /// ));
+    /// let nan = AxisLimits { max_jerk_per_s2: f64::NAN, ..limits };
+    /// assert!(nan.validate().is_err());
     /// ```
     pub fn validate(&self) -> Result<(), Error> {
         positive(self.max_value, "max_value")?;
         positive(self.max_rate_per_s, "max_rate_per_s")?;
-        positive(self.max_jerk_per_s2, "max_jerk_per_s2")
+        if self.max_jerk_per_s2 == Self::unlimited_jerk_per_s2() {
+            return Ok(());
+        }
+        if self.max_jerk_per_s2.is_finite() && self.max_jerk_per_s2 > T::zero() {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                "max_jerk_per_s2",
+                "must be finite and > 0, or +infinity (no jerk limit)",
+            ))
+        }
     }
 }
 
@@ -282,6 +313,8 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         let error = target - self.value;
         let jerk_step = jerk * dt_secs;
         let half = jerk_step * lit(0.5);
+        // No jerk limit (infinite jerk): `inf - inf` is NaN and `min` (plain comparison)
+        // takes the other bound, so braking bounds nothing.
         let braking = (half * half + lit::<T>(2.0) * jerk * error.abs()).sqrt() - half;
         let correction_mag = min(
             min(braking, lit::<T>(2.0) * max_rate),

@@ -52,6 +52,42 @@ fn jerk_limiter_reaches_a_step_target_in_near_minimum_time_within_limits() {
 }
 
 #[test]
+fn unlimited_jerk_is_a_plain_rate_limiter() {
+    // No jerk limit: the full acceleration from the first step, the value ramps at exactly
+    // max_rate and settles on the target without overshoot (1 m/s at 1 m/s^2: 1 s, 400 steps).
+    let l = AxisLimits {
+        max_jerk_per_s2: AxisLimits::unlimited_jerk_per_s2(),
+        ..limits()
+    };
+    assert!(l.validate().is_ok());
+    let mut limiter = JerkLimiter::at(0.0);
+    let mut arrival = None;
+    for k in 1..=600 {
+        let v = limiter.step(1.0, &l, DT);
+        assert!(v.is_finite() && v <= 1.0, "step {k}: {v}");
+        assert!(limiter.jerk_per_s2().is_finite());
+        if k <= 399 {
+            assert_relative_eq!(limiter.rate_per_s(), 1.0);
+            assert_relative_eq!(v, k as f64 * DT, epsilon = 1e-12);
+        }
+        if v == 1.0 && arrival.is_none() {
+            arrival = Some(k);
+        }
+    }
+    // 400 steps, or 401 when the sum of 400 steps of 2.5 mm/s rounds to just below 1.
+    assert!(matches!(arrival, Some(400 | 401)), "{arrival:?}");
+    assert_eq!(limiter.rate_per_s(), 0.0);
+    // A jerk limit of -inf or NaN is still refused.
+    for bad in [f64::NEG_INFINITY, f64::NAN] {
+        let l = AxisLimits {
+            max_jerk_per_s2: bad,
+            ..limits()
+        };
+        assert!(l.validate().is_err());
+    }
+}
+
+#[test]
 fn jerk_limiter_short_move_never_reaches_full_acceleration() {
     // 0.05 m/s at 4 m/s^3: triangular acceleration, peak sqrt(j dv) = 0.447 m/s^2.
     let mut limiter = JerkLimiter::at(0.0);
