@@ -3,7 +3,8 @@
 
 use crate::studies::max_speed::{self, MaxSpeedProtocol};
 use crate::world::{WorldError, WorldParams};
-use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
+use ballbot_core::command::AxisLimits;
 
 /// A world variant: the ideal world, the ideal world with one realistic mechanism added, or
 /// every mechanism at once (the default world).
@@ -48,16 +49,22 @@ pub enum ControllerVariant {
     /// The core's controller as shipped (wheel mapping with the lean term, jerk-limited
     /// command), with the protocol's shaper caps lifted ([`max_speed::controller`]).
     Corrected,
+    /// The paper's robot as an ablation: the same controller and caps with the upright wheel
+    /// mapping (no lean term, [`WheelMapping::Upright`]) and no jerk limit on the command
+    /// (the paper's ramps are plain velocity ramps), as in
+    /// [`BallbotControllerConfig::with_paper_ablation`].
+    Paper,
 }
 
 impl ControllerVariant {
     /// Every variant.
-    pub const ALL: [Self; 1] = [Self::Corrected];
+    pub const ALL: [Self; 2] = [Self::Corrected, Self::Paper];
 
     /// The canonical (snake_case) name, used as the summary's key.
     pub fn as_str(self) -> &'static str {
         match self {
             Self::Corrected => "corrected",
+            Self::Paper => "paper",
         }
     }
 
@@ -65,6 +72,7 @@ impl ControllerVariant {
     pub fn label(self) -> &'static str {
         match self {
             Self::Corrected => "corrected controller",
+            Self::Paper => "paper's controller (upright mapping, no jerk limit)",
         }
     }
 
@@ -74,9 +82,15 @@ impl ControllerVariant {
         params: &WorldParams,
         protocol: &MaxSpeedProtocol,
     ) -> Result<BallbotControllerConfig<f64>, WorldError> {
-        let config = max_speed::controller(params, protocol)?;
+        let mut config = max_speed::controller(params, protocol)?;
         match self {
-            Self::Corrected => Ok(config),
+            Self::Corrected => {}
+            Self::Paper => {
+                config.wheel_mapping = WheelMapping::Upright;
+                config.shaping.translation.max_jerk_per_s2 =
+                    AxisLimits::<f64>::unlimited_jerk_per_s2();
+            }
         }
+        Ok(config)
     }
 }
