@@ -120,7 +120,10 @@ impl MechanismStudy {
                 out.push('\n');
             }
         }
-        out.push_str(&format!("{:>22} | {:>24}", "paper", "MiaPURE hardware"));
+        out.push_str(&format!(
+            "{:>22} | {:>24}",
+            "MiaPURE hardware", "the paper's Fig. acc"
+        ));
         for &h in headings {
             let cell = PAPER_MAX_SPEED
                 .iter()
