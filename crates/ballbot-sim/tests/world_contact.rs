@@ -2,7 +2,7 @@
 //! variant is unchanged, and each mechanism shows its physics.
 
 use crate::balance::{PlanarBalancer, PlanarBalancerParams};
-use ballbot_sim::world::{BallbotWorld, WorldParams};
+use ballbot_sim::world::{AxleLossParams, BallbotWorld, RollerParams, WorldParams};
 
 /// Runs `world` for `duration_secs` under the planar balancer with a constant body-frame
 /// velocity command (m/s).
@@ -65,5 +65,108 @@ fn ideal_contact_reproduces_the_world_before_contact_realism() {
             (g - e).abs() <= 1e-12 * e.abs().max(1.0),
             "number {i}: {g:.17e} != {e:.17e}"
         );
+    }
+}
+
+/// Power of the mean-removed signal `x` (sampled every `dt_secs`) at `freq_hz`, by Goertzel's
+/// recurrence.
+fn goertzel_power(x: &[f64], dt_secs: f64, freq_hz: f64) -> f64 {
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    let w = std::f64::consts::TAU * freq_hz * dt_secs;
+    let coeff = 2.0 * w.cos();
+    let (mut s1, mut s2) = (0.0, 0.0);
+    for &v in x {
+        let s0 = (v - mean) + coeff * s1 - s2;
+        s2 = s1;
+        s1 = s0;
+    }
+    s1 * s1 + s2 * s2 - coeff * s1 * s2
+}
+
+/// Cruises with the planar balancer at `speed_m_per_s` along the body-frame heading
+/// `heading_rad` (ramped up over 2 s, settled for 2 s), then records OW1's normal force and its
+/// mean |wheel speed| over `window_secs`.
+fn ow1_normal_force_in_cruise(
+    params: WorldParams,
+    speed_m_per_s: f64,
+    heading_rad: f64,
+    window_secs: f64,
+) -> (Vec<f64>, f64) {
+    let mut world = BallbotWorld::new(params).unwrap();
+    let (s, c) = heading_rad.sin_cos();
+    let command = [speed_m_per_s * c, speed_m_per_s * s];
+    for k in 0..40 {
+        let ramp = f64::from(k + 1) / 40.0;
+        cruise(&mut world, 0.05, [command[0] * ramp, command[1] * ramp]);
+    }
+    cruise(&mut world, 2.0, command);
+    let dt = world.params().dt_secs;
+    let mut ctrl =
+        PlanarBalancer::new(&world.params().robot, PlanarBalancerParams::default()).unwrap();
+    let every = (ctrl.period_secs() / dt).round() as usize;
+    let steps = (window_secs / dt).round() as usize;
+    let mut torque = [0.0; 3];
+    let mut force = Vec::with_capacity(steps);
+    let mut speed_sum = 0.0;
+    for k in 0..steps {
+        if k.is_multiple_of(every) {
+            torque = ctrl.update(&world.measure(), command);
+        }
+        let t = world.step(torque);
+        force.push(t.wheels[0].normal_force_n);
+        speed_sum += t.wheels[0].speed_rad_per_s.abs();
+    }
+    assert!(world.failure().is_none(), "{:?}", world.failure());
+    (force, speed_sum / steps as f64)
+}
+
+#[test]
+fn roller_gaps_ripple_the_normal_force_at_the_roller_passing_rate() {
+    let mut params = WorldParams::miapure_60kg();
+    params.contact.rollers = RollerParams::miapure();
+    let n_r = f64::from(params.contact.rollers.count);
+    let dt = params.dt_secs;
+    // Heading 60 deg: OW1 and OW2 turn at the same |psi_dot| (|sin(phi - beta)| = 0.866, the
+    // issue's f = 1.56 N_r v) and OW3's rollers roll, so the spectrum has one comb of lines.
+    let heading = 60.0_f64.to_radians();
+    for speed in [0.4, 0.8] {
+        let (force, psi_dot) = ow1_normal_force_in_cruise(params, speed, heading, 4.0);
+        let expected_hz = n_r * psi_dot / std::f64::consts::TAU;
+        let kinematic_hz = 1.56 * n_r * speed;
+        assert!(
+            (expected_hz / kinematic_hz - 1.0).abs() < 0.1,
+            "wheel speed {psi_dot} rad/s: f = {expected_hz} Hz vs 1.56 N_r v = {kinematic_hz}"
+        );
+        // The gaps are short pulses (4 mm of a 39 mm pitch), so the ripple is a comb of
+        // lines at multiples of f, the strongest where the structure resonates (40-50 Hz);
+        // the comb's spacing is the fundamental. Harmonic sum over 10 lines, scanned from
+        // 0.6 f to 1.4 f in 0.2 % steps: it peaks at f.
+        let comb = |f0: f64| -> f64 {
+            (1..=10)
+                .map(|k| goertzel_power(&force, dt, f64::from(k) * f0))
+                .sum()
+        };
+        let (mut best_hz, mut best) = (0.0, 0.0);
+        let mut f = 0.6 * expected_hz;
+        while f < 1.4 * expected_hz {
+            let p = comb(f);
+            if p > best {
+                (best_hz, best) = (f, p);
+            }
+            f *= 1.002;
+        }
+        println!("v {speed}: f {expected_hz} Hz, comb peak {best_hz} Hz");
+        assert!(
+            (best_hz / expected_hz - 1.0).abs() < 0.01,
+            "comb at {best_hz} Hz, expected {expected_hz} Hz"
+        );
+        // Without gaps the same cruise has no such comb.
+        let (smooth, _) =
+            ow1_normal_force_in_cruise(WorldParams::miapure_60kg(), speed, heading, 4.0);
+        let ideal: f64 = (1..=10)
+            .map(|k| goertzel_power(&smooth, dt, f64::from(k) * best_hz))
+            .sum();
+        println!("  comb power {best:.3e}, ideal rim {ideal:.3e}");
+        assert!(best > 20.0 * ideal, "{best:.3e} vs {ideal:.3e}");
     }
 }
