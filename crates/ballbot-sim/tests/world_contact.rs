@@ -170,3 +170,109 @@ fn roller_gaps_ripple_the_normal_force_at_the_roller_passing_rate() {
         assert!(best > 20.0 * ideal, "{best:.3e} vs {ideal:.3e}");
     }
 }
+
+/// Means over the last second of a 0.5 m/s cruise straight towards OW1 (its rollers roll, its
+/// wheel stands): OW1's cone utilisation, axle force, normal force, and the tilt.
+struct TowardsOw1 {
+    cone_utilisation: f64,
+    axle_force_n: f64,
+    normal_force_n: f64,
+    traction_n: f64,
+    tilt_rad: [f64; 2],
+}
+
+fn cruise_towards_ow1(params: WorldParams) -> TowardsOw1 {
+    let mut world = BallbotWorld::new(params).unwrap();
+    let speed = 0.5;
+    for k in 0..40 {
+        cruise(&mut world, 0.05, [speed * f64::from(k + 1) / 40.0, 0.0]);
+    }
+    cruise(&mut world, 2.0, [speed, 0.0]);
+    let dt = world.params().dt_secs;
+    let mut ctrl =
+        PlanarBalancer::new(&world.params().robot, PlanarBalancerParams::default()).unwrap();
+    let every = (ctrl.period_secs() / dt).round() as usize;
+    let steps = (1.0 / dt).round() as usize;
+    let mut torque = [0.0; 3];
+    let mut m = TowardsOw1 {
+        cone_utilisation: 0.0,
+        axle_force_n: 0.0,
+        normal_force_n: 0.0,
+        traction_n: 0.0,
+        tilt_rad: [0.0; 2],
+    };
+    let w = 1.0 / steps as f64;
+    for k in 0..steps {
+        if k.is_multiple_of(every) {
+            torque = ctrl.update(&world.measure(), [speed, 0.0]);
+        }
+        let t = world.step(torque);
+        let ow1 = &t.wheels[0];
+        m.cone_utilisation += w * ow1.cone_utilisation;
+        m.axle_force_n += w * ow1.axle_force_n;
+        m.normal_force_n += w * ow1.normal_force_n;
+        m.traction_n += w * ow1.traction_n;
+        m.tilt_rad[0] += w * t.tilt_rad[0];
+        m.tilt_rad[1] += w * t.tilt_rad[1];
+    }
+    assert!(world.failure().is_none(), "{:?}", world.failure());
+    m
+}
+
+#[test]
+fn axle_losses_use_more_of_the_cone_without_changing_the_lean() {
+    let ideal = cruise_towards_ow1(WorldParams::miapure_60kg());
+    let mut params = WorldParams::miapure_60kg();
+    params.contact.axle_loss = AxleLossParams::miapure();
+    let lossy = cruise_towards_ow1(params);
+    let c_a = AxleLossParams::miapure().coefficient();
+    let mu = params.robot.drivetrain.wheel_ball_friction;
+    println!(
+        "ideal: cone {:.4} F {:.3} N {:.1} tilt {:?}",
+        ideal.cone_utilisation, ideal.traction_n, ideal.normal_force_n, ideal.tilt_rad
+    );
+    println!(
+        "lossy: cone {:.4} F {:.3} F_a {:.3} N {:.1} tilt {:?}",
+        lossy.cone_utilisation,
+        lossy.traction_n,
+        lossy.axle_force_n,
+        lossy.normal_force_n,
+        lossy.tilt_rad
+    );
+    // Relative to the body, the ball's surface at OW1 moves with (z x v) x n = v (y x n)
+    // = v cos(alpha) a (a = d x n = (cos alpha, 0, -sin alpha)): 0.35 m/s along +a, far beyond
+    // s_eps. The axle force is the full C_a N, against that slip.
+    assert!(lossy.axle_force_n < 0.0, "{}", lossy.axle_force_n);
+    assert!(
+        (lossy.axle_force_n.abs() - c_a * lossy.normal_force_n).abs()
+            < 0.02 * c_a * lossy.normal_force_n,
+        "{} vs {}",
+        lossy.axle_force_n,
+        c_a * lossy.normal_force_n
+    );
+    // Cone use rises to |(F, F_a)| / (mu N): by about C_a / mu = 0.07 while F is small.
+    let predicted = lossy.traction_n.hypot(c_a * lossy.normal_force_n)
+        / (mu * lossy.normal_force_n)
+        - ideal.cone_utilisation;
+    let rise = lossy.cone_utilisation - ideal.cone_utilisation;
+    println!(
+        "rise {rise:.4}, predicted {predicted:.4}, C_a / mu {:.4}",
+        c_a / mu
+    );
+    assert!(
+        (rise - predicted).abs() < 0.15 * predicted,
+        "{rise} vs {predicted}"
+    );
+    assert!(rise > 0.5 * c_a / mu, "{rise}");
+    // The losses are internal to the robot: the lean that balances the floor's rolling
+    // resistance is unchanged.
+    for axis in 0..2 {
+        let d = (lossy.tilt_rad[axis] - ideal.tilt_rad[axis]).abs();
+        assert!(
+            d < 2e-4,
+            "tilt {axis}: {:?} vs {:?}",
+            lossy.tilt_rad,
+            ideal.tilt_rad
+        );
+    }
+}
