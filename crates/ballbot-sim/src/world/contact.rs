@@ -129,7 +129,13 @@ impl ContactLaw {
                     .abs()
                     .max(self.axle_regularisation_speed_m_per_s);
         let limit = self.static_friction * normal_force_n;
-        let demand_norm = demand.hypot(axle_demand);
+        // |(F_stick, F_a)|; hypot only when there is an axle force (the ideal world's rollers
+        // are free, and abs is exact and cheaper there).
+        let demand_norm = if axle_demand == 0.0 {
+            demand.abs()
+        } else {
+            demand.hypot(axle_demand)
+        };
         let (traction_n, axle_force_n, slipping) = if demand_norm <= limit {
             *bristle_m += kin.slip_speed_m_per_s * dt_secs;
             (demand, axle_demand, false)
@@ -142,7 +148,11 @@ impl ContactLaw {
             (f, kinetic * (axle_demand / demand_norm), true)
         };
         let cone_utilisation = if limit > 0.0 {
-            traction_n.hypot(axle_force_n) / limit
+            if axle_force_n == 0.0 {
+                traction_n.abs() / limit
+            } else {
+                traction_n.hypot(axle_force_n) / limit
+            }
         } else {
             0.0
         };
