@@ -426,3 +426,47 @@ fn realistic_contact_balances_and_cruises_under_the_shipped_controller() {
         t.tilt_rad
     );
 }
+
+#[test]
+fn spinning_on_a_frictionless_floor_with_roller_gaps_keeps_the_vertical_angular_momentum() {
+    // Frictionless floor, no rolling or spin friction: gravity and the floor push only
+    // vertically, so the angular momentum about the vertical stays (the world's wheel spins
+    // included). Equal motor torques spin ball and body against each other about the vertical
+    // and turn every wheel over its gaps; the gap torques N d(dip)/d(psi) and the axle losses
+    // act inside the robot and must keep it too.
+    let mut p = WorldParams::miapure_60kg();
+    p.contact.rollers = RollerParams::miapure();
+    p.contact.axle_loss = AxleLossParams::miapure();
+    p.rolling_resistance = 0.0;
+    p.spin_friction_m = 0.0;
+    let mut world = BallbotWorld::new(p).unwrap();
+    world.set_floor_friction(0.0).unwrap();
+    let pitch = std::f64::consts::TAU / 10.0;
+    let (mut gap_steps, mut axle_steps) = (0, 0);
+    let mut l_max: f64 = 0.0;
+    let l0 = world.angular_momentum_nms().z;
+    for k in 0..8000 {
+        let torque = if k < 4000 { [1.0; 3] } else { [0.0; 3] };
+        let t = *world.step(torque);
+        for w in &t.wheels {
+            let u = w.angle_rad.rem_euclid(pitch) - 0.5 * pitch;
+            gap_steps += usize::from(w.normal_force_n > 0.0 && u.abs() < 0.032);
+            axle_steps += usize::from(w.axle_force_n.abs() > 1.0);
+        }
+        // Scale: the ball's own spin angular momentum about the vertical.
+        let i_ball = world.params().robot.sagittal.ball_inertia_kg_m2;
+        l_max = l_max.max((i_ball * t.ball_angular_velocity_rad_per_s.z).abs());
+    }
+    let dl = (world.angular_momentum_nms().z - l0).abs();
+    println!("gap steps {gap_steps}, axle steps {axle_steps}, dL_z {dl:e}, ball's L_z {l_max}");
+    assert!(world.failure().is_none(), "{:?}", world.failure());
+    assert!(
+        gap_steps > 1000 && axle_steps > 1000,
+        "{gap_steps} {axle_steps}"
+    );
+    assert!(l_max > 0.01, "the ball spins: {l_max}");
+    assert!(
+        dl < 1e-6 * l_max,
+        "L_z changed by {dl} (ball's L_z up to {l_max})"
+    );
+}

@@ -34,8 +34,10 @@
 //!   `-d(dip)/d(psi) psi_dot`.
 //!
 //! The force's direction still follows the line of centres: its true tilt, about
-//! `r_W theta_e / R` (0.02 rad at the MiaPURE gap), is neglected. Roller ends are modelled
-//! sharp; chamfered ends widen the effective gap.
+//! `r_W theta_e / R` (0.02 rad at the MiaPURE gap), is neglected, so the ball does not feel the
+//! tangential part of it (about `N r_W theta_e / R`, up to 6 N); the wheel's torque is
+//! reacted by the body through the hub, which keeps energy and angular momentum. Roller ends
+//! are modelled sharp; chamfered ends widen the effective gap.
 //!
 //! # Excitation frequency
 //!

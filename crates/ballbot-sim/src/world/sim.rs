@@ -524,11 +524,13 @@ impl BallbotWorld {
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
             let tau = actuator.clamp_torque_nm(motor_torque_nm[i], wheel.speed_rad_per_s);
             let spin_torque = tau - rim.rim_radius_m * out.traction_n - b_w * wheel.speed_rad_per_s;
-            // At a roller gap the normal force acts off the line of centres and turns the wheel
-            // by N d(dip)/d(psi); that moment comes from the ball, so the body does not react
-            // to it (crate::world::rollers).
+            // At a roller gap the normal force turns the wheel by N d(dip)/d(psi), the
+            // generalised force of the normal spring (crate::world::rollers). The force itself
+            // stays on the line of centres, so the hub passes the reaction to the body, like the
+            // motor's: angular momentum and energy are both kept.
             let gap_torque = out.normal_force_n * rim.dip_slope_m_per_rad;
-            wheel.speed_rad_per_s += dt * (spin_torque + gap_torque) / i_w;
+            let wheel_torque = spin_torque + gap_torque;
+            wheel.speed_rad_per_s += dt * wheel_torque / i_w;
             wheel.angle_rad += dt * wheel.speed_rad_per_s;
             // The wheel presses the ball away from itself (-n) and drives it along d.
             let f = kin.rolling_dir * out.traction_n + kin.axle_dir * out.axle_force_n
@@ -537,7 +539,7 @@ impl BallbotWorld {
             ball_torque += (p - c).cross(f);
             body_force -= f;
             body_torque -= (p - body_com).cross(f);
-            body_torque -= body_rot * self.geometry[i].axle_local * spin_torque;
+            body_torque -= body_rot * self.geometry[i].axle_local * wheel_torque;
             wheel_tel[i] = WheelTelemetry {
                 normal_force_n: out.normal_force_n,
                 traction_n: out.traction_n,
