@@ -470,3 +470,47 @@ fn spinning_on_a_frictionless_floor_with_roller_gaps_keeps_the_vertical_angular_
         "L_z changed by {dl} (ball's L_z up to {l_max})"
     );
 }
+
+#[test]
+fn contact_realism_fields_are_validated_and_optional_in_files() {
+    let reject = |set: &dyn Fn(&mut WorldParams), field: &str| {
+        let mut p = WorldParams::miapure_60kg();
+        set(&mut p);
+        match BallbotWorld::new(p) {
+            Err(ballbot_sim::world::WorldError::InvalidParameter { field: f, .. }) => {
+                assert_eq!(f, field);
+            }
+            Err(e) => panic!("{field}: {e}"),
+            Ok(_) => panic!("{field}: accepted"),
+        }
+    };
+    reject(
+        &|p| {
+            p.contact.rollers = RollerParams {
+                count: 100,
+                gap_width_m: 0.004,
+            }
+        },
+        "contact.rollers.count",
+    );
+    reject(
+        &|p| p.contact.rollers.gap_width_m = f64::NAN,
+        "contact.rollers.gap_width_m",
+    );
+    reject(
+        &|p| p.contact.axle_loss.rolling_resistance = -0.01,
+        "contact.axle_loss.rolling_resistance",
+    );
+    reject(
+        &|p| p.contact.axle_loss.pin_radius_m = 0.02,
+        "contact.axle_loss.roller_radius_m",
+    );
+    // A parameter file written before contact realism (no `rollers`, no `axle_loss`) still
+    // reads, as the ideal contact.
+    let mut json = serde_json::to_value(ContactParams::ideal()).unwrap();
+    let fields = json.as_object_mut().unwrap();
+    assert!(fields.remove("rollers").is_some() && fields.remove("axle_loss").is_some());
+    let read: ContactParams = serde_json::from_value(json).unwrap();
+    assert_eq!(read, ContactParams::ideal());
+    assert_eq!(ContactParams::ideal(), ContactParams::default());
+}
