@@ -6,6 +6,10 @@
 
 #[path = "../benches/common/world_drive.rs"]
 mod world_drive;
+use ballbot_core::BallbotParams;
+use ballbot_sim::world::{
+    AxleLossParams, ContactParams, RollerParams, RubberLayer, WorldError, WorldParams,
+};
 use std::hint::black_box;
 use std::process::ExitCode;
 use world_drive::WorldDrive;
@@ -14,7 +18,31 @@ use world_drive::WorldDrive;
 /// the robot balancing while driving (the criterion bench `world_step`'s scenario), after a
 /// warm-up of 1 s.
 fn world_step_with_controller(n: u64) -> Result<(), String> {
-    let mut drive = WorldDrive::new().map_err(|e| e.to_string())?;
+    run_drive(WorldDrive::new(), n)
+}
+
+/// [`world_step_with_controller`] with every contact-realism mechanism on: the rubber
+/// coating's stiffness and damping, roller gaps and axle losses. The counted steps (up to
+/// 4000 after the warm-up) end before the drive cycle's reversal at 2 s, where OW1 slips for
+/// longer than 0.1 s with all three mechanisms on (a failure this harness would report).
+fn world_step_realistic_contact(n: u64) -> Result<(), String> {
+    run_drive(WorldDrive::with_params(realistic_contact()), n)
+}
+
+/// MiaPURE with the realistic contact (docs/world.md, "Contact realism").
+fn realistic_contact() -> WorldParams {
+    let mut params = WorldParams::miapure_60kg();
+    let robot = BallbotParams::miapure_60kg();
+    params.contact = ContactParams {
+        rollers: RollerParams::miapure(),
+        axle_loss: AxleLossParams::miapure(),
+        ..ContactParams::rubber_coated(&robot, &RubberLayer::miapure())
+    };
+    params
+}
+
+fn run_drive(drive: Result<WorldDrive, WorldError>, n: u64) -> Result<(), String> {
+    let mut drive = drive.map_err(|e| e.to_string())?;
     for _ in 0..n {
         black_box(drive.step().map_err(|e| e.to_string())?);
     }
@@ -26,7 +54,10 @@ fn world_step_with_controller(n: u64) -> Result<(), String> {
 
 type Run = fn(u64) -> Result<(), String>;
 
-const OPERATIONS: &[(&str, Run)] = &[("world_step_with_controller", world_step_with_controller)];
+const OPERATIONS: &[(&str, Run)] = &[
+    ("world_step_with_controller", world_step_with_controller),
+    ("world_step_realistic_contact", world_step_realistic_contact),
+];
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().collect();

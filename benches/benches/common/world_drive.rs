@@ -25,6 +25,7 @@ pub const DRIVE_CYCLE: [(f64, f64, f64); 4] = [
 
 /// The world driven through [`DRIVE_CYCLE`]; rebuilt (and counted) if the robot ever fails.
 pub struct WorldDrive {
+    params: WorldParams,
     sim: WorldRobot,
     step_index: u64,
     /// How often the world had to be rebuilt after a failure (0 in a healthy run).
@@ -32,10 +33,16 @@ pub struct WorldDrive {
 }
 
 impl WorldDrive {
-    /// A fresh world, warmed up for [`WARM_UP_STEPS`].
+    /// A fresh MiaPURE world (today's defaults), warmed up for [`WARM_UP_STEPS`].
     pub fn new() -> Result<Self, WorldError> {
+        Self::with_params(WorldParams::miapure_60kg())
+    }
+
+    /// A fresh world with `params`, warmed up for [`WARM_UP_STEPS`].
+    pub fn with_params(params: WorldParams) -> Result<Self, WorldError> {
         let mut drive = Self {
-            sim: WorldRobot::new(WorldParams::miapure_60kg())?,
+            params,
+            sim: WorldRobot::new(params)?,
             step_index: 0,
             restarts: 0,
         };
@@ -48,7 +55,7 @@ impl WorldDrive {
     /// One physics step with the command of the current drive phase.
     pub fn step(&mut self) -> Result<&StepTelemetry, WorldError> {
         if self.sim.world().failure().is_some() {
-            self.sim = WorldRobot::new(WorldParams::miapure_60kg())?;
+            self.sim = WorldRobot::new(self.params)?;
             self.restarts += 1;
         }
         let phase = (self.step_index / STEPS_PER_COMMAND) as usize % DRIVE_CYCLE.len();

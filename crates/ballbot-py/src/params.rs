@@ -13,7 +13,10 @@ use crate::errors::{Kind, core_error, error};
 use ballbot_core::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WipParams,
 };
-use ballbot_sim::world::{ContactParams, FailureParams, SensorParams, WorldParams};
+use ballbot_sim::world::{
+    AxleLossParams, ContactParams, FailureParams, RollerParams, RubberLayer, SensorParams,
+    WorldParams,
+};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList};
@@ -528,6 +531,64 @@ impl CoreParams for ContactParams {
     }
 }
 
+impl CoreParams for RollerParams {
+    const NAME: &'static str = "RollerParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.contact.rollers = *self)
+    }
+}
+
+impl CoreParams for AxleLossParams {
+    const NAME: &'static str = "AxleLossParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.contact.axle_loss = *self)
+    }
+}
+
+/// The ideal contact with the rubber coating's stiffness and damping for MiaPURE with 60 kg.
+fn contact_rubber_coated_miapure_60kg() -> ContactParams {
+    ContactParams::rubber_coated(&BallbotParams::miapure_60kg(), &RubberLayer::miapure())
+}
+
+py_params! {
+    /// Roller gaps of each omniwheel (`ballbot_sim::world::RollerParams`): `count` rollers
+    /// (0: a continuous rim) separated by gaps of `gap_width_m`.
+    PyRollerParams(RollerParams, "RollerParams", default = RollerParams::none) {
+        floats { gap_width_m }
+        ints { count: u32 }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "none" => RollerParams::none,
+        "miapure" => RollerParams::miapure,
+    }
+}
+
+py_params! {
+    /// Roller rolling resistance and pin friction along each wheel's axle
+    /// (`ballbot_sim::world::AxleLossParams`).
+    PyAxleLossParams(AxleLossParams, "AxleLossParams", default = AxleLossParams::none) {
+        floats {
+            rolling_resistance, pin_friction, pin_radius_m, roller_radius_m,
+            regularisation_speed_m_per_s,
+        }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "none" => AxleLossParams::none,
+        "miapure" => AxleLossParams::miapure,
+    }
+    methods {
+        /// The force per unit load once the axle slip exceeds the regularisation speed,
+        /// `C_rr + mu_b r_pin / r_roller`.
+        fn coefficient(&self) -> f64 {
+            self.inner.coefficient()
+        }
+    }
+}
+
 impl CoreParams for SensorParams {
     const NAME: &'static str = "SensorParams";
     fn check(&self, py: Python<'_>) -> PyResult<()> {
@@ -564,10 +625,12 @@ py_params! {
             traction_damping_n_s_per_m, kinetic_friction_ratio,
         }
         arrays {}
-        nested {}
+        nested { rollers: PyRollerParams, axle_loss: PyAxleLossParams }
     }
     presets {
         "default" => ContactParams::default,
+        "ideal" => ContactParams::ideal,
+        "rubber_coated_miapure_60kg" => contact_rubber_coated_miapure_60kg,
     }
 }
 
@@ -646,6 +709,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyDrivetrainParams>()?;
     m.add_class::<PyBallbotParams>()?;
     m.add_class::<PyPlanarRobotParams>()?;
+    m.add_class::<PyRollerParams>()?;
+    m.add_class::<PyAxleLossParams>()?;
     m.add_class::<PyContactParams>()?;
     m.add_class::<PySensorParams>()?;
     m.add_class::<PyFailureParams>()?;

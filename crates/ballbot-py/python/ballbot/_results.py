@@ -86,8 +86,10 @@ class _WorldTrace(_Result):
     """Wheel tractions along the rolling direction (N), ``(n, 3)``."""
     traction_demand_n: _F64
     """Traction each contact needed to stick (N), ``(n, 3)``."""
+    axle_force_n: _F64
+    """Roller losses along each wheel's axle (N), ``(n, 3)``; 0 with free rollers."""
     cone_utilisation: _F64
-    """``|F| / (mu N)`` per wheel, ``(n, 3)``."""
+    """``|(F, F_a)| / (mu N)`` per wheel, ``(n, 3)``."""
     slip_speed_m_per_s: _F64
     """Slip speed per wheel (m/s), ``(n, 3)``."""
     slipping: npt.NDArray[np.bool_]

@@ -8,10 +8,12 @@ parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``
 """
 
 from ballbot._core import (
+    AxleLossParams,
     ContactParams,
     Failure,
     FailureParams,
     Measurement,
+    RollerParams,
     SensorParams,
     StepTelemetry,
     WheelTelemetry,
@@ -23,11 +25,13 @@ from ballbot._enums import FailureKind, Mode
 from ballbot._results import WorldLoopRun, WorldRun
 
 __all__ = [
+    "AxleLossParams",
     "ContactParams",
     "Failure",
     "FailureKind",
     "FailureParams",
     "Measurement",
+    "RollerParams",
     "Mode",
     "SensorParams",
     "StepTelemetry",

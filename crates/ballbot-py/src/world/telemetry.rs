@@ -57,6 +57,7 @@ wheel_getters! {
     normal_force_n: f64,
     traction_n: f64,
     traction_demand_n: f64,
+    axle_force_n: f64,
     cone_utilisation: f64,
     slip_speed_m_per_s: f64,
     slipping: bool,

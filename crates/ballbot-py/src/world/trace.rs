@@ -22,6 +22,7 @@ pub(crate) struct Trace {
     normal_force_n: Vec<[f64; 3]>,
     traction_n: Vec<[f64; 3]>,
     traction_demand_n: Vec<[f64; 3]>,
+    axle_force_n: Vec<[f64; 3]>,
     cone_utilisation: Vec<[f64; 3]>,
     slip_speed_m_per_s: Vec<[f64; 3]>,
     slipping: Vec<[bool; 3]>,
@@ -48,6 +49,7 @@ impl Trace {
             normal_force_n: reserve(len)?,
             traction_n: reserve(len)?,
             traction_demand_n: reserve(len)?,
+            axle_force_n: reserve(len)?,
             cone_utilisation: reserve(len)?,
             slip_speed_m_per_s: reserve(len)?,
             slipping: reserve(len)?,
@@ -75,6 +77,7 @@ impl Trace {
         self.normal_force_n.push(wheels(|w| w.normal_force_n));
         self.traction_n.push(wheels(|w| w.traction_n));
         self.traction_demand_n.push(wheels(|w| w.traction_demand_n));
+        self.axle_force_n.push(wheels(|w| w.axle_force_n));
         self.cone_utilisation.push(wheels(|w| w.cone_utilisation));
         self.slip_speed_m_per_s
             .push(wheels(|w| w.slip_speed_m_per_s));
@@ -105,6 +108,7 @@ impl Trace {
         d.set_item("normal_force_n", table(py, self.normal_force_n)?)?;
         d.set_item("traction_n", table(py, self.traction_n)?)?;
         d.set_item("traction_demand_n", table(py, self.traction_demand_n)?)?;
+        d.set_item("axle_force_n", table(py, self.axle_force_n)?)?;
         d.set_item("cone_utilisation", table(py, self.cone_utilisation)?)?;
         d.set_item("slip_speed_m_per_s", table(py, self.slip_speed_m_per_s)?)?;
         d.set_item("slipping", table(py, self.slipping)?)?;

@@ -1,5 +1,6 @@
-//! The omniwheel-ball contact: compliant normal force, traction only along the rolling
-//! direction, bounded by the friction cone, with stick and kinetic slip.
+//! The omniwheel-ball contact: compliant normal force, traction along the rolling direction,
+//! optional roller losses along the axle, both bounded by one friction cone, with stick and
+//! kinetic slip.
 //!
 //! # Model
 //!
@@ -13,14 +14,22 @@
 //! * Normal force (Kelvin-Voigt, unilateral): `N = max(0, k delta + c_n delta_dot)` while
 //!   `delta > 0`, else 0 (lift-off). The normal forces are therefore outputs of the dynamics:
 //!   they follow acceleration and lean and can reach zero.
-//! * Traction along `d` only: the rollers leave the axle direction free, so no force acts
-//!   along `a`. The slip velocity `s = d . (v_ball(p) - v_rim(p))` (ball surface minus wheel
+//! * Traction along `d`: the slip velocity `s = d . (v_ball(p) - v_rim(p))` (ball surface minus wheel
 //!   rim, the rim moving with the body plus `r_W psi_dot d`) feeds an elasto-plastic
 //!   (bristle) friction law with deflection state `z` (`z_dot = s` while sticking):
-//!   `F_stick = -(k_t z + c_t s)`. If `|F_stick| <= mu N` the contact sticks and
-//!   `F = F_stick`; otherwise it slips, `F = mu_k N sign(F_stick)` and the bristle is reset to
-//!   the slide limit `z = -F / k_t`. `F` is the force the wheel applies to the ball along `d`;
-//!   the body receives `-(N n + F d)` at `p`.
+//!   `F_stick = -(k_t z + c_t s)`.
+//! * Along the axle `a` the rollers turn freely; the only force there is their rolling and
+//!   pin loss `F_a = -C_a N s_a / max(|s_a|, s_eps)` with the axle slip
+//!   `s_a = a . (v_ball(p) - v_rim(p))` ([`crate::world::axle_loss`]; `C_a = 0` in the ideal
+//!   world, where no force acts along `a`).
+//! * One friction cone for both: if `|(F_stick, F_a)| <= mu N` the contact sticks and
+//!   `F = F_stick`. Otherwise the whole contact slides (isotropic Coulomb friction): the
+//!   force keeps the direction of the demand `(F_stick, F_a)` and takes the kinetic magnitude
+//!   `mu_k N`, so both components shrink by the same factor, and the bristle is reset to the
+//!   slide limit `z = -F / k_t`. Without axle losses this is `F = mu_k N sign(F_stick)`.
+//!
+//! `F` and `F_a` are the forces the wheel applies to the ball along `d` and `a`; the body
+//! receives `-(N n + F d + F_a a)` at `p`.
 //!
 //! # Step size
 //!
@@ -31,6 +40,14 @@
 //! step must satisfy `omega dt << 2`; at the default 8 kHz `omega dt` is about 0.12. Halving
 //! the step is needed for stiffnesses four times higher. The stick damping adds the bound
 //! `c_t dt / m_eff < 1` (0.15 at the defaults).
+//!
+//! The realistic mechanisms stay inside these bounds at 8 kHz: the rubber-coated contact
+//! ([`crate::world::rubber`], 3.4e5 N/m) is six times softer (`omega dt` = 0.05); the axle
+//! losses' linear zone is a damper `C_a N / s_eps` with `C_a N dt / (s_eps m_eff)` = 0.5 at
+//! 1000 N ([`crate::world::axle_loss`]); the roller gaps ([`crate::world::rollers`]) move the
+//! effective radius by 50 um over 25 steps at 10 rad/s and leave the stiffness as it is. At a
+//! gap's centre the contact jumps between roller ends within one step, an energy error of at
+//! most `N d(dip)/d(psi) psi_dot dt` per passage (0.4 mJ at 3 rad/s).
 
 use rapier3d_f64::glamx::DVec3;
 
@@ -49,6 +66,10 @@ pub struct ContactLaw {
     pub static_friction: f64,
     /// Kinetic friction coefficient `mu_k`.
     pub kinetic_friction: f64,
+    /// Axle loss per unit normal force `C_a` (0: the rollers turn freely).
+    pub axle_loss_coefficient: f64,
+    /// Axle slip speed below which the axle loss is linear in the slip `s_eps` (m/s), > 0.
+    pub axle_regularisation_speed_m_per_s: f64,
 }
 
 /// The kinematic inputs of one contact, all in world coordinates.
@@ -58,12 +79,17 @@ pub struct ContactKinematics {
     pub normal: DVec3,
     /// Unit rolling direction of the wheel at the contact.
     pub rolling_dir: DVec3,
+    /// Unit axle direction in the contact plane, `d x n` (the body's axle `a` projected
+    /// normal to `n`).
+    pub axle_dir: DVec3,
     /// Penetration `delta` (m), positive when pressed.
     pub penetration_m: f64,
     /// Penetration rate `delta_dot` (m/s).
     pub penetration_rate_m_per_s: f64,
     /// Slip velocity along the rolling direction, ball surface minus wheel rim (m/s).
     pub slip_speed_m_per_s: f64,
+    /// Slip velocity along the axle, ball surface minus wheel rim (m/s).
+    pub axle_slip_speed_m_per_s: f64,
 }
 
 /// What the contact law produced for one wheel in one step.
@@ -75,7 +101,9 @@ pub struct ContactOutput {
     pub traction_n: f64,
     /// The traction the contact would need to keep sticking, `F_stick` (N).
     pub traction_demand_n: f64,
-    /// `|F| / (mu N)`: how much of the friction cone is used (0 when `N = 0`).
+    /// Force `F_a` the wheel applies to the ball along its axle (N): the rollers' losses.
+    pub axle_force_n: f64,
+    /// `|(F, F_a)| / (mu N)`: how much of the friction cone is used (0 when `N = 0`).
     pub cone_utilisation: f64,
     /// Whether the contact slips (demand beyond `mu N`, or lifted off with slip).
     pub slipping: bool,
@@ -102,17 +130,37 @@ impl ContactLaw {
             .max(0.0);
         let demand = -(self.traction_stiffness_n_per_m * *bristle_m
             + self.traction_damping_n_s_per_m * kin.slip_speed_m_per_s);
+        let axle_demand =
+            -self.axle_loss_coefficient * normal_force_n * kin.axle_slip_speed_m_per_s
+                / kin
+                    .axle_slip_speed_m_per_s
+                    .abs()
+                    .max(self.axle_regularisation_speed_m_per_s);
         let limit = self.static_friction * normal_force_n;
-        let (traction_n, slipping) = if demand.abs() <= limit {
-            *bristle_m += kin.slip_speed_m_per_s * dt_secs;
-            (demand, false)
+        // |(F_stick, F_a)|; hypot only when there is an axle force (the ideal world's rollers
+        // are free, and abs is exact and cheaper there).
+        let demand_norm = if axle_demand == 0.0 {
+            demand.abs()
         } else {
-            let f = (self.kinetic_friction * normal_force_n).copysign(demand);
+            demand.hypot(axle_demand)
+        };
+        let (traction_n, axle_force_n, slipping) = if demand_norm <= limit {
+            *bristle_m += kin.slip_speed_m_per_s * dt_secs;
+            (demand, axle_demand, false)
+        } else {
+            // Slide along the demand's direction with the kinetic magnitude. Without axle
+            // losses demand / |demand| is exactly +-1, so F = mu_k N sign(F_stick) bit for bit.
+            let kinetic = self.kinetic_friction * normal_force_n;
+            let f = kinetic * (demand / demand_norm);
             *bristle_m = -f / self.traction_stiffness_n_per_m;
-            (f, true)
+            (f, kinetic * (axle_demand / demand_norm), true)
         };
         let cone_utilisation = if limit > 0.0 {
-            traction_n.abs() / limit
+            if axle_force_n == 0.0 {
+                traction_n.abs() / limit
+            } else {
+                traction_n.hypot(axle_force_n) / limit
+            }
         } else {
             0.0
         };
@@ -120,6 +168,7 @@ impl ContactLaw {
             normal_force_n,
             traction_n,
             traction_demand_n: demand,
+            axle_force_n,
             cone_utilisation,
             slipping,
         }
@@ -138,6 +187,16 @@ mod tests {
             traction_damping_n_s_per_m: 0.0,
             static_friction: 0.5,
             kinetic_friction: 0.4,
+            axle_loss_coefficient: 0.0,
+            axle_regularisation_speed_m_per_s: 0.01,
+        }
+    }
+
+    /// The same law with axle losses `C_a` = 0.1.
+    fn lossy() -> ContactLaw {
+        ContactLaw {
+            axle_loss_coefficient: 0.1,
+            ..law()
         }
     }
 
@@ -145,9 +204,18 @@ mod tests {
         ContactKinematics {
             normal: DVec3::Z,
             rolling_dir: DVec3::X,
+            axle_dir: DVec3::NEG_Y,
             penetration_m: pen,
             penetration_rate_m_per_s: 0.0,
             slip_speed_m_per_s: slip,
+            axle_slip_speed_m_per_s: 0.0,
+        }
+    }
+
+    fn kin_axle(pen: f64, slip: f64, axle_slip: f64) -> ContactKinematics {
+        ContactKinematics {
+            axle_slip_speed_m_per_s: axle_slip,
+            ..kin(pen, slip)
         }
     }
 
@@ -174,5 +242,82 @@ mod tests {
         assert_eq!(out.normal_force_n, 0.0);
         assert_eq!(out.traction_n, 0.0);
         assert_eq!(z, 0.0);
+    }
+
+    #[test]
+    fn axle_force_opposes_the_axle_slip_and_saturates() {
+        // N = 100 N, C_a = 0.1: 10 N beyond s_eps = 0.01 m/s, linear below.
+        for (axle_slip, expected) in [(0.5, -10.0), (-0.02, 10.0), (0.005, -5.0), (0.0, 0.0)] {
+            let mut z = 0.0;
+            let out = lossy().evaluate(&kin_axle(1e-4, 0.0, axle_slip), &mut z, 1e-3);
+            assert!(
+                (out.axle_force_n - expected).abs() < 1e-9,
+                "{axle_slip}: {out:?}"
+            );
+            assert!(out.axle_force_n * axle_slip <= 0.0, "never positive work");
+        }
+        let mut z = 0.0;
+        let ideal = law().evaluate(&kin_axle(1e-4, 0.0, 0.5), &mut z, 1e-3);
+        assert_eq!(ideal.axle_force_n, 0.0, "free rollers");
+    }
+
+    #[test]
+    fn the_cone_bounds_the_vector_sum() {
+        // N = 100 N, mu N = 50 N, axle force 10 N. Traction demand 45 N alone sticks; with the
+        // axle force |(45, 10)| = 46.1 N still sticks and the cone use is 46.1 / 50.
+        let mut z = -4.5e-4;
+        let out = lossy().evaluate(&kin_axle(1e-4, 0.0, 1.0), &mut z, 1e-3);
+        assert!(!out.slipping);
+        let expected = 45.0_f64.hypot(10.0) / 50.0;
+        assert!((out.cone_utilisation - expected).abs() < 1e-12, "{out:?}");
+        // Demand 49 N: alone it sticks, with the axle force |(49, 10)| = 50.01 N > 50 N it
+        // slides: both components scaled to the kinetic 40 N along the demand.
+        let mut z = -4.9e-4;
+        let alone = law().evaluate(&kin_axle(1e-4, 0.0, 1.0), &mut z, 1e-3);
+        assert!(!alone.slipping);
+        let mut z = -4.9e-4;
+        let out = lossy().evaluate(&kin_axle(1e-4, 0.0, 1.0), &mut z, 1e-3);
+        assert!(out.slipping, "{out:?}");
+        let norm = 49.0_f64.hypot(10.0);
+        assert!(
+            (out.traction_n - 40.0 * 49.0 / norm).abs() < 1e-9,
+            "{out:?}"
+        );
+        assert!(
+            (out.axle_force_n + 40.0 * 10.0 / norm).abs() < 1e-9,
+            "{out:?}"
+        );
+        assert!(
+            (out.cone_utilisation - 0.8).abs() < 1e-12,
+            "kinetic over static"
+        );
+        assert!(
+            (z + out.traction_n / 1e5).abs() < 1e-15,
+            "bristle at the slide limit"
+        );
+    }
+
+    #[test]
+    fn contact_forces_never_feed_energy_into_the_slip() {
+        // Power of the tangential forces on the relative motion, F s + F_a s_a, is <= 0 for
+        // a contact at zero bristle deflection (only damping and losses act), sticking or not.
+        let mut l = lossy();
+        l.traction_damping_n_s_per_m = 200.0;
+        for slip in [-1.0, -0.1, 0.0, 0.05, 2.0] {
+            for axle_slip in [-3.0, -0.004, 0.0, 0.3] {
+                let mut z = 0.0;
+                let out = l.evaluate(&kin_axle(1e-4, slip, axle_slip), &mut z, 1e-3);
+                let power = out.traction_n * slip + out.axle_force_n * axle_slip;
+                assert!(power <= 0.0, "{slip} {axle_slip}: {power}");
+            }
+        }
+    }
+
+    #[test]
+    fn lift_off_gives_no_axle_force() {
+        let mut z = 0.0;
+        let out = lossy().evaluate(&kin_axle(-1e-5, 0.0, 0.3), &mut z, 1e-3);
+        assert_eq!(out.axle_force_n, 0.0);
+        assert_eq!(out.cone_utilisation, 0.0);
     }
 }

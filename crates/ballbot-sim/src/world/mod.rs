@@ -8,7 +8,9 @@
 //!
 //! * [`sim`]: the world ([`BallbotWorld`]): rapier3d integrates ball and body; ball-floor
 //!   contact and friction are rapier's, plus rolling resistance and a torsional spin friction.
-//! * [`contact`]: the omniwheel contact law and its step-size needs.
+//! * [`contact`]: the omniwheel contact law and its step-size needs; [`rollers`] (roller
+//!   gaps), [`axle_loss`] (roller losses along the axle) and [`rubber`] (stiffness and damping
+//!   of the ball's coating) are its realistic mechanisms, all off in the defaults.
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
 //!
@@ -20,15 +22,21 @@
 //! at 10 m the position resolution (about 1 um) is already 1 % of the deflection and the normal
 //! forces would become noisy. The core runs in `f64` too, so no conversions are needed.
 
+pub mod axle_loss;
 pub mod contact;
 pub mod failure;
 pub mod params;
+pub mod rollers;
+pub mod rubber;
 pub mod sensors;
 pub mod sim;
 pub mod telemetry;
 
+pub use axle_loss::AxleLossParams;
 pub use failure::{Failure, FailureKind, wheel_name};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
+pub use rollers::{RollerParams, RollerProfile};
+pub use rubber::RubberLayer;
 pub use sensors::Measurement;
 pub use sim::BallbotWorld;
 pub use telemetry::{StepTelemetry, WheelTelemetry};

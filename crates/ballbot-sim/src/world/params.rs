@@ -4,10 +4,18 @@
 //! Every number that is not in the paper is an estimate and says so.
 
 use super::WorldError;
+use super::axle_loss::AxleLossParams;
+use super::rollers::RollerParams;
 use ballbot_core::BallbotParams;
 use ballbot_core::rates::INNER_LOOP_DT_SECS;
 
 /// The compliant omniwheel-ball contact (see [`crate::world::contact`] for the model).
+///
+/// The default is the ideal contact ([`ContactParams::ideal`]): a stiff normal spring, a
+/// continuous rim and free rollers. The realistic mechanisms switch on one at a time:
+/// [`RollerParams::miapure`] (roller gaps), [`AxleLossParams::miapure`] (roller losses along
+/// the axle) and [`ContactParams::rubber_coated`] (stiffness and damping of the rubber
+/// coating); docs/world.md, "Contact realism: parameters and sources".
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactParams {
@@ -25,6 +33,12 @@ pub struct ContactParams {
     /// Kinetic over static friction coefficient while slipping (dimensionless, in (0, 1]).
     /// Default 0.85 (estimate; TPU on rubber).
     pub kinetic_friction_ratio: f64,
+    /// Roller gaps of the omniwheels. Default [`RollerParams::none`] (a continuous rim).
+    #[serde(default)]
+    pub rollers: RollerParams,
+    /// Roller losses along the axles. Default [`AxleLossParams::none`] (free rollers).
+    #[serde(default)]
+    pub axle_loss: AxleLossParams,
 }
 
 impl Default for ContactParams {
@@ -35,6 +49,8 @@ impl Default for ContactParams {
             traction_stiffness_n_per_m: 5.0e5,
             traction_damping_n_s_per_m: 1.2e3,
             kinetic_friction_ratio: 0.85,
+            rollers: RollerParams::none(),
+            axle_loss: AxleLossParams::none(),
         }
     }
 }
@@ -197,6 +213,8 @@ impl WorldParams {
                 requirement: "must be in (0, 1]",
             });
         }
+        c.rollers.validate(self.robot.drivetrain.wheel_radius_m)?;
+        c.axle_loss.validate()?;
         positive(self.wheel_inertia_kg_m2, "wheel_inertia_kg_m2")?;
         non_negative(self.rotor_inertia_kg_m2, "rotor_inertia_kg_m2")?;
         non_negative(

@@ -4,6 +4,7 @@ use super::WorldError;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
 use super::failure::{Failure, FailureMonitor};
 use super::params::{WorldParams, non_negative};
+use super::rollers::{RimContact, RollerProfile};
 use super::sensors::{Measurement, Sensors};
 use super::telemetry::{StepTelemetry, WheelTelemetry};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -69,6 +70,7 @@ pub struct BallbotWorld {
     ball_collider: ColliderHandle,
     floor_collider: ColliderHandle,
     law: ContactLaw,
+    rollers: RollerProfile,
     geometry: [WheelGeometry; 3],
     wheels: [WheelState; 3],
     motor_cmd_nm: [f64; 3],
@@ -170,7 +172,10 @@ impl BallbotWorld {
             traction_damping_n_s_per_m: c.traction_damping_n_s_per_m,
             static_friction: dt.wheel_ball_friction,
             kinetic_friction: dt.wheel_ball_friction * c.kinetic_friction_ratio,
+            axle_loss_coefficient: c.axle_loss.coefficient(),
+            axle_regularisation_speed_m_per_s: c.axle_loss.regularisation_speed_m_per_s,
         };
+        let rollers = RollerProfile::new(&c.rollers, r_w, r);
         let mut world = Self {
             physics,
             ball,
@@ -178,6 +183,7 @@ impl BallbotWorld {
             ball_collider,
             floor_collider,
             law,
+            rollers,
             geometry,
             wheels: [WheelState::default(); 3],
             motor_cmd_nm: [0.0; 3],
@@ -431,11 +437,12 @@ impl BallbotWorld {
     }
 
     fn contact_geometry(&self) -> [ContactKinematics; 3] {
-        self.contacts().map(|(k, _)| k)
+        self.contacts().map(|(k, _, _)| k)
     }
 
-    /// Contact kinematics per wheel and the contact point (world).
-    fn contacts(&self) -> [(ContactKinematics, DVec3); 3] {
+    /// Contact kinematics per wheel, the contact point (world) and where on the rim it lies
+    /// (roller gaps: [`crate::world::rollers`]).
+    fn contacts(&self) -> [(ContactKinematics, DVec3, RimContact); 3] {
         let ball = &self.physics.bodies[self.ball];
         let body = &self.physics.bodies[self.body];
         let c = ball.translation();
@@ -451,11 +458,14 @@ impl BallbotWorld {
             ContactKinematics {
                 normal: DVec3::Z,
                 rolling_dir: DVec3::X,
+                axle_dir: DVec3::NEG_Y,
                 penetration_m: 0.0,
                 penetration_rate_m_per_s: 0.0,
                 slip_speed_m_per_s: 0.0,
+                axle_slip_speed_m_per_s: 0.0,
             },
             DVec3::ZERO,
+            self.rollers.at(0.0),
         ); 3];
         for (i, (g, w)) in self.geometry.iter().zip(&self.wheels).enumerate() {
             let centre = pose.transform_point(g.centre_local);
@@ -468,16 +478,23 @@ impl BallbotWorld {
             let v_centre = v_com + w_body.cross(centre - com);
             let v_body_p = v_com + w_body.cross(p - com);
             let v_ball_p = v_c + w_ball.cross(p - c);
-            let v_rim = v_body_p + d * (r_w * w.speed_rad_per_s);
+            // The effective radius r_W - dip(psi) and its rate, the rim speed's lever arm.
+            let rim = self.rollers.at(w.angle_rad);
+            let v_rim = v_body_p + d * (rim.rim_radius_m * w.speed_rad_per_s);
+            let slip = v_ball_p - v_rim;
             out[i] = (
                 ContactKinematics {
                     normal: n,
                     rolling_dir: d,
-                    penetration_m: r + r_w - dist,
-                    penetration_rate_m_per_s: -n.dot(v_centre - v_c),
-                    slip_speed_m_per_s: d.dot(v_ball_p - v_rim),
+                    axle_dir: d.cross(n),
+                    penetration_m: r + (r_w - rim.dip_m) - dist,
+                    penetration_rate_m_per_s: -n.dot(v_centre - v_c)
+                        - rim.dip_slope_m_per_rad * w.speed_rad_per_s,
+                    slip_speed_m_per_s: d.dot(slip),
+                    axle_slip_speed_m_per_s: d.cross(n).dot(slip),
                 },
                 p,
+                rim,
             );
         }
         out
@@ -489,7 +506,6 @@ impl BallbotWorld {
     pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
-        let r_w = self.params.robot.drivetrain.wheel_radius_m;
         let actuator = self.params.robot.drivetrain.actuator;
         let i_w = self.params.reflected_wheel_inertia_kg_m2();
         let b_w = self.params.wheel_damping_nm_s_per_rad;
@@ -503,24 +519,32 @@ impl BallbotWorld {
         let body_rot = self.physics.bodies[self.body].position().rotation;
         let mut wheel_tel = [WheelTelemetry::default(); 3];
         for i in 0..3 {
-            let (kin, p) = contacts[i];
+            let (kin, p, rim) = contacts[i];
             let wheel = &mut self.wheels[i];
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
             let tau = actuator.clamp_torque_nm(motor_torque_nm[i], wheel.speed_rad_per_s);
-            let spin_torque = tau - r_w * out.traction_n - b_w * wheel.speed_rad_per_s;
-            wheel.speed_rad_per_s += dt * spin_torque / i_w;
+            let spin_torque = tau - rim.rim_radius_m * out.traction_n - b_w * wheel.speed_rad_per_s;
+            // At a roller gap the normal force turns the wheel by N d(dip)/d(psi), the
+            // generalised force of the normal spring (crate::world::rollers). The force itself
+            // stays on the line of centres, so the hub passes the reaction to the body, like the
+            // motor's: angular momentum and energy are both kept.
+            let gap_torque = out.normal_force_n * rim.dip_slope_m_per_rad;
+            let wheel_torque = spin_torque + gap_torque;
+            wheel.speed_rad_per_s += dt * wheel_torque / i_w;
             wheel.angle_rad += dt * wheel.speed_rad_per_s;
             // The wheel presses the ball away from itself (-n) and drives it along d.
-            let f = kin.rolling_dir * out.traction_n - kin.normal * out.normal_force_n;
+            let f = kin.rolling_dir * out.traction_n + kin.axle_dir * out.axle_force_n
+                - kin.normal * out.normal_force_n;
             ball_force += f;
             ball_torque += (p - c).cross(f);
             body_force -= f;
             body_torque -= (p - body_com).cross(f);
-            body_torque -= body_rot * self.geometry[i].axle_local * spin_torque;
+            body_torque -= body_rot * self.geometry[i].axle_local * wheel_torque;
             wheel_tel[i] = WheelTelemetry {
                 normal_force_n: out.normal_force_n,
                 traction_n: out.traction_n,
                 traction_demand_n: out.traction_demand_n,
+                axle_force_n: out.axle_force_n,
                 cone_utilisation: out.cone_utilisation,
                 slip_speed_m_per_s: kin.slip_speed_m_per_s,
                 slipping: out.slipping,

@@ -18,7 +18,10 @@ pub struct WheelTelemetry {
     pub traction_n: f64,
     /// Traction the contact would need to keep sticking (N).
     pub traction_demand_n: f64,
-    /// Friction-cone utilisation `|F_i| / (mu N_i)`, 0 when lifted off.
+    /// Force `F_a,i` the wheel applies to the ball along its axle (N): the rollers' rolling
+    /// and pin losses (0 with free rollers).
+    pub axle_force_n: f64,
+    /// Friction-cone utilisation `|(F_i, F_a,i)| / (mu N_i)`, 0 when lifted off.
     pub cone_utilisation: f64,
     /// Slip speed along the rolling direction, ball surface minus wheel rim (m/s).
     pub slip_speed_m_per_s: f64,
@@ -83,6 +86,7 @@ impl StepTelemetry {
             eat(w.normal_force_n);
             eat(w.traction_n);
             eat(w.traction_demand_n);
+            eat(w.axle_force_n);
             eat(w.cone_utilisation);
             eat(w.slip_speed_m_per_s);
             eat(f64::from(u8::from(w.slipping)));

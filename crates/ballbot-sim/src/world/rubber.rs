@@ -1,0 +1,180 @@
+//! Normal stiffness and damping of the omniwheel contact from the ball's rubber coating.
+//!
+//! # Model
+//!
+//! MiaPURE's ball is a bowling ball covered with 6.35 mm of 60A SBR (paper, lines 85-91); the
+//! rollers are TPU, far stiffer than 60A rubber and taken as rigid, like the bowling ball under
+//! the layer. So the contact compliance is that of a thin, bonded, incompressible layer
+//! indented by a rigid roller:
+//!
+//! 1. **Modulus from hardness** (A. N. Gent, Trans. Inst. Rubber Ind. 34:46, 1958):
+//!    `E = 0.0981 (56 + 7.62336 S) / (0.137505 (254 - 2.54 S))` MPa for Shore A hardness `S`;
+//!    60A gives `E` = 3.61 MPa, and the shear modulus of the incompressible rubber is
+//!    `G = E / 3` = 1.20 MPa.
+//! 2. **Contact curvature**: in the wheel plane the roller profile follows the rim (radius
+//!    `r_W`), across it the roller's own radius `r_roller`; against the ball (radius `R`) the
+//!    relative radii are `R_x = 1 / (1/r_W + 1/R)` and `R_y = 1 / (1/r_roller + 1/R)`, combined
+//!    as the equivalent radius `R_e = sqrt(R_x R_y)` (40.4 mm, 10.0 mm, 20.1 mm).
+//! 3. **Thin bonded layer** (K. L. Johnson, *Contact Mechanics*, CUP 1985, section 5.9): for a
+//!    layer of thickness `t` much thinner than the contact, bonded to a rigid base and pressed
+//!    by a frictionless rigid body, the pressure obeys `lap p = -3 G w / t^3` with the
+//!    indentation `w = delta - r^2 / (2 R_e)`. With `p = dp/dr = 0` at the contact radius
+//!    `a`: `delta = a^2 / (4 R_e)`, `p = 3 G (a^2 - r^2)^2 / (32 R_e t^3)` and
+//!    `F = 2 pi G R_e^2 delta^3 / t^3`.
+//! 4. **Linearised at the static load** `F_0 = m_U g / (3 cos alpha)` (343.6 N): `delta_0 =
+//!    (F_0 t^3 / (2 pi G R_e^2))^(1/3)` = 3.1 mm and `k = dF/d delta = 3 F_0 / delta_0` =
+//!    3.4e5 N/m. The contact radius `a = 2 sqrt(R_e delta_0)` = 15.7 mm is 2.5 layer
+//!    thicknesses, where the thin-layer limit is fair; Hertz's half-space value (`a << t`),
+//!    `(6 F_0 E*^2 R_e)^(1/3)` with `E* = 4E/3`, is 1.0e5 N/m, a lower bound. A roller that
+//!    grips the rubber (no slip at the top face) would be 4^(1/3) = 1.59 times stiffer.
+//! 5. **Damping from the loss factor** `eta`: a hysteretic spring `k (1 + i eta)` dissipates
+//!    per cycle what a viscous `c = eta k / omega` does at the frequency `omega` of the mode it
+//!    carries. That mode is the ball against the body (effective mass `m_b m_U / (m_b + m_U)`,
+//!    3.4 kg) on the three contacts' vertical stiffness `3 k cos^2 alpha`: `omega` = 383 rad/s
+//!    (61 Hz), `c` = 88 N s/m, damping ratio `eta / 2` = 0.05.
+//!
+//! The linear spring keeps the static force but not the static deflection (1.0 mm instead of
+//! 3.1 mm): lift-off comes earlier than with the cubic law. At 8 kHz the mode's `omega dt` is
+//! 0.05, well inside the explicit step's bound.
+
+use super::params::ContactParams;
+use super::rollers::MIAPURE_ROLLER_RADIUS_M;
+use ballbot_core::BallbotParams;
+
+/// The ball's rubber layer and the roller that presses it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RubberLayer {
+    /// Shore A hardness of the layer. MiaPURE: 60 (paper).
+    pub shore_a_hardness: f64,
+    /// Layer thickness `t` (m). MiaPURE: 6.35e-3 (paper).
+    pub thickness_m: f64,
+    /// Loss factor `eta` (tan delta) of the rubber. MiaPURE: 0.1, the low end of 0.10-0.25
+    /// compiled for SBR at 10-100 Hz and room temperature
+    /// (<https://materialmap.github.io/rubber_damping_reference.html>); the lower end is the
+    /// less damped, the conservative side for vibration.
+    pub loss_factor: f64,
+    /// Roller radius across the wheel plane at the contact (m). MiaPURE: 0.011 (estimate,
+    /// [`MIAPURE_ROLLER_RADIUS_M`]).
+    pub roller_radius_m: f64,
+}
+
+impl RubberLayer {
+    /// MiaPURE's coating: 6.35 mm of 60A SBR, pressed by 11 mm TPU rollers.
+    pub fn miapure() -> Self {
+        Self {
+            shore_a_hardness: 60.0,
+            thickness_m: 6.35e-3,
+            loss_factor: 0.1,
+            roller_radius_m: MIAPURE_ROLLER_RADIUS_M,
+        }
+    }
+
+    /// Young's modulus from the Shore A hardness by Gent's relation (Pa).
+    pub fn youngs_modulus_pa(&self) -> f64 {
+        let s = self.shore_a_hardness;
+        0.0981 * (56.0 + 7.62336 * s) / (0.137505 * (254.0 - 2.54 * s)) * 1.0e6
+    }
+
+    /// Equivalent contact radius `R_e = sqrt(R_x R_y)` against a wheel of radius
+    /// `wheel_radius_m` and a ball of radius `ball_radius_m` (m).
+    pub fn equivalent_radius_m(&self, wheel_radius_m: f64, ball_radius_m: f64) -> f64 {
+        let r_x = 1.0 / (1.0 / wheel_radius_m + 1.0 / ball_radius_m);
+        let r_y = 1.0 / (1.0 / self.roller_radius_m + 1.0 / ball_radius_m);
+        (r_x * r_y).sqrt()
+    }
+
+    /// Static deflection `delta_0` of the thin-layer law under `load_n` (m).
+    pub fn deflection_m(&self, load_n: f64, wheel_radius_m: f64, ball_radius_m: f64) -> f64 {
+        let g = self.youngs_modulus_pa() / 3.0;
+        let r_e = self.equivalent_radius_m(wheel_radius_m, ball_radius_m);
+        let t3 = self.thickness_m.powi(3);
+        (load_n * t3 / (std::f64::consts::TAU * g * r_e * r_e)).cbrt()
+    }
+
+    /// Normal stiffness linearised at `load_n`, `3 F_0 / delta_0` (N/m).
+    pub fn stiffness_n_per_m(&self, load_n: f64, wheel_radius_m: f64, ball_radius_m: f64) -> f64 {
+        3.0 * load_n / self.deflection_m(load_n, wheel_radius_m, ball_radius_m)
+    }
+
+    /// Equivalent viscous damping `eta k / omega` at the mode frequency `omega_rad_per_s`
+    /// (N s/m).
+    pub fn damping_n_s_per_m(&self, stiffness_n_per_m: f64, omega_rad_per_s: f64) -> f64 {
+        self.loss_factor * stiffness_n_per_m / omega_rad_per_s
+    }
+}
+
+impl ContactParams {
+    /// The ideal contact (today's world, equal to [`ContactParams::default`]): stiff normal
+    /// spring, no roller gaps, no axle losses.
+    pub fn ideal() -> Self {
+        Self::default()
+    }
+
+    /// The ideal contact with the normal stiffness and damping of `layer` on `robot`
+    /// (module documentation: 3.4e5 N/m and 88 N s/m for MiaPURE with 60 kg); gaps and axle
+    /// losses stay as in [`ContactParams::ideal`].
+    pub fn rubber_coated(robot: &BallbotParams<f64>, layer: &RubberLayer) -> Self {
+        let wip = &robot.sagittal;
+        let dt = &robot.drivetrain;
+        let cos_a = dt.contact_angle_rad.cos();
+        let load_n = wip.body_mass_kg * wip.gravity_m_per_s2 / (3.0 * cos_a);
+        let r = robot.ball_radius_m();
+        let k = layer.stiffness_n_per_m(load_n, dt.wheel_radius_m, r);
+        let m_eff = wip.ball_mass_kg * wip.body_mass_kg / (wip.ball_mass_kg + wip.body_mass_kg);
+        let omega = (3.0 * k * cos_a * cos_a / m_eff).sqrt();
+        Self {
+            normal_stiffness_n_per_m: k,
+            normal_damping_n_s_per_m: layer.damping_n_s_per_m(k, omega),
+            ..Self::ideal()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gent_gives_3_6_mpa_for_60a() {
+        let e = RubberLayer::miapure().youngs_modulus_pa();
+        assert!((e - 3.605e6).abs() < 1e3, "{e}");
+    }
+
+    #[test]
+    fn thin_layer_law_is_cubic_and_its_tangent_is_three_f_over_delta() {
+        let l = RubberLayer::miapure();
+        let d1 = l.deflection_m(100.0, 0.0625, 0.1145);
+        let d8 = l.deflection_m(800.0, 0.0625, 0.1145);
+        assert!((d8 / d1 - 2.0).abs() < 1e-12, "F ~ delta^3");
+        // Numerical tangent of F(delta) at 343.6 N.
+        let f0 = 343.6;
+        let d0 = l.deflection_m(f0, 0.0625, 0.1145);
+        let h = 1e-3 * f0;
+        let dd = l.deflection_m(f0 + h, 0.0625, 0.1145) - l.deflection_m(f0 - h, 0.0625, 0.1145);
+        let k_num = 2.0 * h / dd;
+        let k = l.stiffness_n_per_m(f0, 0.0625, 0.1145);
+        assert!((k - k_num).abs() < 1e-4 * k, "{k} {k_num}");
+        assert!((d0 - 3.06e-3).abs() < 0.01e-3, "{d0}");
+    }
+
+    #[test]
+    fn miapure_coating_is_soft_and_lightly_damped() {
+        let robot = BallbotParams::miapure_60kg();
+        let c = ContactParams::rubber_coated(&robot, &RubberLayer::miapure());
+        assert!(
+            (c.normal_stiffness_n_per_m - 3.37e5).abs() < 0.01e5,
+            "{c:?}"
+        );
+        assert!((c.normal_damping_n_s_per_m - 87.8).abs() < 0.5, "{c:?}");
+        // Damping ratio of the vertical mode is eta / 2.
+        let m_eff = 3.6 * 74.3 / (3.6 + 74.3);
+        let k_v = 1.5 * c.normal_stiffness_n_per_m;
+        let zeta = 1.5 * c.normal_damping_n_s_per_m / (2.0 * (k_v * m_eff).sqrt());
+        assert!((zeta - 0.05).abs() < 1e-9, "{zeta}");
+        assert_eq!(
+            c.traction_stiffness_n_per_m,
+            ContactParams::ideal().traction_stiffness_n_per_m
+        );
+    }
+}
