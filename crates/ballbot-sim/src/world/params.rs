@@ -6,6 +6,7 @@
 use super::WorldError;
 use super::axle_loss::AxleLossParams;
 use super::rollers::RollerParams;
+use super::rubber::RubberLayer;
 use ballbot_core::BallbotParams;
 use ballbot_core::rates::INNER_LOOP_DT_SECS;
 
@@ -151,23 +152,18 @@ pub struct WorldParams {
 }
 
 impl WorldParams {
-    /// MiaPURE with a 60 kg payload and the defaults above.
+    /// MiaPURE with a 60 kg payload in the default world ([`WorldParams::realistic`]).
     pub fn miapure_60kg() -> Self {
         Self::with_robot(BallbotParams::miapure_60kg())
     }
 
     /// The given robot in the ideal world: stiff continuous-rim omniwheel contacts without
     /// forces along the axle, and the actuator's straight torque-speed line (the world of the
-    /// first releases; every mechanism of the default world switched off).
+    /// first releases; every mechanism of the realistic world switched off).
     pub fn ideal(robot: BallbotParams<f64>) -> Self {
-        Self::with_robot(robot)
-    }
-
-    /// The given robot with the default world parameters.
-    pub fn with_robot(robot: BallbotParams<f64>) -> Self {
         Self {
             robot,
-            contact: ContactParams::default(),
+            contact: ContactParams::ideal(),
             wheel_inertia_kg_m2: 1.2e-3,
             rotor_inertia_kg_m2: 1.5e-4,
             wheel_damping_nm_s_per_rad: 0.02,
@@ -179,6 +175,25 @@ impl WorldParams {
             sensors: SensorParams::default(),
             failure: FailureParams::default(),
         }
+    }
+
+    /// The given robot in the most realistic world we can defend: roller gaps
+    /// ([`RollerParams::miapure`]), roller losses along the axle ([`AxleLossParams::miapure`])
+    /// and the rubber coating's stiffness and damping ([`ContactParams::rubber_coated`] of
+    /// [`RubberLayer::miapure`]); docs/world.md, "Contact realism: parameters and sources".
+    pub fn realistic(robot: BallbotParams<f64>) -> Self {
+        let mut p = Self::ideal(robot);
+        p.contact = ContactParams {
+            rollers: RollerParams::miapure(),
+            axle_loss: AxleLossParams::miapure(),
+            ..ContactParams::rubber_coated(&robot, &RubberLayer::miapure())
+        };
+        p
+    }
+
+    /// The given robot in the default world: [`WorldParams::realistic`].
+    pub fn with_robot(robot: BallbotParams<f64>) -> Self {
+        Self::realistic(robot)
     }
 
     /// Reflected inertia of one wheel: wheel plus rotor times gear ratio squared (kg m^2).

@@ -250,8 +250,7 @@ pub fn run_study(
                 let mut params = default_world;
                 params.sensors.seed = settings.seed;
                 let config = ControllerVariant::Corrected.config(&params, &settings.protocol)?;
-                // The world models a continuous rim (no rollers) so far.
-                let rollers = 0;
+                let rollers = params.contact.rollers.count;
                 let spectrum =
                     cruise_spectrum(params, config, rollers, heading, speed, &settings.ripple)?;
                 progress(&format!("ripple {heading:.0} deg {speed} m/s"));

@@ -2,7 +2,9 @@
 //! on ([`Mechanism`]), and which controller drives the robot ([`ControllerVariant`]).
 
 use crate::studies::max_speed::{self, MaxSpeedProtocol};
-use crate::world::{WorldError, WorldParams};
+use crate::world::{
+    AxleLossParams, ContactParams, RollerParams, RubberLayer, WorldError, WorldParams,
+};
 use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_core::command::AxisLimits;
 
@@ -13,16 +15,38 @@ pub enum Mechanism {
     /// [`WorldParams::ideal`]: stiff continuous-rim contacts, no axle forces, the straight
     /// torque-speed line.
     Ideal,
+    /// Roller gaps ([`RollerParams::miapure`]: 10 rollers, 4 mm gaps): the effective wheel
+    /// radius dips once per roller pitch.
+    RollerGaps,
+    /// Roller rolling resistance and pin friction along the axle
+    /// ([`AxleLossParams::miapure`], 0.042 of the load), under one friction cone with the
+    /// traction.
+    AxleLosses,
+    /// The rubber coating's normal stiffness and damping ([`ContactParams::rubber_coated`] of
+    /// [`RubberLayer::miapure`]: 3.4e5 N/m, 88 N s/m).
+    RubberCoating,
+    /// Every mechanism: the default world, [`WorldParams::realistic`].
+    All,
 }
 
 impl Mechanism {
     /// Every variant, the ideal world first and all mechanisms together last.
-    pub const ALL: [Self; 1] = [Self::Ideal];
+    pub const ALL: [Self; 5] = [
+        Self::Ideal,
+        Self::RollerGaps,
+        Self::AxleLosses,
+        Self::RubberCoating,
+        Self::All,
+    ];
 
     /// The canonical (snake_case) name, used as the summary's key.
     pub fn as_str(self) -> &'static str {
         match self {
             Self::Ideal => "ideal",
+            Self::RollerGaps => "roller_gaps",
+            Self::AxleLosses => "axle_losses",
+            Self::RubberCoating => "rubber_coating",
+            Self::All => "all",
         }
     }
 
@@ -30,16 +54,27 @@ impl Mechanism {
     pub fn label(self) -> &'static str {
         match self {
             Self::Ideal => "ideal contact and drive",
+            Self::RollerGaps => "+ roller gaps",
+            Self::AxleLosses => "+ roller losses along the axle",
+            Self::RubberCoating => "+ rubber-coating stiffness and damping",
+            Self::All => "all mechanisms (the default world)",
         }
     }
 
     /// The world of this variant for `robot`: [`WorldParams::ideal`] with the mechanism's
     /// realistic parameters switched on.
     pub fn params(self, robot: ballbot_core::BallbotParams<f64>) -> WorldParams {
-        let p = WorldParams::ideal(robot);
+        let mut p = WorldParams::ideal(robot);
         match self {
-            Self::Ideal => p,
+            Self::Ideal => {}
+            Self::RollerGaps => p.contact.rollers = RollerParams::miapure(),
+            Self::AxleLosses => p.contact.axle_loss = AxleLossParams::miapure(),
+            Self::RubberCoating => {
+                p.contact = ContactParams::rubber_coated(&robot, &RubberLayer::miapure());
+            }
+            Self::All => p = WorldParams::realistic(robot),
         }
+        p
     }
 }
 
