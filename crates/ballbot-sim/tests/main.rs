@@ -15,6 +15,7 @@ mod scenario;
 mod trajopt;
 mod world;
 mod world_brake;
+mod world_driver;
 mod world_max_speed;
 mod world_setters;
 mod world_yaw;
