@@ -9,6 +9,7 @@
 //! * [`sim`]: the world ([`BallbotWorld`]): rapier3d integrates ball and body; ball-floor
 //!   contact and friction are rapier's, plus rolling resistance and a torsional spin friction.
 //! * [`contact`]: the omniwheel contact law and its step-size needs.
+//! * [`driver`]: the motor driver between torque command and wheel (ideal line or ODrive).
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
 //!
@@ -21,12 +22,14 @@
 //! forces would become noisy. The core runs in `f64` too, so no conversions are needed.
 
 pub mod contact;
+pub mod driver;
 pub mod failure;
 pub mod params;
 pub mod sensors;
 pub mod sim;
 pub mod telemetry;
 
+pub use driver::{DriverLimit, DriverModel, DriverParams};
 pub use failure::{Failure, FailureKind, wheel_name};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
 pub use sensors::Measurement;

@@ -4,6 +4,7 @@
 //! Every number that is not in the paper is an estimate and says so.
 
 use super::WorldError;
+use super::driver::DriverParams;
 use ballbot_core::BallbotParams;
 use ballbot_core::rates::INNER_LOOP_DT_SECS;
 
@@ -132,6 +133,10 @@ pub struct WorldParams {
     pub sensors: SensorParams,
     /// Failure limits.
     pub failure: FailureParams,
+    /// The motor driver between torque command and wheel. Default
+    /// [`DriverParams::ideal`]: the actuator's straight torque-speed line.
+    #[serde(default)]
+    pub driver: DriverParams,
 }
 
 impl WorldParams {
@@ -155,6 +160,7 @@ impl WorldParams {
             dt_secs: INNER_LOOP_DT_SECS,
             sensors: SensorParams::default(),
             failure: FailureParams::default(),
+            driver: DriverParams::ideal(),
         }
     }
 
@@ -202,6 +208,7 @@ impl WorldParams {
         positive(self.chassis_height_m, "chassis_height_m")?;
         positive(self.dt_secs, "dt_secs")?;
         positive(self.failure.max_tilt_rad, "failure.max_tilt_rad")?;
+        self.driver.validate()?;
         non_negative(self.sensors.tilt_noise_rad, "sensors.tilt_noise_rad")?;
         non_negative(
             self.sensors.gyro_noise_rad_per_s,

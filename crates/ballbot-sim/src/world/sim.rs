@@ -2,6 +2,7 @@
 
 use super::WorldError;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
+use super::driver::{DriverFault, MotorDriver};
 use super::failure::{Failure, FailureMonitor};
 use super::params::{WorldParams, non_negative};
 use super::sensors::{Measurement, Sensors};
@@ -72,6 +73,7 @@ pub struct BallbotWorld {
     geometry: [WheelGeometry; 3],
     wheels: [WheelState; 3],
     motor_cmd_nm: [f64; 3],
+    drivers: [MotorDriver; 3],
     telemetry: StepTelemetry,
     monitor: FailureMonitor,
     sensors: Sensors,
@@ -181,6 +183,7 @@ impl BallbotWorld {
             geometry,
             wheels: [WheelState::default(); 3],
             motor_cmd_nm: [0.0; 3],
+            drivers: [MotorDriver::new(params.driver, dt.actuator); 3],
             telemetry: StepTelemetry {
                 time_secs: 0.0,
                 wheels: [WheelTelemetry::default(); 3],
@@ -227,6 +230,12 @@ impl BallbotWorld {
     /// The first failure detected, if any (the simulation keeps running after it).
     pub fn failure(&self) -> Option<Failure> {
         self.monitor.failure()
+    }
+
+    /// Per wheel (OW1..OW3), why its motor driver disarmed, if it has (only the ODrive model
+    /// trips; see [`crate::world::driver`]).
+    pub fn driver_faults(&self) -> [Option<DriverFault>; 3] {
+        self.drivers.each_ref().map(MotorDriver::fault)
     }
 
     /// Samples the sensors (IMU, encoders) at the current state.
@@ -484,13 +493,13 @@ impl BallbotWorld {
     }
 
     /// Advances the world by one step of `params.dt_secs` with the motor torque commands
-    /// `motor_torque_nm` (N m at the wheel; each is clamped to the actuator's torque-speed
-    /// limit at the wheel's current speed). Returns the step's telemetry.
+    /// `motor_torque_nm` (N m at the wheel; each passes through its motor driver at the
+    /// wheel's current speed: [`WorldParams::driver`], by default the actuator's straight
+    /// torque-speed line). Returns the step's telemetry.
     pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
         let r_w = self.params.robot.drivetrain.wheel_radius_m;
-        let actuator = self.params.robot.drivetrain.actuator;
         let i_w = self.params.reflected_wheel_inertia_kg_m2();
         let b_w = self.params.wheel_damping_nm_s_per_rad;
         let contacts = self.contacts();
@@ -506,7 +515,8 @@ impl BallbotWorld {
             let (kin, p) = contacts[i];
             let wheel = &mut self.wheels[i];
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
-            let tau = actuator.clamp_torque_nm(motor_torque_nm[i], wheel.speed_rad_per_s);
+            let drive = self.drivers[i].step(motor_torque_nm[i], wheel.speed_rad_per_s);
+            let tau = drive.torque_nm;
             let spin_torque = tau - r_w * out.traction_n - b_w * wheel.speed_rad_per_s;
             wheel.speed_rad_per_s += dt * spin_torque / i_w;
             wheel.angle_rad += dt * wheel.speed_rad_per_s;
@@ -525,6 +535,8 @@ impl BallbotWorld {
                 slip_speed_m_per_s: kin.slip_speed_m_per_s,
                 slipping: out.slipping,
                 motor_torque_nm: tau,
+                driver_current_a: drive.current_a,
+                driver_limit: drive.limit,
                 speed_rad_per_s: wheel.speed_rad_per_s,
                 angle_rad: wheel.angle_rad,
             };
