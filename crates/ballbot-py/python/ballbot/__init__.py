@@ -109,6 +109,7 @@ from ballbot.trajopt import (
 )
 from ballbot.world import (
     ContactParams,
+    DriverParams,
     Failure,
     FailureKind,
     FailureParams,
@@ -142,6 +143,7 @@ __all__ = [
     "BrakingStudy",
     "ContactForces",
     "ContactParams",
+    "DriverParams",
     "DrivetrainParams",
     "FailingAcceleration",
     "Failure",

@@ -9,6 +9,7 @@ parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``
 
 from ballbot._core import (
     ContactParams,
+    DriverParams,
     Failure,
     FailureParams,
     Measurement,
@@ -24,6 +25,7 @@ from ballbot._results import WorldLoopRun, WorldRun
 
 __all__ = [
     "ContactParams",
+    "DriverParams",
     "Failure",
     "FailureKind",
     "FailureParams",

@@ -27,10 +27,18 @@ macro_rules! wheel_getters {
                 }
             )*
 
+            /// Which driver limit shaped the torque: `"none"`, `"current"`, `"voltage"`,
+            /// `"velocity_limiter"` or `"disarmed"` (`DriverLimit::as_str`).
+            #[getter]
+            fn driver_limit(&self) -> &'static str {
+                self.inner.driver_limit.as_str()
+            }
+
             /// The fields as a dict.
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
                 let d = PyDict::new(py);
                 $(d.set_item(stringify!($field), self.inner.$field)?;)*
+                d.set_item("driver_limit", self.inner.driver_limit.as_str())?;
                 Ok(d)
             }
 
@@ -61,6 +69,7 @@ wheel_getters! {
     slip_speed_m_per_s: f64,
     slipping: bool,
     motor_torque_nm: f64,
+    driver_current_a: f64,
     speed_rad_per_s: f64,
     angle_rad: f64,
 }

@@ -327,6 +327,25 @@ pub enum DriverLimit {
     Disarmed,
 }
 
+impl DriverLimit {
+    /// The canonical (snake_case) name, as serde writes it: `none`, `current`, `voltage`,
+    /// `velocity_limiter` or `disarmed`.
+    ///
+    /// ```
+    /// use ballbot_sim::world::DriverLimit;
+    /// assert_eq!(DriverLimit::VelocityLimiter.as_str(), "velocity_limiter");
+    /// ```
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Current => "current",
+            Self::Voltage => "voltage",
+            Self::VelocityLimiter => "velocity_limiter",
+            Self::Disarmed => "disarmed",
+        }
+    }
+}
+
 /// Why a driver disarmed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DriverFault {
