@@ -1327,8 +1327,8 @@ class Measurement:
 
 @final
 class Failure:
-    """A detected failure: what (``kind``), when, which wheel (slip, lift-off) or how far it
-    tilted."""
+    """A detected failure: what (``kind``), when, which wheel (slip, lift-off, driver trip) or
+    how far it tilted."""
 
     @property
     def kind(self) -> FailureKind: ...

@@ -237,8 +237,8 @@ impl PyMeasurement {
 }
 
 /// A detected failure of a world run (`ballbot_sim::world::Failure`, wrapped): `kind` is a
-/// `FailureKind`; `wheel` (`"OW1"`..`"OW3"`) for slip and lift-off, `tilt_rad` for a tilt
-/// failure.
+/// `FailureKind`; `wheel` (`"OW1"`..`"OW3"`) for slip, lift-off and a driver trip,
+/// `tilt_rad` for a tilt failure.
 #[pyclass(name = "Failure", module = "ballbot", frozen, eq)]
 #[derive(Clone, Debug, PartialEq)]
 pub struct PyFailure {
@@ -253,7 +253,8 @@ impl From<Failure> for PyFailure {
 
 #[pymethods]
 impl PyFailure {
-    /// What failed: `FailureKind.TILT`, `BODY_TOUCHED_FLOOR`, `SUSTAINED_SLIP` or `LIFT_OFF`.
+    /// What failed: `FailureKind.TILT`, `BODY_TOUCHED_FLOOR`, `SUSTAINED_SLIP`, `LIFT_OFF` or
+    /// `DRIVER_TRIP`.
     #[getter]
     fn kind<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::enums::failure_kind(py, &self.inner.kind)
