@@ -14,8 +14,8 @@ use ballbot_core::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WipParams,
 };
 use ballbot_sim::world::{
-    AxleLossParams, ContactParams, FailureParams, RollerParams, RubberLayer, SensorParams,
-    WorldParams,
+    AxleLossParams, ContactParams, DriverParams, FailureParams, RollerParams, RubberLayer,
+    SensorParams, WorldParams,
 };
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -159,6 +159,22 @@ fn overlay(
         match slot {
             Value::Float(x) => *x = number(py, &value, &path)?,
             Value::Integer(i) => *i = integer(py, &value, &path)?,
+            Value::Boolean(b) => {
+                if !value.is_instance_of::<PyBool>() {
+                    return Err(error(
+                        py,
+                        Kind::Parameter,
+                        format!("`{path}` must be a bool"),
+                    ));
+                }
+                *b = value.extract::<bool>()?;
+            }
+            Value::String(s) => {
+                // A named choice (an enum's snake_case name); serde checks the name.
+                *s = value
+                    .extract::<String>()
+                    .map_err(|_| error(py, Kind::Parameter, format!("`{path}` must be a str")))?;
+            }
             Value::Array(items) => {
                 let n = items.len();
                 let bad = || {
@@ -273,17 +289,29 @@ pub fn load<P: CoreParams>(py: Python<'_>, path: &std::path::Path) -> PyResult<P
     Ok(params)
 }
 
+/// The serde name of a unit enum value (`DriverModel::Odrive` -> `"odrive"`).
+fn serde_name<T: Serialize>(value: &T) -> String {
+    match Value::try_from(value) {
+        Ok(Value::String(s)) => s,
+        _ => String::new(),
+    }
+}
+
 /// Defines a frozen Python class mirroring a core parameter struct: keyword construction
 /// (defaults from a preset), validation, getters, `replace`, `to_dict`/`from_dict`, TOML
 /// `load`/`save`, and named presets. Fields come in three kinds: `floats`, `arrays` (fixed
 /// length, returned as numpy arrays), `nested` (another parameter class) and, optionally,
-/// `ints` (unsigned integers such as a seed). `$core` is the struct's type (`WipParams<f64>`).
+/// `ints` (unsigned integers such as a seed), `bools` and `names` (an enum field, read and
+/// written as its serde name, e.g. `"odrive"`). `$core` is the struct's type
+/// (`WipParams<f64>`).
 macro_rules! py_params {
     (
         $(#[$meta:meta])*
         $py_ty:ident($core:ty, $name:literal, default = $default:path) {
             floats { $($field:ident),* $(,)? }
             $(ints { $($ifield:ident: $ity:ty),* $(,)? })?
+            $(bools { $($bfield:ident),* $(,)? })?
+            $(names { $($sfield:ident),* $(,)? })?
             arrays { $($afield:ident),* $(,)? }
             nested { $($nfield:ident: $nty:ident),* $(,)? }
         }
@@ -306,6 +334,8 @@ macro_rules! py_params {
                 let fields: Vec<String> = vec![
                     $(format!("{}={:?}", stringify!($field), self.inner.$field),)*
                     $($(format!("{}={:?}", stringify!($ifield), self.inner.$ifield),)*)?
+                    $($(format!("{}={}", stringify!($bfield), if self.inner.$bfield { "True" } else { "False" }),)*)?
+                    $($(format!("{}={:?}", stringify!($sfield), serde_name(&self.inner.$sfield)),)*)?
                     $(format!("{}={:?}", stringify!($afield), self.inner.$afield),)*
                     $(format!("{}={}", stringify!($nfield), $nty { inner: self.inner.$nfield }.repr()),)*
                 ];
@@ -390,6 +420,20 @@ macro_rules! py_params {
                 #[getter]
                 fn $ifield(&self) -> $ity {
                     self.inner.$ifield
+                }
+            )*)?
+
+            $($(
+                #[getter]
+                fn $bfield(&self) -> bool {
+                    self.inner.$bfield
+                }
+            )*)?
+
+            $($(
+                #[getter]
+                fn $sfield(&self) -> String {
+                    serde_name(&self.inner.$sfield)
                 }
             )*)?
 
@@ -603,6 +647,13 @@ impl CoreParams for FailureParams {
     }
 }
 
+impl CoreParams for DriverParams {
+    const NAME: &'static str = "DriverParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        self.validate().map_err(|e| world_error(py, e))
+    }
+}
+
 impl CoreParams for WorldParams {
     const NAME: &'static str = "WorldParams";
     fn check(&self, py: Python<'_>) -> PyResult<()> {
@@ -665,9 +716,45 @@ py_params! {
 }
 
 py_params! {
+    /// The motor driver between torque command and wheel
+    /// (`ballbot_sim::world::DriverParams`): `model` `"ideal"` (the actuator's straight
+    /// torque-speed line, the default) or `"odrive"` (the ODrive v3.6 firmware's current,
+    /// voltage and velocity limits and its overspeed trip). Errors name the field
+    /// (`driver.current_limit_a`).
+    PyDriverParams(DriverParams, "DriverParams", default = DriverParams::ideal) {
+        floats {
+            bus_voltage_v, max_modulation, motor_kv_rpm_per_v, phase_resistance_ohm,
+            current_limit_a, current_limit_margin_a, requested_current_range_a,
+            vel_limit_turn_per_s, vel_limit_tolerance, vel_gain_nm_s_per_turn,
+        }
+        bools { enable_torque_mode_vel_limit, enable_overspeed_error }
+        names { model }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "ideal" => DriverParams::ideal,
+        "odrive_v36_factory" => DriverParams::odrive_v36_factory,
+        "miapure" => DriverParams::miapure,
+    }
+    methods {
+        /// `K_t` (N m/A at the rotor): the ODrive's `8.27 / KV`.
+        fn torque_constant_nm_per_a(&self) -> f64 {
+            self.inner.torque_constant_nm_per_a()
+        }
+
+        /// The q-axis current limit in force (A): `current_limit_a` capped by the hardware
+        /// range that `requested_current_range_a` selects.
+        fn effective_current_limit_a(&self) -> f64 {
+            self.inner.effective_current_limit_a()
+        }
+    }
+}
+
+py_params! {
     /// Everything the 3D world needs (`ballbot_sim::world::WorldParams`): the robot
     /// (`BallbotParams`) plus the contact, wheel and rotor inertia, floor friction, chassis,
-    /// physics step, sensors and failure limits. Errors name the field
+    /// physics step, sensors, failure limits and the motor driver. Errors name the field
     /// (`contact.kinetic_friction_ratio`).
     PyWorldParams(WorldParams, "WorldParams", default = WorldParams::miapure_60kg) {
         floats {
@@ -680,6 +767,7 @@ py_params! {
             contact: PyContactParams,
             sensors: PySensorParams,
             failure: PyFailureParams,
+            driver: PyDriverParams,
         }
     }
     presets {
@@ -714,6 +802,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyContactParams>()?;
     m.add_class::<PySensorParams>()?;
     m.add_class::<PyFailureParams>()?;
+    m.add_class::<PyDriverParams>()?;
     m.add_class::<PyWorldParams>()?;
     Ok(())
 }

@@ -16,6 +16,7 @@ mod trajopt;
 mod world;
 mod world_brake;
 mod world_contact;
+mod world_driver;
 mod world_max_speed;
 mod world_setters;
 mod world_yaw;

@@ -110,6 +110,7 @@ from ballbot.trajopt import (
 from ballbot.world import (
     AxleLossParams,
     ContactParams,
+    DriverParams,
     Failure,
     FailureKind,
     FailureParams,
@@ -145,6 +146,7 @@ __all__ = [
     "BrakingStudy",
     "ContactForces",
     "ContactParams",
+    "DriverParams",
     "DrivetrainParams",
     "FailingAcceleration",
     "Failure",

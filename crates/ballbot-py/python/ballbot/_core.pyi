@@ -41,6 +41,9 @@ _DefaultPreset = Literal["default"]
 _ContactPreset = Literal["default", "ideal", "rubber_coated_miapure_60kg"]
 _RollerPreset = Literal["none", "miapure"]
 _WorldPreset = Literal["miapure_60kg", "miapure_unloaded"]
+_DriverPreset = Literal["ideal", "odrive_v36_factory", "miapure"]
+_DriverModel = Literal["ideal", "odrive"]
+_DriverLimit = Literal["none", "current", "voltage", "velocity_limiter", "disarmed"]
 
 OUTER_LOOP_RATE_HZ: float
 OUTER_LOOP_DT_SECS: float
@@ -102,6 +105,7 @@ __all__ = [
     "__version__",
     "accelerating_command",
     "ContactParams",
+    "DriverParams",
     "Failure",
     "FailureParams",
     "Measurement",
@@ -1187,6 +1191,69 @@ class FailureParams:
     def max_lift_off_duration_secs(self) -> float: ...
 
 @final
+class DriverParams:
+    """The motor driver between torque command and wheel: ``model`` ``"ideal"`` (the
+    actuator's straight torque-speed line, the default) or ``"odrive"`` (the ODrive v3.6
+    firmware's current, voltage and velocity limits and its overspeed trip)."""
+
+    def __new__(
+        cls,
+        *,
+        model: _DriverModel = ...,
+        bus_voltage_v: float = ...,
+        max_modulation: float = ...,
+        motor_kv_rpm_per_v: float = ...,
+        phase_resistance_ohm: float = ...,
+        current_limit_a: float = ...,
+        current_limit_margin_a: float = ...,
+        requested_current_range_a: float = ...,
+        vel_limit_turn_per_s: float = ...,
+        vel_limit_tolerance: float = ...,
+        vel_gain_nm_s_per_turn: float = ...,
+        enable_torque_mode_vel_limit: bool = ...,
+        enable_overspeed_error: bool = ...,
+    ) -> DriverParams: ...
+    @staticmethod
+    def preset(name: _DriverPreset) -> DriverParams: ...
+    @staticmethod
+    def presets() -> list[_DriverPreset]: ...
+    def replace(self, **kwargs: Any) -> DriverParams: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    @staticmethod
+    def from_dict(fields: dict[str, Any]) -> DriverParams: ...
+    def save(self, path: _Path) -> None: ...
+    @staticmethod
+    def load(path: _Path) -> DriverParams: ...
+    def torque_constant_nm_per_a(self) -> float: ...
+    def effective_current_limit_a(self) -> float: ...
+    @property
+    def model(self) -> _DriverModel: ...
+    @property
+    def bus_voltage_v(self) -> float: ...
+    @property
+    def max_modulation(self) -> float: ...
+    @property
+    def motor_kv_rpm_per_v(self) -> float: ...
+    @property
+    def phase_resistance_ohm(self) -> float: ...
+    @property
+    def current_limit_a(self) -> float: ...
+    @property
+    def current_limit_margin_a(self) -> float: ...
+    @property
+    def requested_current_range_a(self) -> float: ...
+    @property
+    def vel_limit_turn_per_s(self) -> float: ...
+    @property
+    def vel_limit_tolerance(self) -> float: ...
+    @property
+    def vel_gain_nm_s_per_turn(self) -> float: ...
+    @property
+    def enable_torque_mode_vel_limit(self) -> bool: ...
+    @property
+    def enable_overspeed_error(self) -> bool: ...
+
+@final
 class WorldParams:
     """Everything the 3D world needs: the robot plus contact, wheel and rotor inertia, floor
     friction, chassis, physics step, sensors, failure limits; defaults are MiaPURE with 60 kg."""
@@ -1206,6 +1273,7 @@ class WorldParams:
         dt_secs: float = ...,
         sensors: Union[SensorParams, dict[str, Any]] = ...,
         failure: Union[FailureParams, dict[str, Any]] = ...,
+        driver: Union[DriverParams, dict[str, Any]] = ...,
     ) -> WorldParams: ...
     @staticmethod
     def preset(name: _WorldPreset) -> WorldParams: ...
@@ -1245,6 +1313,8 @@ class WorldParams:
     def sensors(self) -> SensorParams: ...
     @property
     def failure(self) -> FailureParams: ...
+    @property
+    def driver(self) -> DriverParams: ...
 
 @final
 class WheelTelemetry:
@@ -1267,10 +1337,14 @@ class WheelTelemetry:
     @property
     def motor_torque_nm(self) -> float: ...
     @property
+    def driver_current_a(self) -> float: ...
+    @property
+    def driver_limit(self) -> _DriverLimit: ...
+    @property
     def speed_rad_per_s(self) -> float: ...
     @property
     def angle_rad(self) -> float: ...
-    def to_dict(self) -> dict[str, Union[float, bool]]: ...
+    def to_dict(self) -> dict[str, Union[float, bool, str]]: ...
 
 @final
 class StepTelemetry:
@@ -1322,8 +1396,8 @@ class Measurement:
 
 @final
 class Failure:
-    """A detected failure: what (``kind``), when, which wheel (slip, lift-off) or how far it
-    tilted."""
+    """A detected failure: what (``kind``), when, which wheel (slip, lift-off, driver trip) or
+    how far it tilted."""
 
     @property
     def kind(self) -> FailureKind: ...

@@ -82,6 +82,8 @@ class FailureKind(str, enum.Enum):
     """An omniwheel slipped for longer than allowed."""
     LIFT_OFF = "lift_off"
     """An omniwheel lost contact with the ball."""
+    DRIVER_TRIP = "driver_trip"
+    """An omniwheel's motor driver disarmed (overspeed or current-limit violation)."""
 
 
 class RiccatiStatus(str, enum.Enum):

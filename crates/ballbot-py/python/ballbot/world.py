@@ -10,6 +10,7 @@ parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``
 from ballbot._core import (
     AxleLossParams,
     ContactParams,
+    DriverParams,
     Failure,
     FailureParams,
     Measurement,
@@ -27,6 +28,7 @@ from ballbot._results import WorldLoopRun, WorldRun
 __all__ = [
     "AxleLossParams",
     "ContactParams",
+    "DriverParams",
     "Failure",
     "FailureKind",
     "FailureParams",

@@ -27,10 +27,18 @@ macro_rules! wheel_getters {
                 }
             )*
 
+            /// Which driver limit shaped the torque: `"none"`, `"current"`, `"voltage"`,
+            /// `"velocity_limiter"` or `"disarmed"` (`DriverLimit::as_str`).
+            #[getter]
+            fn driver_limit(&self) -> &'static str {
+                self.inner.driver_limit.as_str()
+            }
+
             /// The fields as a dict.
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
                 let d = PyDict::new(py);
                 $(d.set_item(stringify!($field), self.inner.$field)?;)*
+                d.set_item("driver_limit", self.inner.driver_limit.as_str())?;
                 Ok(d)
             }
 
@@ -62,6 +70,7 @@ wheel_getters! {
     slip_speed_m_per_s: f64,
     slipping: bool,
     motor_torque_nm: f64,
+    driver_current_a: f64,
     speed_rad_per_s: f64,
     angle_rad: f64,
 }
@@ -229,8 +238,8 @@ impl PyMeasurement {
 }
 
 /// A detected failure of a world run (`ballbot_sim::world::Failure`, wrapped): `kind` is a
-/// `FailureKind`; `wheel` (`"OW1"`..`"OW3"`) for slip and lift-off, `tilt_rad` for a tilt
-/// failure.
+/// `FailureKind`; `wheel` (`"OW1"`..`"OW3"`) for slip, lift-off and a driver trip,
+/// `tilt_rad` for a tilt failure.
 #[pyclass(name = "Failure", module = "ballbot", frozen, eq)]
 #[derive(Clone, Debug, PartialEq)]
 pub struct PyFailure {
@@ -245,7 +254,8 @@ impl From<Failure> for PyFailure {
 
 #[pymethods]
 impl PyFailure {
-    /// What failed: `FailureKind.TILT`, `BODY_TOUCHED_FLOOR`, `SUSTAINED_SLIP` or `LIFT_OFF`.
+    /// What failed: `FailureKind.TILT`, `BODY_TOUCHED_FLOOR`, `SUSTAINED_SLIP`, `LIFT_OFF` or
+    /// `DRIVER_TRIP`.
     #[getter]
     fn kind<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::enums::failure_kind(py, &self.inner.kind)

@@ -1,5 +1,7 @@
-//! Failure detection: tilt beyond the limit, body on the floor, sustained slip, lift-off.
+//! Failure detection: tilt beyond the limit, body on the floor, sustained slip, lift-off, a
+//! motor driver that disarmed.
 
+use super::driver::DriverLimit;
 use super::params::FailureParams;
 use super::telemetry::StepTelemetry;
 
@@ -20,6 +22,12 @@ pub enum FailureKind {
     },
     /// A wheel lost contact for longer than `max_lift_off_duration_secs`.
     LiftOff {
+        /// Wheel index, 0-based.
+        wheel: usize,
+    },
+    /// A wheel's motor driver disarmed (overspeed or current-limit violation, see
+    /// [`crate::world::driver`]): that wheel has no torque from then on.
+    DriverTrip {
         /// Wheel index, 0-based.
         wheel: usize,
     },
@@ -55,11 +63,16 @@ pub fn wheel_name(index: usize) -> &'static str {
 
 impl FailureKind {
     /// Every kind's canonical name, in declaration order.
-    pub const NAMES: [&'static str; 4] =
-        ["tilt", "body_touched_floor", "sustained_slip", "lift_off"];
+    pub const NAMES: [&'static str; 5] = [
+        "tilt",
+        "body_touched_floor",
+        "sustained_slip",
+        "lift_off",
+        "driver_trip",
+    ];
 
-    /// The canonical (snake_case) name: `tilt`, `body_touched_floor`, `sustained_slip` or
-    /// `lift_off`; JSON, logs and Python use it.
+    /// The canonical (snake_case) name: `tilt`, `body_touched_floor`, `sustained_slip`,
+    /// `lift_off` or `driver_trip`; JSON, logs and Python use it.
     ///
     /// ```
     /// use ballbot_sim::world::FailureKind;
@@ -71,13 +84,16 @@ impl FailureKind {
             Self::BodyTouchedFloor => Self::NAMES[1],
             Self::SustainedSlip { .. } => Self::NAMES[2],
             Self::LiftOff { .. } => Self::NAMES[3],
+            Self::DriverTrip { .. } => Self::NAMES[4],
         }
     }
 
-    /// The wheel involved (0-based), for slip and lift-off.
+    /// The wheel involved (0-based), for slip, lift-off and a driver trip.
     pub fn wheel(&self) -> Option<usize> {
         match self {
-            Self::SustainedSlip { wheel } | Self::LiftOff { wheel } => Some(*wheel),
+            Self::SustainedSlip { wheel }
+            | Self::LiftOff { wheel }
+            | Self::DriverTrip { wheel } => Some(*wheel),
             Self::Tilt { .. } | Self::BodyTouchedFloor => None,
         }
     }
@@ -96,12 +112,14 @@ impl FailureKind {
     }
 }
 
-/// Human-readable: `tilt 12.3 deg`, `body touched the floor`, `slip OW2`, `lift-off OW1`.
+/// Human-readable: `tilt 12.3 deg`, `body touched the floor`, `slip OW2`, `lift-off OW1`,
+/// `driver trip OW3`.
 ///
 /// ```
 /// use ballbot_sim::world::FailureKind;
 /// assert_eq!(FailureKind::SustainedSlip { wheel: 1 }.to_string(), "slip OW2");
 /// assert_eq!(FailureKind::Tilt { tilt_rad: 0.5 }.to_string(), "tilt 28.6 deg");
+/// assert_eq!(FailureKind::DriverTrip { wheel: 2 }.to_string(), "driver trip OW3");
 /// ```
 impl core::fmt::Display for FailureKind {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -110,6 +128,7 @@ impl core::fmt::Display for FailureKind {
             Self::BodyTouchedFloor => f.write_str("body touched the floor"),
             Self::SustainedSlip { wheel } => write!(f, "slip {}", wheel_name(*wheel)),
             Self::LiftOff { wheel } => write!(f, "lift-off {}", wheel_name(*wheel)),
+            Self::DriverTrip { wheel } => write!(f, "driver trip {}", wheel_name(*wheel)),
         }
     }
 }
@@ -232,6 +251,9 @@ impl FailureMonitor {
             } else {
                 0.0
             };
+            if kind.is_none() && w.driver_limit == DriverLimit::Disarmed {
+                kind = Some(FailureKind::DriverTrip { wheel: i });
+            }
             if kind.is_none() && self.slip_secs[i] > p.max_slip_duration_secs {
                 kind = Some(FailureKind::SustainedSlip { wheel: i });
             }

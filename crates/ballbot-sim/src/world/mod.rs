@@ -10,7 +10,9 @@
 //!   contact and friction are rapier's, plus rolling resistance and a torsional spin friction.
 //! * [`contact`]: the omniwheel contact law and its step-size needs; [`rollers`] (roller
 //!   gaps), [`axle_loss`] (roller losses along the axle) and [`rubber`] (stiffness and damping
-//!   of the ball's coating) are its realistic mechanisms, all off in the defaults.
+//!   of the ball's coating) are its realistic mechanisms (on in the default world,
+//!   [`WorldParams::realistic`]; off in [`WorldParams::ideal`]).
+//! * [`driver`]: the motor driver between torque command and wheel (ideal line or ODrive).
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
 //!
@@ -24,6 +26,7 @@
 
 pub mod axle_loss;
 pub mod contact;
+pub mod driver;
 pub mod failure;
 pub mod params;
 pub mod rollers;
@@ -33,6 +36,7 @@ pub mod sim;
 pub mod telemetry;
 
 pub use axle_loss::AxleLossParams;
+pub use driver::{DriverLimit, DriverModel, DriverParams};
 pub use failure::{Failure, FailureKind, wheel_name};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
 pub use rollers::{RollerParams, RollerProfile};

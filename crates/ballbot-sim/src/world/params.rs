@@ -5,6 +5,7 @@
 
 use super::WorldError;
 use super::axle_loss::AxleLossParams;
+use super::driver::DriverParams;
 use super::rollers::RollerParams;
 use super::rubber::RubberLayer;
 use ballbot_core::BallbotParams;
@@ -149,6 +150,11 @@ pub struct WorldParams {
     pub sensors: SensorParams,
     /// Failure limits.
     pub failure: FailureParams,
+    /// The motor driver between torque command and wheel: [`DriverParams::miapure`] in the
+    /// default world, [`DriverParams::ideal`] (the actuator's straight torque-speed line) in
+    /// the ideal one and when missing from a file.
+    #[serde(default)]
+    pub driver: DriverParams,
 }
 
 impl WorldParams {
@@ -174,15 +180,19 @@ impl WorldParams {
             dt_secs: INNER_LOOP_DT_SECS,
             sensors: SensorParams::default(),
             failure: FailureParams::default(),
+            driver: DriverParams::ideal(),
         }
     }
 
     /// The given robot in the most realistic world we can defend: roller gaps
     /// ([`RollerParams::miapure`]), roller losses along the axle ([`AxleLossParams::miapure`])
     /// and the rubber coating's stiffness and damping ([`ContactParams::rubber_coated`] of
-    /// [`RubberLayer::miapure`]); docs/world.md, "Contact realism: parameters and sources".
+    /// [`RubberLayer::miapure`]), and the ODrive v3.6 motor driver at 45 V
+    /// ([`DriverParams::miapure`]); docs/world.md, "Contact realism: parameters and sources"
+    /// and "Motor driver".
     pub fn realistic(robot: BallbotParams<f64>) -> Self {
         let mut p = Self::ideal(robot);
+        p.driver = DriverParams::miapure();
         p.contact = ContactParams {
             rollers: RollerParams::miapure(),
             axle_loss: AxleLossParams::miapure(),
@@ -242,6 +252,7 @@ impl WorldParams {
         positive(self.chassis_height_m, "chassis_height_m")?;
         positive(self.dt_secs, "dt_secs")?;
         positive(self.failure.max_tilt_rad, "failure.max_tilt_rad")?;
+        self.driver.validate()?;
         non_negative(self.sensors.tilt_noise_rad, "sensors.tilt_noise_rad")?;
         non_negative(
             self.sensors.gyro_noise_rad_per_s,

@@ -2,6 +2,7 @@
 
 use super::WorldError;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
+use super::driver::{DriverFault, MotorDriver};
 use super::failure::{Failure, FailureMonitor};
 use super::params::{WorldParams, non_negative};
 use super::rollers::{RimContact, RollerProfile};
@@ -74,6 +75,7 @@ pub struct BallbotWorld {
     geometry: [WheelGeometry; 3],
     wheels: [WheelState; 3],
     motor_cmd_nm: [f64; 3],
+    drivers: [MotorDriver; 3],
     telemetry: StepTelemetry,
     monitor: FailureMonitor,
     sensors: Sensors,
@@ -187,6 +189,7 @@ impl BallbotWorld {
             geometry,
             wheels: [WheelState::default(); 3],
             motor_cmd_nm: [0.0; 3],
+            drivers: [MotorDriver::new(params.driver, dt.actuator); 3],
             telemetry: StepTelemetry {
                 time_secs: 0.0,
                 wheels: [WheelTelemetry::default(); 3],
@@ -233,6 +236,12 @@ impl BallbotWorld {
     /// The first failure detected, if any (the simulation keeps running after it).
     pub fn failure(&self) -> Option<Failure> {
         self.monitor.failure()
+    }
+
+    /// Per wheel (OW1..OW3), why its motor driver disarmed, if it has (only the ODrive model
+    /// trips; see [`crate::world::driver`]).
+    pub fn driver_faults(&self) -> [Option<DriverFault>; 3] {
+        self.drivers.each_ref().map(MotorDriver::fault)
     }
 
     /// Samples the sensors (IMU, encoders) at the current state.
@@ -501,12 +510,12 @@ impl BallbotWorld {
     }
 
     /// Advances the world by one step of `params.dt_secs` with the motor torque commands
-    /// `motor_torque_nm` (N m at the wheel; each is clamped to the actuator's torque-speed
-    /// limit at the wheel's current speed). Returns the step's telemetry.
+    /// `motor_torque_nm` (N m at the wheel; each passes through its motor driver at the
+    /// wheel's current speed: [`WorldParams::driver`], by default the actuator's straight
+    /// torque-speed line). Returns the step's telemetry.
     pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
-        let actuator = self.params.robot.drivetrain.actuator;
         let i_w = self.params.reflected_wheel_inertia_kg_m2();
         let b_w = self.params.wheel_damping_nm_s_per_rad;
         let contacts = self.contacts();
@@ -522,7 +531,8 @@ impl BallbotWorld {
             let (kin, p, rim) = contacts[i];
             let wheel = &mut self.wheels[i];
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
-            let tau = actuator.clamp_torque_nm(motor_torque_nm[i], wheel.speed_rad_per_s);
+            let drive = self.drivers[i].step(motor_torque_nm[i], wheel.speed_rad_per_s);
+            let tau = drive.torque_nm;
             let spin_torque = tau - rim.rim_radius_m * out.traction_n - b_w * wheel.speed_rad_per_s;
             // At a roller gap the normal force turns the wheel by N d(dip)/d(psi), the
             // generalised force of the normal spring (crate::world::rollers). The force itself
@@ -549,6 +559,8 @@ impl BallbotWorld {
                 slip_speed_m_per_s: kin.slip_speed_m_per_s,
                 slipping: out.slipping,
                 motor_torque_nm: tau,
+                driver_current_a: drive.current_a,
+                driver_limit: drive.limit,
                 speed_rad_per_s: wheel.speed_rad_per_s,
                 angle_rad: wheel.angle_rad,
             };

@@ -5,6 +5,7 @@
 //! drift from it. Vectors travel as `[x, y, z]`, orientations as `{x, y, z, w}` (Foxglove's
 //! quaternion layout).
 
+use super::driver::DriverLimit;
 use nalgebra::{UnitQuaternion, Vector3};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -27,8 +28,12 @@ pub struct WheelTelemetry {
     pub slip_speed_m_per_s: f64,
     /// Whether the contact slides (traction demand beyond the friction cone).
     pub slipping: bool,
-    /// Torque the actuator delivered at the wheel after its torque-speed limit (N m).
+    /// Torque the actuator delivered at the wheel after its driver's limits (N m).
     pub motor_torque_nm: f64,
+    /// The driver's q-axis motor current (A).
+    pub driver_current_a: f64,
+    /// Which driver limit shaped the torque (`disarmed` once the driver has tripped).
+    pub driver_limit: DriverLimit,
     /// Wheel speed relative to the body (rad/s).
     pub speed_rad_per_s: f64,
     /// Wheel angle relative to the body (rad).
@@ -91,6 +96,8 @@ impl StepTelemetry {
             eat(w.slip_speed_m_per_s);
             eat(f64::from(u8::from(w.slipping)));
             eat(w.motor_torque_nm);
+            eat(w.driver_current_a);
+            eat(f64::from(w.driver_limit as u8));
             eat(w.speed_rad_per_s);
             eat(w.angle_rad);
         }

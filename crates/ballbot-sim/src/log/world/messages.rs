@@ -192,7 +192,8 @@ impl From<&VelocityCommand<f64>> for WorldCommandMsg {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct WorldEventMsg {
     /// What happened: a failure by its canonical name ([`FailureKind::as_str`]: `tilt`,
-    /// `body_touched_floor`, `sustained_slip`, `lift_off`), a safety-mode change (`mode`), or
+    /// `body_touched_floor`, `sustained_slip`, `lift_off`, `driver_trip`), a safety-mode change
+    /// (`mode`), or
     /// a user event (e.g. `push`).
     ///
     /// [`FailureKind::as_str`]: crate::world::FailureKind::as_str

@@ -3,7 +3,7 @@
 
 use crate::studies::max_speed::{self, MaxSpeedProtocol};
 use crate::world::{
-    AxleLossParams, ContactParams, RollerParams, RubberLayer, WorldError, WorldParams,
+    AxleLossParams, ContactParams, DriverParams, RollerParams, RubberLayer, WorldError, WorldParams,
 };
 use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_core::command::AxisLimits;
@@ -25,17 +25,21 @@ pub enum Mechanism {
     /// The rubber coating's normal stiffness and damping ([`ContactParams::rubber_coated`] of
     /// [`RubberLayer::miapure`]: 3.4e5 N/m, 88 N s/m).
     RubberCoating,
+    /// The ODrive v3.6 at 45 V configured for the paper's 43.2 N m ([`DriverParams::miapure`]):
+    /// current limit, back-EMF and modulation limit, overspeed trip.
+    MotorDriver,
     /// Every mechanism: the default world, [`WorldParams::realistic`].
     All,
 }
 
 impl Mechanism {
     /// Every variant, the ideal world first and all mechanisms together last.
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 6] = [
         Self::Ideal,
         Self::RollerGaps,
         Self::AxleLosses,
         Self::RubberCoating,
+        Self::MotorDriver,
         Self::All,
     ];
 
@@ -46,6 +50,7 @@ impl Mechanism {
             Self::RollerGaps => "roller_gaps",
             Self::AxleLosses => "axle_losses",
             Self::RubberCoating => "rubber_coating",
+            Self::MotorDriver => "motor_driver",
             Self::All => "all",
         }
     }
@@ -57,6 +62,7 @@ impl Mechanism {
             Self::RollerGaps => "+ roller gaps",
             Self::AxleLosses => "+ roller losses along the axle",
             Self::RubberCoating => "+ rubber-coating stiffness and damping",
+            Self::MotorDriver => "+ ODrive v3.6 driver limits",
             Self::All => "all mechanisms (the default world)",
         }
     }
@@ -72,6 +78,7 @@ impl Mechanism {
             Self::RubberCoating => {
                 p.contact = ContactParams::rubber_coated(&robot, &RubberLayer::miapure());
             }
+            Self::MotorDriver => p.driver = DriverParams::miapure(),
             Self::All => p = WorldParams::realistic(robot),
         }
         p
