@@ -3,12 +3,15 @@
 
 use crate::balance::{PlanarBalancer, PlanarBalancerParams};
 use approx::assert_relative_eq;
+use ballbot_core::BallbotParams;
 use ballbot_sim::world::telemetry::FNV_OFFSET_BASIS;
 use ballbot_sim::world::{BallbotWorld, WorldParams};
 use nalgebra::Vector3;
 
+/// The ideal world (stiff continuous-rim contacts, straight torque-speed line): the numbers
+/// these tests and docs/world.md quote are its.
 fn miapure() -> WorldParams {
-    WorldParams::miapure_60kg()
+    WorldParams::ideal(BallbotParams::miapure_60kg())
 }
 
 /// Runs the world under the planar balancer for `duration_secs` with a body-frame velocity

@@ -60,7 +60,7 @@ const GOLDEN: [f64; 14] = [
 
 #[test]
 fn ideal_contact_reproduces_the_world_before_contact_realism() {
-    let mut world = BallbotWorld::new(WorldParams::miapure_60kg()).unwrap();
+    let mut world = BallbotWorld::new(WorldParams::ideal(BallbotParams::miapure_60kg())).unwrap();
     world.tilt_body([0.01, -0.02]);
     let (s, c) = 30.0_f64.to_radians().sin_cos();
     cruise(&mut world, 1.0, [0.3 * c, 0.3 * s]);
@@ -127,7 +127,7 @@ fn ow1_normal_force_in_cruise(
 
 #[test]
 fn roller_gaps_ripple_the_normal_force_at_the_roller_passing_rate() {
-    let mut params = WorldParams::miapure_60kg();
+    let mut params = WorldParams::ideal(BallbotParams::miapure_60kg());
     params.contact.rollers = RollerParams::miapure();
     let n_r = f64::from(params.contact.rollers.count);
     let dt = params.dt_secs;
@@ -166,8 +166,12 @@ fn roller_gaps_ripple_the_normal_force_at_the_roller_passing_rate() {
             "comb at {best_hz} Hz, expected {expected_hz} Hz"
         );
         // Without gaps the same cruise has no such comb.
-        let (smooth, _) =
-            ow1_normal_force_in_cruise(WorldParams::miapure_60kg(), speed, heading, 4.0);
+        let (smooth, _) = ow1_normal_force_in_cruise(
+            WorldParams::ideal(BallbotParams::miapure_60kg()),
+            speed,
+            heading,
+            4.0,
+        );
         let ideal: f64 = (1..=10)
             .map(|k| goertzel_power(&smooth, dt, f64::from(k) * best_hz))
             .sum();
@@ -226,8 +230,8 @@ fn cruise_towards_ow1(params: WorldParams) -> TowardsOw1 {
 
 #[test]
 fn axle_losses_use_more_of_the_cone_without_changing_the_lean() {
-    let ideal = cruise_towards_ow1(WorldParams::miapure_60kg());
-    let mut params = WorldParams::miapure_60kg();
+    let ideal = cruise_towards_ow1(WorldParams::ideal(BallbotParams::miapure_60kg()));
+    let mut params = WorldParams::ideal(BallbotParams::miapure_60kg());
     params.contact.axle_loss = AxleLossParams::miapure();
     let lossy = cruise_towards_ow1(params);
     let c_a = AxleLossParams::miapure().coefficient();
@@ -288,7 +292,7 @@ fn a_wheel_coasting_over_roller_gaps_conserves_energy() {
     // only trades kinetic energy with its normal spring as the effective radius dips. The
     // gap torque N d(dip)/d(psi) is what makes 1/2 I psi_dot^2 + N^2 / (2 k) constant;
     // without it the sum would swing by about N dip_max = 17 mJ at every gap.
-    let mut params = WorldParams::miapure_60kg();
+    let mut params = WorldParams::ideal(BallbotParams::miapure_60kg());
     params.contact.rollers = RollerParams::miapure();
     params.contact.normal_damping_n_s_per_m = 0.0;
     params.wheel_damping_nm_s_per_rad = 0.0;
@@ -347,7 +351,7 @@ fn a_wheel_coasting_over_roller_gaps_conserves_energy() {
 /// MiaPURE with every contact-realism mechanism on.
 fn realistic_contact() -> WorldParams {
     let robot = BallbotParams::miapure_60kg();
-    let mut params = WorldParams::miapure_60kg();
+    let mut params = WorldParams::ideal(BallbotParams::miapure_60kg());
     params.contact = ContactParams {
         rollers: RollerParams::miapure(),
         axle_loss: AxleLossParams::miapure(),
@@ -434,7 +438,7 @@ fn spinning_on_a_frictionless_floor_with_roller_gaps_keeps_the_vertical_angular_
     // included). Equal motor torques spin ball and body against each other about the vertical
     // and turn every wheel over its gaps; the gap torques N d(dip)/d(psi) and the axle losses
     // act inside the robot and must keep it too.
-    let mut p = WorldParams::miapure_60kg();
+    let mut p = WorldParams::ideal(BallbotParams::miapure_60kg());
     p.contact.rollers = RollerParams::miapure();
     p.contact.axle_loss = AxleLossParams::miapure();
     p.rolling_resistance = 0.0;
@@ -474,7 +478,7 @@ fn spinning_on_a_frictionless_floor_with_roller_gaps_keeps_the_vertical_angular_
 #[test]
 fn contact_realism_fields_are_validated_and_optional_in_files() {
     let reject = |set: &dyn Fn(&mut WorldParams), field: &str| {
-        let mut p = WorldParams::miapure_60kg();
+        let mut p = WorldParams::ideal(BallbotParams::miapure_60kg());
         set(&mut p);
         match BallbotWorld::new(p) {
             Err(ballbot_sim::world::WorldError::InvalidParameter { field: f, .. }) => {

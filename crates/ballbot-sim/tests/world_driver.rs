@@ -2,7 +2,7 @@
 //! bit for bit, the ODrive model's overspeed trip disarms the wheel and is reported.
 
 use approx::assert_relative_eq;
-use ballbot_core::ActuatorParams;
+use ballbot_core::{ActuatorParams, BallbotParams};
 use ballbot_sim::world::driver::{
     DriverFault, MotorDriver, ODRIVE_CURRENT_LIM_A, ODRIVE_REQUESTED_CURRENT_RANGE_A,
 };
@@ -61,8 +61,8 @@ const STRAIGHT_LINE_GOLDEN_BITS: [u64; 15] = [
 ];
 
 #[test]
-fn default_world_reproduces_the_straight_line_world_bit_for_bit() {
-    let bits = saturating_run_bits(WorldParams::miapure_60kg());
+fn ideal_world_reproduces_the_straight_line_world_bit_for_bit() {
+    let bits = saturating_run_bits(WorldParams::ideal(BallbotParams::miapure_60kg()));
     assert_eq!(bits, STRAIGHT_LINE_GOLDEN_BITS);
 }
 
@@ -278,7 +278,7 @@ fn driver_validation_names_the_field() {
     for (p, field) in cases {
         assert_eq!(bad(p), field);
     }
-    let mut world = WorldParams::miapure_60kg();
+    let mut world = WorldParams::ideal(BallbotParams::miapure_60kg());
     world.driver.vel_gain_nm_s_per_turn = 0.0;
     assert!(matches!(
         BallbotWorld::new(world),
@@ -295,7 +295,7 @@ fn overspeed_trips_the_driver_and_then_gives_no_torque() {
     // MiaPURE ODrive the wheel torque (34.6 N m at rest) outruns the traction; the trip speed
     // is 1.2 * 74 turn/s of the rotor = 74.4 rad/s at the wheel, beyond the 49.6 rad/s the
     // voltage allows, so lower the velocity limit to 20 rad/s at the wheel (trip at 24).
-    let mut p = WorldParams::miapure_60kg();
+    let mut p = WorldParams::ideal(BallbotParams::miapure_60kg());
     p.driver = DriverParams {
         vel_limit_turn_per_s: 20.0 * 7.5 / std::f64::consts::TAU,
         ..DriverParams::miapure()
@@ -337,7 +337,7 @@ fn overspeed_trips_the_driver_and_then_gives_no_torque() {
 #[test]
 fn ideal_model_ignores_speed_beyond_any_trip() {
     // The same run under the ideal driver: no trip, and the wheel keeps its torque.
-    let mut world = BallbotWorld::new(WorldParams::miapure_60kg()).unwrap();
+    let mut world = BallbotWorld::new(WorldParams::ideal(BallbotParams::miapure_60kg())).unwrap();
     world.set_ball_fixed(true);
     world.set_body_fixed(true);
     for _ in 0..4000 {
