@@ -15,6 +15,8 @@ mod scenario;
 mod trajopt;
 mod world;
 mod world_brake;
+mod world_load_transfer;
 mod world_max_speed;
+mod world_paper_ablation;
 mod world_setters;
 mod world_yaw;
