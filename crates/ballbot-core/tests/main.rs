@@ -5,6 +5,7 @@ mod controllers;
 mod doc_examples;
 mod fast_paths;
 mod kinematics;
+mod load_transfer;
 mod lqr;
 mod names;
 mod safety;

@@ -17,6 +17,8 @@ mod world;
 mod world_brake;
 mod world_contact;
 mod world_driver;
+mod world_load_transfer;
 mod world_max_speed;
+mod world_paper_ablation;
 mod world_setters;
 mod world_yaw;

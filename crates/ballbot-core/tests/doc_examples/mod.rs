@@ -85,6 +85,7 @@ pub(super) const CHECKED: &[&str] = &[
     "ballbot/mod.rs",
     "ballbot/design.rs",
     "ballbot/feedforward.rs",
+    "ballbot/mapping.rs",
     "ballbot/motor.rs",
     "ballbot/outer.rs",
     "ballbot/spin.rs",

@@ -1474,6 +1474,7 @@ class WorldLoop:
         max_jerk_m_per_s3: Optional[float] = None,
         max_tilt_command_rad: Optional[float] = None,
         max_tilt_rate_command_rad_per_s: Optional[float] = None,
+        wheel_mapping: Optional[Literal["rolling_ball", "upright"]] = None,
     ) -> WorldLoop: ...
     @property
     def mode(self) -> Mode: ...

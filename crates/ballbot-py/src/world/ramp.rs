@@ -89,6 +89,7 @@ pub(crate) fn max_speed_ramp<'py>(
         max_jerk_m_per_s3,
         max_tilt_command_rad,
         max_tilt_rate_command_rad_per_s,
+        wheel_mapping: None,
     }
     .config(py, &params)?;
     finite(py, &[heading_deg], "heading_deg")?;

@@ -9,7 +9,7 @@ use crate::errors::world_error;
 use crate::errors::{Kind, core_error, error};
 use crate::log::log_error;
 use crate::params::PyWorldParams;
-use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_sim::rig::WorldRobot;
 use ballbot_sim::world::{BallbotWorld, WorldParams};
@@ -27,6 +27,9 @@ pub(crate) struct Shaping {
     pub(crate) max_jerk_m_per_s3: Option<f64>,
     pub(crate) max_tilt_command_rad: Option<f64>,
     pub(crate) max_tilt_rate_command_rad_per_s: Option<f64>,
+    /// The wheel mapping by its canonical name (`"rolling_ball"`, `"upright"`); `None`: the
+    /// designed default.
+    pub(crate) wheel_mapping: Option<WheelMapping>,
 }
 
 impl Shaping {
@@ -67,15 +70,23 @@ impl Shaping {
             ),
         ] {
             if let Some(v) = value {
-                if !(v.is_finite() && v > 0.0) {
+                // An infinite jerk limit means none (`AxisLimits::unlimited_jerk_per_s2`).
+                let unlimited = name == "max_jerk_m_per_s3" && v == f64::INFINITY;
+                if !(unlimited || v.is_finite() && v > 0.0) {
                     return Err(error(
                         py,
                         Kind::Parameter,
-                        format!("invalid parameter `{name}`: must be finite and > 0, got {v}"),
+                        format!(
+                            "invalid parameter `{name}`: must be finite and > 0 \
+                             (max_jerk_m_per_s3 also inf: no jerk limit), got {v}"
+                        ),
                     ));
                 }
                 *slot = v;
             }
+        }
+        if let Some(mapping) = self.wheel_mapping {
+            config.wheel_mapping = mapping;
         }
         Ok(config)
     }
@@ -98,7 +109,11 @@ world_class! {
     /// The controller is designed from the robot (`BallbotControllerConfig::design`); the
     /// keyword arguments `max_speed_m_per_s`, `max_accel_m_per_s2`, `max_jerk_m_per_s3`,
     /// `max_tilt_command_rad`, `max_tilt_rate_command_rad_per_s` override its command
-    /// shaping (defaults 2.0 m/s, 1.0 m/s^2, 2.0 m/s^3, 0.2 rad, 1.0 rad/s).
+    /// shaping (defaults 2.0 m/s, 1.0 m/s^2, 2.0 m/s^3, 0.2 rad, 1.0 rad/s; `max_jerk_m_per_s3 =
+    /// math.inf` removes the jerk limit). `wheel_mapping` chooses how the reference rates map to
+    /// the wheels: `"rolling_ball"` (default) or `"upright"`, the paper's mapping, an ablation
+    /// (`WheelMapping` in the core; with `max_jerk_m_per_s3 = math.inf` this is
+    /// `BallbotControllerConfig::with_paper_ablation`).
     PyWorldLoop("WorldLoop") {
         inner: WorldRobot,
         world: |this| this.inner.world(),
@@ -109,8 +124,9 @@ world_class! {
         #[pyo3(signature = (
             params = None, *, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
             max_jerk_m_per_s3 = None, max_tilt_command_rad = None,
-            max_tilt_rate_command_rad_per_s = None,
+            max_tilt_rate_command_rad_per_s = None, wheel_mapping = None,
         ))]
+        #[allow(clippy::too_many_arguments)]
         fn py_new(
             py: Python<'_>,
             params: Option<PyWorldParams>,
@@ -119,14 +135,27 @@ world_class! {
             max_jerk_m_per_s3: Option<f64>,
             max_tilt_command_rad: Option<f64>,
             max_tilt_rate_command_rad_per_s: Option<f64>,
+            wheel_mapping: Option<&str>,
         ) -> PyResult<Self> {
             let params = params_or_default(params);
+            let wheel_mapping = wheel_mapping
+                .map(|name| {
+                    name.parse::<WheelMapping>().map_err(|e| {
+                        error(
+                            py,
+                            Kind::Parameter,
+                            format!("invalid parameter `wheel_mapping`: {e}: {name:?}"),
+                        )
+                    })
+                })
+                .transpose()?;
             let config = Shaping {
                 max_speed_m_per_s,
                 max_accel_m_per_s2,
                 max_jerk_m_per_s3,
                 max_tilt_command_rad,
                 max_tilt_rate_command_rad_per_s,
+                wheel_mapping,
             }
             .config(py, &params)?;
             let inner = WorldRobot::with_config(params, config).map_err(|e| world_error(py, e))?;
