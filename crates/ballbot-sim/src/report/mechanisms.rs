@@ -12,20 +12,18 @@ fn heading_key(heading_deg: f64) -> String {
 }
 
 /// A run as one table cell: `0.55 slip OW2`, `5.70 stop` (the supervisor's controlled stop
-/// came first), `>= 3.00` (censored).
+/// came first, e.g. at a wheel's speed limit or its tilt limit), `4.49 stop, tilt` (a failure
+/// after that stop), `>= 3.00` (censored).
 pub fn outcome_cell(t: &TrialOutcome) -> String {
-    if t.supervisor_stop_secs.is_some() {
-        return format!("{:.2} stop", t.max_speed_m_per_s);
-    }
-    match t.failure {
-        None => format!(">= {:.2}", t.max_speed_m_per_s),
-        Some(f) => {
-            let what = match f.kind.wheel_name() {
-                Some(w) => format!("{} {w}", f.kind.as_str()),
-                None => f.kind.as_str().to_owned(),
-            };
-            format!("{:.2} {what}", t.max_speed_m_per_s)
-        }
+    let what = t.failure.map(|f| match f.kind.wheel_name() {
+        Some(w) => format!("{} {w}", f.kind.as_str()),
+        None => f.kind.as_str().to_owned(),
+    });
+    match (t.supervisor_stop_secs, what) {
+        (Some(_), None) => format!("{:.2} stop", t.max_speed_m_per_s),
+        (Some(_), Some(w)) => format!("{:.2} stop, {w}", t.max_speed_m_per_s),
+        (None, None) => format!(">= {:.2}", t.max_speed_m_per_s),
+        (None, Some(w)) => format!("{:.2} {w}", t.max_speed_m_per_s),
     }
 }
 
@@ -105,7 +103,7 @@ impl MechanismStudy {
         let headings = &self.settings.headings_deg;
         out.push_str(&format!("{:>22} | {:>24}", "controller", "world"));
         for h in headings {
-            out.push_str(&format!(" | {:>20}", format!("{h:.0} deg")));
+            out.push_str(&format!(" | {:>26}", format!("{h:.0} deg")));
         }
         out.push('\n');
         for &c in &self.settings.controllers {
@@ -115,7 +113,7 @@ impl MechanismStudy {
                     let cell = self
                         .run(c, m, h)
                         .map_or("-".into(), |r| outcome_cell(&r.outcome));
-                    out.push_str(&format!(" | {cell:>20}"));
+                    out.push_str(&format!(" | {cell:>26}"));
                 }
                 out.push('\n');
             }
@@ -135,7 +133,7 @@ impl MechanismStudy {
                         p.speed_m_per_s
                     )
                 });
-            out.push_str(&format!(" | {cell:>20}"));
+            out.push_str(&format!(" | {cell:>26}"));
         }
         out.push('\n');
         if !self.sweep.is_empty() {
