@@ -13,6 +13,7 @@ mod rig;
 mod rollout;
 mod scenario;
 mod trajopt;
+mod trajopt_margin;
 mod world;
 mod world_brake;
 mod world_max_speed;

@@ -876,6 +876,7 @@ class BrakingLimits:
         drivetrain: Optional[DrivetrainParams] = None,
         heading_rad: float = 0.0,
         traction: bool = False,
+        normal_force_margin_n: float = 0.0,
     ) -> BrakingLimits: ...
     @staticmethod
     def miapure_actuators(heading_rad: float) -> BrakingLimits: ...
@@ -891,6 +892,8 @@ class BrakingLimits:
     def torque_nm(self) -> Optional[float]: ...
     @property
     def traction(self) -> bool: ...
+    @property
+    def normal_force_margin_n(self) -> float: ...
 
 @final
 class BrakingProblem:
