@@ -6,6 +6,7 @@
 mod balance;
 mod log;
 mod piptb;
+mod piptb_stop;
 mod planar_plant;
 mod planar_sim;
 mod plot;

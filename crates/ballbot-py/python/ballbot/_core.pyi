@@ -1012,6 +1012,8 @@ def piptb_experiment(
     base_seed: Optional[int] = None,
     controllers: Optional[list[str]] = None,
     log_dir: Optional[_Path] = None,
+    stop_speed_m_per_s: Optional[float] = None,
+    stop_hold_secs: Optional[float] = None,
 ) -> PiptbExperiment: ...
 
 # ---- 3D world -----------------------------------------------------------------------------

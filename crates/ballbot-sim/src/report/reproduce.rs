@@ -138,6 +138,19 @@ fn piptb_section(
         report.plot(&options.out)?;
     }
     summary.insert("piptb".to_owned(), report.summary_json());
+    // The until-stopped reading of the same trials, and its criterion's sensitivity.
+    let until = report.until_stopped(&settings.stop_criterion())?;
+    observer.text(&super::piptb::readings_table(&report, &until));
+    summary.insert("piptb_until_stopped".to_owned(), until.summary_json());
+    let sensitivity = report.stop_sensitivity(
+        &super::piptb::SENSITIVITY_BANDS_M_PER_S,
+        &super::piptb::SENSITIVITY_HOLDS_SECS,
+    )?;
+    observer.text(&super::piptb::stop_sensitivity_table(&sensitivity));
+    summary.insert(
+        "piptb_stop_sensitivity".to_owned(),
+        super::piptb::stop_sensitivity_json(&sensitivity),
+    );
     if let Some(variants) = &ablation {
         observer.text(&super::piptb::ablation_table(variants));
         summary.insert(
