@@ -80,6 +80,10 @@ pub struct BrakeArgs {
     /// --actuators).
     #[arg(long)]
     pub traction: bool,
+    /// Normal-force margin of the traction limit (N): every omniwheel's traction
+    /// <= mu (N - margin), so every N >= margin (needs --traction; 0 = the plain cone).
+    #[arg(long, default_value_t = 0.0)]
+    pub normal_force_margin: f64,
     /// Direction of travel in the body frame for the omniwheel limits (deg; 0 = towards
     /// omniwheel 1; the paper braked at 180).
     #[arg(long, default_value_t = 180.0)]
@@ -132,6 +136,7 @@ impl BrakeArgs {
             torque_nm: self.max_torque,
             drive,
             traction: self.traction,
+            normal_force_margin_n: self.normal_force_margin,
         };
         p.validate()?;
         Ok(p)

@@ -8,7 +8,9 @@ use crate::log::json_to_py;
 use ballbot_sim::log::{LoggerOptions, McapLogger};
 use ballbot_sim::planar::{ControllerKind, Fault, McapRecorder, Observer, OuterTick};
 use ballbot_sim::scenario::{Scenario, ScenarioError};
-use ballbot_sim::studies::piptb::{self, ExperimentError, PiptbSettings, TrialSeries};
+use ballbot_sim::studies::piptb::{
+    self, ControllerResult, ExperimentError, PiptbSettings, TrialSeries,
+};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -208,7 +210,28 @@ fn series_dict<'py>(py: Python<'py>, s: TrialSeries) -> PyResult<Bound<'py, PyDi
         "friction_torque_nm",
         PyArray1::from_vec(py, s.friction_torque_nm),
     )?;
+    d.set_item("effort_n2m2s", PyArray1::from_vec(py, s.effort_n2m2s))?;
     Ok(d)
+}
+
+/// Per controller key: its result as a dict, each trial with its `series`.
+fn controllers_dict<'py>(
+    py: Python<'py>,
+    controllers: Vec<ControllerResult>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let by_kind = PyDict::new(py);
+    for c in controllers {
+        let series: Vec<TrialSeries> = c.trials.iter().map(|t| t.series.clone()).collect();
+        let value = serde_json::to_value(&c).map_err(|e| error(py, Kind::Other, e.to_string()))?;
+        let entry = json_to_py(py, &value)?;
+        if let Ok(list) = entry.get_item("trials") {
+            for (i, s) in series.into_iter().enumerate() {
+                list.get_item(i)?.set_item("series", series_dict(py, s)?)?;
+            }
+        }
+        by_kind.set_item(c.kind.key(), entry)?;
+    }
+    Ok(by_kind)
 }
 
 /// The PIPTB controller comparison of the paper (Sec. IV-C), as `ballbot reproduce` runs it:
@@ -221,9 +244,17 @@ fn series_dict<'py>(py: Python<'py>, s: TrialSeries) -> PyResult<Bound<'py, PyDi
 /// (its effort, peak tilt, duration, source) and `controllers`, keyed by controller: `j_p`
 /// (mean braking effort, N^2 m^2 s), `j_p_std`, `j_p_n2mm2s`, `stopped_all`, `speed_rmse`,
 /// `torque_jitter_nm`, the paper's `paper_j_p_n2mm2s` and `paper_stopped`, and `trials`, each
-/// with its metrics, `log_path` and `series` (numpy arrays at the controller's ticks).
+/// with its metrics (`t3_secs`, the end of the measured braking phase, among them), `log_path`
+/// and `series` (numpy arrays at the controller's ticks, `effort_n2m2s` the running braking
+/// effort). `controllers_until_stopped` has the same shape for the reading "t3 = when the
+/// testbed stopped": the speed within `stop_speed_m_per_s` (default 0.05) for
+/// `stop_hold_secs` (default 0.2), capped at the end of the run (`t3_capped`).
 #[pyfunction]
-#[pyo3(signature = (*, quick = false, trials = None, base_seed = None, controllers = None, log_dir = None))]
+#[pyo3(signature = (
+    *, quick = false, trials = None, base_seed = None, controllers = None, log_dir = None,
+    stop_speed_m_per_s = None, stop_hold_secs = None,
+))]
+#[allow(clippy::too_many_arguments)]
 fn piptb_experiment<'py>(
     py: Python<'py>,
     quick: bool,
@@ -231,6 +262,8 @@ fn piptb_experiment<'py>(
     base_seed: Option<u64>,
     controllers: Option<Vec<String>>,
     log_dir: Option<PathBuf>,
+    stop_speed_m_per_s: Option<f64>,
+    stop_hold_secs: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let mut settings = if quick {
         PiptbSettings::quick()
@@ -250,6 +283,16 @@ fn piptb_experiment<'py>(
     if let Some(seed) = base_seed {
         settings.base_seed = seed;
     }
+    if let Some(v) = stop_speed_m_per_s {
+        settings.stop_speed_m_per_s = v;
+    }
+    if let Some(v) = stop_hold_secs {
+        settings.stop_hold_secs = v;
+    }
+    settings
+        .stop_criterion()
+        .validate()
+        .map_err(|e| experiment_error(py, e))?;
     let kinds: Vec<ControllerKind> = match controllers {
         Some(keys) => keys
             .iter()
@@ -261,10 +304,12 @@ fn piptb_experiment<'py>(
         std::fs::create_dir_all(dir)
             .map_err(|e| error(py, Kind::File, format!("{}: {e}", dir.display())))?;
     }
-    let report = py
+    let (report, until) = py
         .detach(|| {
             let brake = piptb::braking_reference(&settings)?;
-            piptb::run(&settings, brake, &kinds, log_dir.as_deref(), &mut |_, _| {})
+            let report = piptb::run(&settings, brake, &kinds, log_dir.as_deref(), &mut |_, _| {})?;
+            let until = report.until_stopped(&settings.stop_criterion())?;
+            Ok::<_, ExperimentError>((report, until))
         })
         .map_err(|e| experiment_error(py, e))?;
 
@@ -274,19 +319,11 @@ fn piptb_experiment<'py>(
     let reference = serde_json::to_value(&report.reference)
         .map_err(|e| error(py, Kind::Other, e.to_string()))?;
     out.set_item("reference", json_to_py(py, &reference)?)?;
-    let by_kind = PyDict::new(py);
-    for c in report.controllers {
-        let series: Vec<TrialSeries> = c.trials.iter().map(|t| t.series.clone()).collect();
-        let value = serde_json::to_value(&c).map_err(|e| error(py, Kind::Other, e.to_string()))?;
-        let entry = json_to_py(py, &value)?;
-        if let Ok(list) = entry.get_item("trials") {
-            for (i, s) in series.into_iter().enumerate() {
-                list.get_item(i)?.set_item("series", series_dict(py, s)?)?;
-            }
-        }
-        by_kind.set_item(c.kind.key(), entry)?;
-    }
-    out.set_item("controllers", by_kind)?;
+    out.set_item("controllers", controllers_dict(py, report.controllers)?)?;
+    out.set_item(
+        "controllers_until_stopped",
+        controllers_dict(py, until.controllers)?,
+    )?;
     crate::results::make(py, "PiptbExperiment", out)
 }
 

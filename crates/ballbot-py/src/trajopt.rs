@@ -55,10 +55,13 @@ impl PyBrakingLimits {
     /// `actuator`: one actuator driving the wheel directly (the PIPTB). `drivetrain` with
     /// `heading_rad`: three omniwheels (MiaPURE), travel at `heading_rad` in the body frame.
     /// `traction`: every omniwheel inside its friction cone (needs `drivetrain`).
+    /// `normal_force_margin_n`: the cone becomes `|F_i| <= mu (N_i - margin)` (N, >= 0; a
+    /// margin > 0 needs `traction`).
     #[new]
     #[pyo3(signature = (
         *, tilt_rad = None, tilt_rate_rad_per_s = None, ball_speed_m_per_s = None,
         torque_nm = None, actuator = None, drivetrain = None, heading_rad = 0.0, traction = false,
+        normal_force_margin_n = 0.0,
     ))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
@@ -71,6 +74,7 @@ impl PyBrakingLimits {
         drivetrain: Option<PyDrivetrainParams>,
         heading_rad: f64,
         traction: bool,
+        normal_force_margin_n: f64,
     ) -> PyResult<Self> {
         let drive = match (actuator, drivetrain) {
             (Some(_), Some(_)) => {
@@ -94,6 +98,7 @@ impl PyBrakingLimits {
             torque_nm,
             drive,
             traction,
+            normal_force_margin_n,
         };
         // Validated through a problem, the only public validation entry point.
         BrakingProblem {
@@ -149,6 +154,12 @@ impl PyBrakingLimits {
     #[getter]
     fn traction(&self) -> bool {
         self.inner.traction
+    }
+
+    /// Normal-force margin of the traction cones (N).
+    #[getter]
+    fn normal_force_margin_n(&self) -> f64 {
+        self.inner.normal_force_margin_n
     }
 
     fn __repr__(&self) -> String {

@@ -67,6 +67,32 @@ def test_piptb_experiment_returns_the_reports_numbers(tmp_path: Path) -> None:
     assert result.brake_end_secs - result.brake_start_secs == pytest.approx(1.4)
 
 
+def test_piptb_until_stopped_reads_the_same_trials_to_the_stop() -> None:
+    # The same numbers as the Rust reading (scripts/reference/reproduce-quick-summary.json,
+    # `piptb_until_stopped`): PI-PD ends the fixed window at -0.17 m/s and stops 50 ms later.
+    result = ballbot.piptb_experiment(quick=True)
+    fixed, until = result.controllers, result.controllers_until_stopped
+    assert set(until) == set(fixed)
+    t3_fixed = result.brake_end_secs
+    for key in fixed:
+        f, u = fixed[key]["trials"][0], until[key]["trials"][0]
+        assert set(u) == set(f)
+        assert f["t3_secs"] == pytest.approx(t3_fixed) and not f["t3_capped"]
+        # The running effort at the until-stopped t3 is its J_P; longer phase, more effort.
+        s = u["series"]
+        k = int(np.argmin(np.abs(s["time_secs"] - u["t3_secs"])))
+        assert u["j_p"] == s["effort_n2m2s"][k]
+        if not f["stopped"]:
+            assert u["t3_secs"] > t3_fixed and u["j_p"] >= f["j_p"]
+    assert until["pi_pd"]["trials"][0]["t3_secs"] - t3_fixed == pytest.approx(0.05)
+    # A hold longer than the run leaves cannot be confirmed: capped, not stopped.
+    capped = ballbot.piptb_experiment(quick=True, controllers=["lqr"], stop_hold_secs=5.0)
+    trial = capped.controllers_until_stopped["lqr"]["trials"][0]
+    assert trial["t3_capped"] and not trial["stopped"]
+    with pytest.raises(ballbot.ParameterError, match="stop.hold_secs"):
+        ballbot.piptb_experiment(quick=True, stop_hold_secs=-1.0)
+
+
 def test_bad_scenarios_and_logs_raise_documented_errors(tmp_path: Path) -> None:
     with pytest.raises(ballbot.ParameterError, match="stiction_nm"):
         ballbot.Scenario.from_toml('[controller]\nkind = "lqr"\n[friction]\nstiction_nm = 1.0')

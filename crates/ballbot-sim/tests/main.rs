@@ -6,6 +6,7 @@
 mod balance;
 mod log;
 mod piptb;
+mod piptb_stop;
 mod planar_plant;
 mod planar_sim;
 mod plot;
@@ -13,6 +14,7 @@ mod rig;
 mod rollout;
 mod scenario;
 mod trajopt;
+mod trajopt_margin;
 mod world;
 mod world_brake;
 mod world_contact;

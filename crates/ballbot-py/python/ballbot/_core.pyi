@@ -882,6 +882,7 @@ class BrakingLimits:
         drivetrain: Optional[DrivetrainParams] = None,
         heading_rad: float = 0.0,
         traction: bool = False,
+        normal_force_margin_n: float = 0.0,
     ) -> BrakingLimits: ...
     @staticmethod
     def miapure_actuators(heading_rad: float) -> BrakingLimits: ...
@@ -897,6 +898,8 @@ class BrakingLimits:
     def torque_nm(self) -> Optional[float]: ...
     @property
     def traction(self) -> bool: ...
+    @property
+    def normal_force_margin_n(self) -> float: ...
 
 @final
 class BrakingProblem:
@@ -1015,6 +1018,8 @@ def piptb_experiment(
     base_seed: Optional[int] = None,
     controllers: Optional[list[str]] = None,
     log_dir: Optional[_Path] = None,
+    stop_speed_m_per_s: Optional[float] = None,
+    stop_hold_secs: Optional[float] = None,
 ) -> PiptbExperiment: ...
 
 # ---- 3D world -----------------------------------------------------------------------------

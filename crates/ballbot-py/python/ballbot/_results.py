@@ -444,7 +444,11 @@ class PiptbExperiment(_Result):
     reference: dict[str, Any]
     """The braking reference: effort, peak tilt, duration, source."""
     controllers: dict[str, dict[str, Any]]
-    """Per controller key: the metrics and the trials (each with ``series``)."""
+    """Per controller key: the metrics and the trials (each with ``series``), braking phase
+    ``[t2, t2 + 1.4 s]`` (the fixed window)."""
+    controllers_until_stopped: dict[str, dict[str, Any]]
+    """The same shape, braking phase ``[t2, t3]`` with ``t3`` when the testbed stopped (the
+    speed within the stop band for the stop hold; ``t3_capped`` when it never did)."""
 
 
 __all__ = [

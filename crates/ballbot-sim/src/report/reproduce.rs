@@ -3,8 +3,12 @@
 //! Writes `OUT/summary.json` (a stable interface: one key per experiment, e.g. `piptb`),
 //! figures (`OUT/*.svg`, `OUT/*.png`, with the `plot` feature) and MCAP logs
 //! (`OUT/logs/*.mcap`), and hands a comparison table per experiment and progress to a
-//! [`ReproduceObserver`]. The full run (not quick) also writes `piptb_ablation`: the PIPTB
-//! experiment without friction and noise, with each alone, and with both.
+//! [`ReproduceObserver`]. `piptb_until_stopped` is the PIPTB experiment read with `t3` = when
+//! the testbed stopped (the shape of `piptb`, which keeps the fixed window) and
+//! `piptb_stop_sensitivity` that reading over a grid of stop criteria. The full run (not
+//! quick) also writes `piptb_ablation`: the PIPTB experiment without friction and noise, with
+//! each alone, and with both; and `world_braking.normal_force_margin`, the braking studies
+//! with the planner's normal-force margins.
 //!
 //! Summary keys of the 3D world: `max_speed_by_heading` (heading in deg as text -> mean
 //! slow-ramp maximum speed in m/s) and `max_speed_study` ([`crate::report::max_speed`]);
@@ -142,6 +146,19 @@ fn piptb_section(
         report.plot(&options.out)?;
     }
     summary.insert("piptb".to_owned(), report.summary_json());
+    // The until-stopped reading of the same trials, and its criterion's sensitivity.
+    let until = report.until_stopped(&settings.stop_criterion())?;
+    observer.text(&super::piptb::readings_table(&report, &until));
+    summary.insert("piptb_until_stopped".to_owned(), until.summary_json());
+    let sensitivity = report.stop_sensitivity(
+        &super::piptb::SENSITIVITY_BANDS_M_PER_S,
+        &super::piptb::SENSITIVITY_HOLDS_SECS,
+    )?;
+    observer.text(&super::piptb::stop_sensitivity_table(&sensitivity));
+    summary.insert(
+        "piptb_stop_sensitivity".to_owned(),
+        super::piptb::stop_sensitivity_json(&sensitivity),
+    );
     if let Some(variants) = &ablation {
         observer.text(&super::piptb::ablation_table(variants));
         summary.insert(

@@ -185,6 +185,11 @@ impl WorldSuite {
                 "planar_min_braking_time_secs": planar,
             }),
         );
+        if !self.margin_sweep.is_empty()
+            && let Some(Value::Object(wb)) = summary.get_mut("world_braking")
+        {
+            wb.insert("normal_force_margin".to_owned(), self.margin_sweep_json());
+        }
         let pp = &self.settings.push;
         summary.insert(
             "world_push".to_owned(),
@@ -203,6 +208,93 @@ impl WorldSuite {
                 "impulsive": self.impulsive.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
             }),
         );
+    }
+
+    /// The margin sweep as `world_braking.normal_force_margin`: one record per margin (0 N
+    /// first, from the main studies) with, per heading, the shortest success of the descent,
+    /// the bisection limit, the first failure, what failed first, and the planar minimum
+    /// braking time under that margin (s).
+    fn margin_sweep_json(&self) -> Value {
+        let zero = (0.0, &self.braking, &self.planar_min_braking_time_secs);
+        let rows = std::iter::once(zero)
+            .chain(self.margin_sweep.iter().map(|e| {
+                (
+                    e.normal_force_margin_n,
+                    &e.studies,
+                    &e.planar_min_braking_time_secs,
+                )
+            }))
+            .map(|(m, studies, planar)| {
+                let planar_at = |h: f64| {
+                    planar
+                        .iter()
+                        .find(|(ph, _)| key(*ph) == key(h))
+                        .and_then(|(_, t)| *t)
+                };
+                let headings: Map<String, Value> = studies
+                    .iter()
+                    .map(|st| {
+                        (
+                            key(st.heading_deg),
+                            json!({
+                                "shortest_success_secs": st.shortest_success_secs,
+                                "limit_secs": st.limit_secs,
+                                "limit_failure_secs": st.limit_failure_secs,
+                                "first_failure_secs": st.first_failure_secs,
+                                "first_failure": st.first_failure().map(limiting),
+                                "planar_min_braking_time_secs": planar_at(st.heading_deg),
+                                "runs": st.descent.iter().chain(&st.bisection).map(run_json).collect::<Vec<_>>(),
+                            }),
+                        )
+                    })
+                    .collect();
+                json!({ "normal_force_margin_n": m, "headings": headings })
+            })
+            .collect();
+        Value::Array(rows)
+    }
+
+    /// The margin sweep as a plain-text table (empty without a sweep).
+    fn margin_sweep_table(&self, out: &mut String) {
+        if self.margin_sweep.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            out,
+            "world braking with a normal-force margin in the planner (|F_i| <= mu (N_i - margin)):"
+        );
+        let _ = writeln!(
+            out,
+            "  {:>10} | {:>7} | {:>24} | {:>15} | {:>13} | what failed first",
+            "margin", "heading", "shortest success (desc.)", "bisection limit", "planar min T",
+        );
+        let zero = (0.0, &self.braking, &self.planar_min_braking_time_secs);
+        let rows = std::iter::once(zero).chain(self.margin_sweep.iter().map(|e| {
+            (
+                e.normal_force_margin_n,
+                &e.studies,
+                &e.planar_min_braking_time_secs,
+            )
+        }));
+        for (m, studies, planar) in rows {
+            for st in studies {
+                let p = planar
+                    .iter()
+                    .find(|(h, _)| key(*h) == key(st.heading_deg))
+                    .and_then(|(_, t)| *t);
+                let fail = st.first_failure().map_or_else(|| "-".to_owned(), limiting);
+                let _ = writeln!(
+                    out,
+                    "  {:>8.0} N | {:>6.0}° | {:>22} s | {:>13} s | {:>11} s | {}",
+                    m,
+                    st.heading_deg,
+                    opt(st.shortest_success_secs, 2),
+                    opt(st.limit_secs, 3),
+                    opt(p, 3),
+                    fail
+                );
+            }
+        }
     }
 
     /// The comparison tables (braking, push recovery), as `ballbot reproduce` prints them.
@@ -250,6 +342,7 @@ impl WorldSuite {
                 opt(a.first_failure_secs, 2)
             );
         }
+        self.margin_sweep_table(&mut out);
         let _ = writeln!(
             out,
             "push recovery (standing; impulse at the body's COM as a {shove_secs} s force pulse, and in \

@@ -25,6 +25,13 @@ pub struct Limits {
     /// Friction-aware limit: every omniwheel's traction `|F_i| <= mu N_i` (MODEL.md section
     /// 5), `mu` = the drivetrain's `wheel_ball_friction`. Needs [`Drive::Omniwheels`].
     pub traction: bool,
+    /// Normal-force margin `N_min` of the traction limit (N): with it the cone becomes
+    /// `|F_i| <= mu (N_i - N_min)`, which also keeps `N_i >= N_min`. It is the robust form of
+    /// the cone when the plan's normal force may be `N_min` too high (a model that unloads a
+    /// wheel less than the real robot does): the traction the plan uses stays inside the
+    /// cone of any normal force within `N_min` below the planned one. Default 0 (the plain
+    /// cone, the problem without a margin, bit-identical). Needs `traction`.
+    pub normal_force_margin_n: f64,
 }
 
 impl Limits {
@@ -80,6 +87,18 @@ impl Limits {
             return Err(invalid(
                 "limits.traction",
                 "needs limits.drive = Drive::Omniwheels (the contact geometry)",
+            ));
+        }
+        if !(self.normal_force_margin_n.is_finite() && self.normal_force_margin_n >= 0.0) {
+            return Err(invalid(
+                "limits.normal_force_margin_n",
+                "must be finite and >= 0",
+            ));
+        }
+        if self.normal_force_margin_n > 0.0 && !self.traction {
+            return Err(invalid(
+                "limits.normal_force_margin_n",
+                "a margin > 0 needs limits.traction = true",
             ));
         }
         Ok(())

@@ -31,7 +31,7 @@ pub(crate) struct ConeSizes {
     pub zero: usize,
     /// Inequality rows `a^T x <= b` (path and motor limits).
     pub nonnegative: usize,
-    /// Traction rows `mu N_i -+ F_i >= 0` (nonnegative too), two per wheel and knot.
+    /// Traction rows `mu (N_i - N_min) -+ F_i >= 0` (nonnegative too), two per wheel and knot.
     pub traction: usize,
 }
 
@@ -438,7 +438,8 @@ impl Transcription {
             }
         }
         debug_assert_eq!(row, self.cones.zero + self.cones.nonnegative);
-        // Traction: |F_i| <= mu N_i as the two half-spaces mu N_i -+ F_i >= 0, N_i and F_i
+        // Traction: |F_i| <= mu (N_i - N_min) as the two half-spaces mu (N_i - N_min) -+ F_i >= 0
+        // (N_min = limits.normal_force_margin_n, 0 by default), N_i and F_i
         // linearised at z: s = b - A x = g(z) + grad g (x - z) >= 0 (exact values at z).
         // (clarabel's second-order cone of dimension 2 expresses the same set, but stalled
         // on long horizons and was 2-3x slower; the rollers carry no axle force, so there is
@@ -450,12 +451,14 @@ impl Transcription {
                 .and_then(|d| d.contacts.as_ref().map(|c| (d, c)))
         {
             let mu = c.wheel_ball_friction;
+            // With a margin: mu (N_i - N_min) -+ F_i >= 0 (N_min = 0 leaves N_i unchanged).
+            let margin = self.problem.limits.normal_force_margin_n;
             for k in 0..=n {
                 let f = c.forces(&self.wip, &self.knot_state(z, k), z[self.torque(k)]);
                 let cols = self.knot_columns(k);
                 for i in 0..d.motors().len() {
                     for sign in [-1.0, 1.0] {
-                        let mut lin = mu * f.normal_n[i] + sign * f.traction_n[i];
+                        let mut lin = mu * (f.normal_n[i] - margin) + sign * f.traction_n[i];
                         for (j, col) in cols.iter().enumerate() {
                             let g = if jacobians {
                                 mu * f.normal_grad[i][j] + sign * f.traction_grad[i][j]

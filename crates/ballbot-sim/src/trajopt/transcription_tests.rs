@@ -84,6 +84,7 @@ fn problem(method: Method) -> BrakingProblem {
                 heading_rad: 0.4,
             }),
             traction: true,
+            normal_force_margin_n: 0.0,
         },
         ..BrakingProblem::miapure()
     }
@@ -212,4 +213,35 @@ fn cost_gradient_and_hessian_match_central_differences() {
             .collect();
         approx::assert_relative_eq!(t.cost(&ones), 0.8, max_relative = 1e-12);
     }
+}
+
+/// The normal-force margin shifts every traction row's slack by exactly `-mu N_min` (the
+/// cone `|F_i| <= mu (N_i - N_min)`), and leaves every other row and the Jacobian unchanged.
+#[test]
+fn normal_force_margin_shifts_the_traction_rows_by_mu_times_the_margin() {
+    let plain = problem(Method::HermiteSimpson);
+    let margin_n = 70.0;
+    let mut with = plain;
+    with.limits.normal_force_margin_n = margin_n;
+    let (tp, tm) = (
+        Transcription::new(&plain).unwrap(),
+        Transcription::new(&with).unwrap(),
+    );
+    assert_eq!(tp.cones, tm.cones);
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let z = random_point(&tp, &mut rng);
+    let (sp, sm) = (slacks(&tp, &z), slacks(&tm, &z));
+    let mu = DrivetrainParams::<f64>::miapure().wheel_ball_friction;
+    let first_traction = tp.cones.zero + tp.cones.nonnegative;
+    assert!(tp.cones.traction > 0);
+    for (row, (a, b)) in sp.iter().zip(&sm).enumerate() {
+        let shift = if row >= first_traction {
+            mu * margin_n
+        } else {
+            0.0
+        };
+        approx::assert_relative_eq!(a - b, shift, epsilon = 1e-9);
+    }
+    let (dp, dm) = (dense(&tp, &z), dense(&tm, &z));
+    assert_eq!(dp.a, dm.a);
 }

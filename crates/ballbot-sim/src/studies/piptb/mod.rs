@@ -12,14 +12,22 @@
 //!   (N^2 m^2 s; times 1e6 for the paper's N^2 mm^2 s), integrated at the plant rate;
 //! - `stopped`: `|r phi_dot(t3)| <= stop_speed` (default 0.05 m/s) at the end of the braking
 //!   phase, and the run did not fall;
+//!
+//! Two readings of `t3` (the end of "the measured braking phase"): the fixed `t2 + 1.4 s`
+//! ([`run`]'s report, the summary's `piptb`) and "until stopped" ([`stop`], the summary's
+//! `piptb_until_stopped`): when the speed has settled in the stop band, so that a controller
+//! that brakes late is charged for the torque it spends after 1.4 s.
+//!
 //! - `speed_rmse`: RMS of `r (phi_dot - phi_dot_c)` over the braking phase, sampled at the
 //!   main controller's ticks (m/s);
 //! - `torque_jitter_nm`: RMS of the change of the delivered torque between successive ticks of
 //!   the main controller over the braking phase (N m): zero for a smooth torque, large for a
 //!   torque that chatters (stick-slip limit cycles, noise amplification).
 
+pub mod stop;
 mod trial;
 
+pub use stop::{StopCriterion, stop_time};
 pub use trial::{ControllerResult, TrialResult, TrialSeries, run_trial};
 
 use super::planar_braking::BrakingTrajectory;
@@ -105,6 +113,9 @@ pub struct PiptbSettings {
     pub base_seed: u64,
     /// Speed below which the robot counts as stopped (m/s).
     pub stop_speed_m_per_s: f64,
+    /// Until-stopped reading: the speed must stay below `stop_speed_m_per_s` this long (s).
+    /// Default [`StopCriterion::DEFAULT_HOLD_SECS`] (0.2 s, see [`stop`]).
+    pub stop_hold_secs: f64,
 }
 
 impl PiptbSettings {
@@ -124,6 +135,7 @@ impl PiptbSettings {
             trials: 3,
             base_seed: 1,
             stop_speed_m_per_s: 0.05,
+            stop_hold_secs: StopCriterion::DEFAULT_HOLD_SECS,
         }
     }
 
@@ -146,6 +158,14 @@ impl PiptbSettings {
     /// End of the braking phase `t3` (s).
     pub fn brake_end_secs(&self) -> f64 {
         self.brake_start_secs() + self.brake_secs
+    }
+
+    /// The until-stopped reading's criterion: `stop_speed_m_per_s` held `stop_hold_secs`.
+    pub fn stop_criterion(&self) -> StopCriterion {
+        StopCriterion {
+            speed_band_m_per_s: self.stop_speed_m_per_s,
+            hold_secs: self.stop_hold_secs,
+        }
     }
 
     /// Total simulated time per trial (s).
@@ -226,6 +246,9 @@ pub struct PiptbReport {
     pub reference: ReferenceSummary,
     /// The settings used.
     pub settings: PiptbSettings,
+    /// `None`: the fixed window `[t2, t2 + brake_secs]`; the criterion of the until-stopped
+    /// reading ([`PiptbReport::until_stopped`]) otherwise.
+    pub stop: Option<StopCriterion>,
 }
 
 /// Runs the experiment: every controller of `kinds` (with its default settings) on
@@ -262,6 +285,7 @@ pub fn run(
         controllers,
         reference,
         settings: settings.clone(),
+        stop: None,
     })
 }
 

@@ -26,6 +26,9 @@ pub struct TrialSeries {
     pub torque_nm: Vec<f64>,
     /// Transmission friction torque (N m).
     pub friction_torque_nm: Vec<f64>,
+    /// Braking effort so far, `integral_{t2}^{t} tau^2 dt` over the plant steps that start
+    /// before the tick (N^2 m^2 s; 0 before braking), integrated at the plant rate.
+    pub effort_n2m2s: Vec<f64>,
 }
 
 /// The result of one trial.
@@ -37,8 +40,16 @@ pub struct TrialResult {
     pub j_p: f64,
     /// Braking effort in the paper's unit (N^2 mm^2 s).
     pub j_p_n2mm2s: f64,
-    /// Stopped within the braking time.
+    /// Stopped: in the fixed window, within the stop band at its end `t3`; until stopped,
+    /// the stop criterion was met before the cap.
     pub stopped: bool,
+    /// End of the measured braking phase `t3` (s since the start of the run): the fixed end
+    /// `t2 + brake_secs`, or, until stopped, when the testbed stopped (the cap if it never
+    /// did).
+    pub t3_secs: f64,
+    /// Until stopped: the stop criterion was not met before the cap, so `t3` is the cap.
+    /// Always false in the fixed window.
+    pub t3_capped: bool,
     /// Speed tracking RMS error over the braking phase (m/s).
     pub speed_rmse: f64,
     /// RMS tick-to-tick change of the delivered torque over the braking phase (N m).
@@ -67,6 +78,8 @@ struct Metrics {
     brake_start_secs: f64,
     brake_end_secs: f64,
     j_p: f64,
+    effort_n2m2s: f64,
+    effort_before_step_n2m2s: f64,
     brake_steps: u64,
     stuck_steps: u64,
     err_sq_sum: f64,
@@ -86,6 +99,10 @@ impl Metrics {
 
 impl Observer for Metrics {
     fn plant_step(&mut self, t: f64, dt: f64, _s: &WipState<f64>, step: &PlantStep) {
+        self.effort_before_step_n2m2s = self.effort_n2m2s;
+        if t >= self.brake_start_secs - 0.5 * dt {
+            self.effort_n2m2s += step.applied_torque_nm * step.applied_torque_nm * dt;
+        }
         if self.in_brake(t, dt) {
             self.j_p += step.applied_torque_nm * step.applied_torque_nm * dt;
             self.brake_steps += 1;
@@ -108,6 +125,8 @@ impl Observer for Metrics {
         s.command_speed_m_per_s.push(command);
         s.torque_nm.push(torque);
         s.friction_torque_nm.push(tick.step.friction_torque_nm);
+        // The tick comes after the plant step that starts at it: the effort before that step.
+        s.effort_n2m2s.push(self.effort_before_step_n2m2s);
         if self.in_brake(t, 1e-9) {
             self.err_sq_sum += (speed - command).powi(2);
             self.err_n += 1;
@@ -124,7 +143,7 @@ impl Observer for Metrics {
     }
 }
 
-fn rms(sum_sq: f64, n: u64) -> f64 {
+pub(super) fn rms(sum_sq: f64, n: u64) -> f64 {
     if n == 0 {
         0.0
     } else {
@@ -156,6 +175,8 @@ pub fn run_trial(
         brake_start_secs: settings.brake_start_secs(),
         brake_end_secs: settings.brake_end_secs(),
         j_p: 0.0,
+        effort_n2m2s: 0.0,
+        effort_before_step_n2m2s: 0.0,
         brake_steps: 0,
         stuck_steps: 0,
         err_sq_sum: 0.0,
@@ -227,6 +248,8 @@ fn finish_trial(
         j_p: m.j_p,
         j_p_n2mm2s: m.j_p * 1e6,
         stopped,
+        t3_secs: t3,
+        t3_capped: false,
         speed_rmse: rms(m.err_sq_sum, m.err_n),
         torque_jitter_nm: rms(m.jitter_sq_sum, m.jitter_n),
         end_speed_m_per_s: end_speed,

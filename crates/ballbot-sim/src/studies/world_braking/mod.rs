@@ -128,6 +128,10 @@ pub struct BrakingParams {
     pub sample_every_secs: f64,
     /// What the trajectory command feeds forward. Default [`TrajectoryFeedforward::Full`].
     pub feedforward: TrajectoryFeedforward,
+    /// Normal-force margin of the trajectory's traction cones (N): the plan keeps
+    /// `|F_i| <= mu (N_i - margin)` at every knot ([`Limits::normal_force_margin_n`]), so
+    /// every planned normal force is at least the margin. Default 0 (the plain cone).
+    pub normal_force_margin_n: f64,
 }
 
 impl Default for BrakingParams {
@@ -146,6 +150,7 @@ impl Default for BrakingParams {
             intervals: 100,
             sample_every_secs: 0.01,
             feedforward: TrajectoryFeedforward::Full,
+            normal_force_margin_n: 0.0,
         }
     }
 }
@@ -178,6 +183,7 @@ impl BrakingParams {
         positive(self.rest_tilt_rad, "rest_tilt_rad")?;
         positive(self.trajectory_tilt_limit_rad, "trajectory_tilt_limit_rad")?;
         positive(self.sample_every_secs, "sample_every_secs")?;
+        non_negative(self.normal_force_margin_n, "normal_force_margin_n")?;
         if self.intervals < 2 {
             return Err(invalid("intervals", "must be >= 2"));
         }
@@ -234,7 +240,8 @@ pub(crate) fn plane_for_heading(robot: &BallbotParams<f64>, heading_rad: f64) ->
 /// The braking problem of a run: `robot`'s plane along `heading_deg` from the cruise speed to
 /// rest in `duration_secs`, Hermite-Simpson, torques pinned to 0 at both ends (a command that
 /// starts and ends without a step), with the actuator limits of all three omniwheels, their
-/// traction cones (`mu N`) and the tilt bound.
+/// traction cones (`mu N`, or `mu (N - margin)` with [`BrakingParams::normal_force_margin_n`])
+/// and the tilt bound.
 ///
 /// ```
 /// use ballbot_core::BallbotParams;
@@ -268,6 +275,7 @@ pub fn braking_problem(
                 heading_rad,
             }),
             traction: true,
+            normal_force_margin_n: params.normal_force_margin_n,
             ..Limits::none()
         },
     }
