@@ -666,6 +666,11 @@ fn world_miapure_unloaded() -> WorldParams {
     WorldParams::with_robot(BallbotParams::miapure_unloaded())
 }
 
+/// MiaPURE with 60 kg in the ideal world (`WorldParams::ideal`).
+fn world_ideal_miapure_60kg() -> WorldParams {
+    WorldParams::ideal(BallbotParams::miapure_60kg())
+}
+
 py_params! {
     /// The compliant omniwheel-ball contact of the 3D world
     /// (`ballbot_sim::world::ContactParams`): normal spring-damper, tangential stick
@@ -773,12 +778,23 @@ py_params! {
     presets {
         "miapure_60kg" => WorldParams::miapure_60kg,
         "miapure_unloaded" => world_miapure_unloaded,
+        "ideal_miapure_60kg" => world_ideal_miapure_60kg,
     }
     methods {
-        /// The given robot with the default world parameters.
+        /// The given robot in the default world (the realistic one: roller gaps, roller
+        /// losses along the axle, the rubber coating, the ODrive driver).
         #[staticmethod]
         fn with_robot(py: Python<'_>, robot: PyBallbotParams) -> PyResult<Self> {
             let inner = WorldParams::with_robot(robot.inner);
+            inner.check(py)?;
+            Ok(Self { inner })
+        }
+
+        /// The given robot in the ideal world: stiff continuous-rim contacts, no forces along
+        /// the axle, the actuator's straight torque-speed line (the first releases' world).
+        #[staticmethod]
+        fn ideal(py: Python<'_>, robot: PyBallbotParams) -> PyResult<Self> {
+            let inner = WorldParams::ideal(robot.inner);
             inner.check(py)?;
             Ok(Self { inner })
         }

@@ -11,8 +11,10 @@ from ballbot import _core
 
 
 def test_failing_acceleration_towards_ow1_is_1_75() -> None:
-    # docs/world.md: towards OW1 the ramp survives 1.75 m/s^2 and OW2/OW3 slip from 1.8.
+    # docs/world.md (ideal world): towards OW1 the ramp survives 1.75 m/s^2 and OW2/OW3 slip
+    # from 1.8.
     found = ballbot.failing_acceleration(
+        ballbot.WorldParams.preset("ideal_miapure_60kg"),
         heading_deg=0.0, accel_bracket_m_per_s2=(1.5, 2.0), accel_resolution_m_per_s2=0.05
     )
     assert found.largest_surviving_m_per_s2 == pytest.approx(1.75)

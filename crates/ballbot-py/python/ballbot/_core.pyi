@@ -40,7 +40,7 @@ _PlanarRobotPreset = Literal["piptb"]
 _DefaultPreset = Literal["default"]
 _ContactPreset = Literal["default", "ideal", "rubber_coated_miapure_60kg"]
 _RollerPreset = Literal["none", "miapure"]
-_WorldPreset = Literal["miapure_60kg", "miapure_unloaded"]
+_WorldPreset = Literal["miapure_60kg", "miapure_unloaded", "ideal_miapure_60kg"]
 _DriverPreset = Literal["ideal", "odrive_v36_factory", "miapure"]
 _DriverModel = Literal["ideal", "odrive"]
 _DriverLimit = Literal["none", "current", "voltage", "velocity_limiter", "disarmed"]
@@ -104,11 +104,13 @@ __all__ = [
     "zoh",
     "__version__",
     "accelerating_command",
+    "AxleLossParams",
     "ContactParams",
     "DriverParams",
     "Failure",
     "FailureParams",
     "Measurement",
+    "RollerParams",
     "SensorParams",
     "StepTelemetry",
     "WheelTelemetry",
@@ -1286,6 +1288,8 @@ class WorldParams:
     def presets() -> list[_WorldPreset]: ...
     @staticmethod
     def with_robot(robot: BallbotParams) -> WorldParams: ...
+    @staticmethod
+    def ideal(robot: BallbotParams) -> WorldParams: ...
     def replace(self, **kwargs: Any) -> WorldParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod

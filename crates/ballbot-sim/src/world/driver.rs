@@ -5,7 +5,8 @@
 //!
 //! * `Ideal`: the actuator's straight torque-speed line
 //!   ([`ActuatorParams::clamp_torque_nm`]): the paper's 43.2 N m at rest, 0 at 62 rad/s,
-//!   full peak for braking. The world's default; bit-identical to the world before this model.
+//!   full peak for braking. The ideal world's driver ([`crate::world::WorldParams::ideal`]);
+//!   bit-identical to the world before this model.
 //! * `Odrive`: field-oriented control of a surface PM motor as the ODrive firmware 0.5.x does
 //!   it, in steady state (the current loop's 1000 rad/s bandwidth, firmware default
 //!   `current_control_bandwidth`, is taken as instantaneous against the 400 Hz outer loop;
@@ -117,7 +118,7 @@ pub struct DriverParams {
 
 impl DriverParams {
     /// The ideal driver: the straight torque-speed line; the remaining fields as in
-    /// [`Self::miapure`]. The world's default.
+    /// [`Self::miapure`]. The ideal world's driver and the serde default.
     pub fn ideal() -> Self {
         Self {
             model: DriverModel::Ideal,

@@ -511,8 +511,8 @@ impl BallbotWorld {
 
     /// Advances the world by one step of `params.dt_secs` with the motor torque commands
     /// `motor_torque_nm` (N m at the wheel; each passes through its motor driver at the
-    /// wheel's current speed: [`WorldParams::driver`], by default the actuator's straight
-    /// torque-speed line). Returns the step's telemetry.
+    /// wheel's current speed: [`WorldParams::driver`], the ODrive model in the default world, the
+    /// actuator's straight torque-speed line in the ideal one). Returns the step's telemetry.
     pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
