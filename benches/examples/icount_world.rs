@@ -7,38 +7,28 @@
 #[path = "../benches/common/world_drive.rs"]
 mod world_drive;
 use ballbot_core::BallbotParams;
-use ballbot_sim::world::{
-    AxleLossParams, ContactParams, RollerParams, RubberLayer, WorldError, WorldParams,
-};
+use ballbot_sim::world::{WorldError, WorldParams};
 use std::hint::black_box;
 use std::process::ExitCode;
 use world_drive::WorldDrive;
 
-/// One world step at 8 kHz with the core's controller in the loop (outer loop every 20th step),
-/// the robot balancing while driving (the criterion bench `world_step`'s scenario), after a
-/// warm-up of 1 s.
+/// One world step at 8 kHz in the default world (the realistic contact: rubber coating, roller
+/// gaps, axle losses; the ODrive driver) with the core's controller in the loop (outer loop
+/// every 20th step), the robot balancing while driving (the criterion bench `world_step`'s
+/// scenario), after a warm-up of 1 s. The counted steps (up to 4000 after the warm-up) end
+/// before the drive cycle's reversal at 2 s, where OW1 slips for longer than 0.1 s in this
+/// world (a failure this harness would report).
 fn world_step_with_controller(n: u64) -> Result<(), String> {
     run_drive(WorldDrive::new(), n)
 }
 
-/// [`world_step_with_controller`] with every contact-realism mechanism on: the rubber
-/// coating's stiffness and damping, roller gaps and axle losses. The counted steps (up to
-/// 4000 after the warm-up) end before the drive cycle's reversal at 2 s, where OW1 slips for
-/// longer than 0.1 s with all three mechanisms on (a failure this harness would report).
-fn world_step_realistic_contact(n: u64) -> Result<(), String> {
-    run_drive(WorldDrive::with_params(realistic_contact()), n)
-}
-
-/// MiaPURE with the realistic contact (docs/world.md, "Contact realism").
-fn realistic_contact() -> WorldParams {
-    let mut params = WorldParams::miapure_60kg();
-    let robot = BallbotParams::miapure_60kg();
-    params.contact = ContactParams {
-        rollers: RollerParams::miapure(),
-        axle_loss: AxleLossParams::miapure(),
-        ..ContactParams::rubber_coated(&robot, &RubberLayer::miapure())
-    };
-    params
+/// [`world_step_with_controller`] in the ideal world (stiff continuous-rim contacts, no axle
+/// forces, the straight torque-speed line): the world before issue 13.
+fn world_step_ideal(n: u64) -> Result<(), String> {
+    run_drive(
+        WorldDrive::with_params(WorldParams::ideal(BallbotParams::miapure_60kg())),
+        n,
+    )
 }
 
 fn run_drive(drive: Result<WorldDrive, WorldError>, n: u64) -> Result<(), String> {
@@ -56,7 +46,7 @@ type Run = fn(u64) -> Result<(), String>;
 
 const OPERATIONS: &[(&str, Run)] = &[
     ("world_step_with_controller", world_step_with_controller),
-    ("world_step_realistic_contact", world_step_realistic_contact),
+    ("world_step_ideal", world_step_ideal),
 ];
 
 fn main() -> ExitCode {
