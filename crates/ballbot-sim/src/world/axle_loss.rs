@@ -28,7 +28,7 @@
 //! `s_eps` 0.01 m/s, `dt` 125 us) it is 0.5.
 
 use super::WorldError;
-use super::params::non_negative;
+use super::check::non_negative;
 use super::rollers::MIAPURE_ROLLER_RADIUS_M;
 
 /// Rolling resistance and pin friction of the rollers, along each wheel's axle.

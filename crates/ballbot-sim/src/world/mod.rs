@@ -25,6 +25,7 @@
 //! forces would become noisy. The core runs in `f64` too, so no conversions are needed.
 
 pub mod axle_loss;
+mod check;
 pub mod contact;
 pub mod driver;
 pub mod failure;

@@ -55,7 +55,7 @@
 //! (`|phi - beta_i|` = 120 deg), `1.80 N_r v` Hz for a wheel driving straight across its axle.
 
 use super::WorldError;
-use super::params::non_negative;
+use super::check::non_negative;
 
 /// Roller radius at mid-roller of the MiaPURE omniwheel (m): 11 mm. Estimate (no datasheet):
 /// a 125 mm single-plate wheel with ten rollers has about 39 mm of rim per roller, and barrel

@@ -37,9 +37,7 @@
 //! 3.1 mm): lift-off comes earlier than with the cubic law. At 8 kHz the mode's `omega dt` is
 //! 0.05, well inside the explicit step's bound.
 
-use super::params::ContactParams;
 use super::rollers::MIAPURE_ROLLER_RADIUS_M;
-use ballbot_core::BallbotParams;
 
 /// The ball's rubber layer and the roller that presses it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -104,33 +102,6 @@ impl RubberLayer {
     }
 }
 
-impl ContactParams {
-    /// The ideal contact (today's world, equal to [`ContactParams::default`]): stiff normal
-    /// spring, no roller gaps, no axle losses.
-    pub fn ideal() -> Self {
-        Self::default()
-    }
-
-    /// The ideal contact with the normal stiffness and damping of `layer` on `robot`
-    /// (module documentation: 3.4e5 N/m and 88 N s/m for MiaPURE with 60 kg); gaps and axle
-    /// losses stay as in [`ContactParams::ideal`].
-    pub fn rubber_coated(robot: &BallbotParams<f64>, layer: &RubberLayer) -> Self {
-        let wip = &robot.sagittal;
-        let dt = &robot.drivetrain;
-        let cos_a = dt.contact_angle_rad.cos();
-        let load_n = wip.body_mass_kg * wip.gravity_m_per_s2 / (3.0 * cos_a);
-        let r = robot.ball_radius_m();
-        let k = layer.stiffness_n_per_m(load_n, dt.wheel_radius_m, r);
-        let m_eff = wip.ball_mass_kg * wip.body_mass_kg / (wip.ball_mass_kg + wip.body_mass_kg);
-        let omega = (3.0 * k * cos_a * cos_a / m_eff).sqrt();
-        Self {
-            normal_stiffness_n_per_m: k,
-            normal_damping_n_s_per_m: layer.damping_n_s_per_m(k, omega),
-            ..Self::ideal()
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -156,25 +127,5 @@ mod tests {
         let k = l.stiffness_n_per_m(f0, 0.0625, 0.1145);
         assert!((k - k_num).abs() < 1e-4 * k, "{k} {k_num}");
         assert!((d0 - 3.06e-3).abs() < 0.01e-3, "{d0}");
-    }
-
-    #[test]
-    fn miapure_coating_is_soft_and_lightly_damped() {
-        let robot = BallbotParams::miapure_60kg();
-        let c = ContactParams::rubber_coated(&robot, &RubberLayer::miapure());
-        assert!(
-            (c.normal_stiffness_n_per_m - 3.37e5).abs() < 0.01e5,
-            "{c:?}"
-        );
-        assert!((c.normal_damping_n_s_per_m - 87.8).abs() < 0.5, "{c:?}");
-        // Damping ratio of the vertical mode is eta / 2.
-        let m_eff = 3.6 * 74.3 / (3.6 + 74.3);
-        let k_v = 1.5 * c.normal_stiffness_n_per_m;
-        let zeta = 1.5 * c.normal_damping_n_s_per_m / (2.0 * (k_v * m_eff).sqrt());
-        assert!((zeta - 0.05).abs() < 1e-9, "{zeta}");
-        assert_eq!(
-            c.traction_stiffness_n_per_m,
-            ContactParams::ideal().traction_stiffness_n_per_m
-        );
     }
 }

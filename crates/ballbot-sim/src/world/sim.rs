@@ -1,10 +1,11 @@
 //! The rapier3d world: floor, ball, body, three omniwheels with their own spin states.
 
 use super::WorldError;
+use super::check::non_negative;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
 use super::driver::{DriverFault, MotorDriver};
 use super::failure::{Failure, FailureMonitor};
-use super::params::{WorldParams, non_negative};
+use super::params::WorldParams;
 use super::rollers::{RimContact, RollerProfile};
 use super::sensors::{Measurement, Sensors};
 use super::telemetry::{StepTelemetry, WheelTelemetry};
