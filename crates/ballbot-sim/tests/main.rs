@@ -21,6 +21,7 @@ mod world_contact;
 mod world_driver;
 mod world_load_transfer;
 mod world_max_speed;
+mod world_mechanisms;
 mod world_paper_ablation;
 mod world_setters;
 mod world_yaw;

@@ -53,8 +53,9 @@ struct WheelState {
 /// OW1; the body's centre of mass is at `(0, 0, l)` in it.
 ///
 /// ```
+/// use ballbot_core::BallbotParams;
 /// use ballbot_sim::world::{BallbotWorld, WorldParams};
-/// let mut world = BallbotWorld::new(WorldParams::miapure_60kg())?;
+/// let mut world = BallbotWorld::new(WorldParams::ideal(BallbotParams::miapure_60kg()))?;
 /// // Motors off for 1 s: the ball has settled into the floor, the perfectly upright body has
 /// // not started to fall, and each omniwheel carries m_U g / (3 cos alpha) = 343.6 N.
 /// for _ in 0..8000 {
@@ -62,6 +63,14 @@ struct WheelState {
 /// }
 /// let n = world.telemetry().wheels[0].normal_force_n;
 /// assert!((n - 343.6).abs() < 1.0, "{n}");
+/// // In the default world the soft rubber coating lets the body sink 1.4 mm, which turns the
+/// // contact normals: 345.6 N.
+/// let mut world = BallbotWorld::new(WorldParams::miapure_60kg())?;
+/// for _ in 0..8000 {
+///     world.step([0.0; 3]);
+/// }
+/// let n = world.telemetry().wheels[0].normal_force_n;
+/// assert!((n - 345.6).abs() < 1.0, "{n}");
 /// # Ok::<(), ballbot_sim::world::WorldError>(())
 /// ```
 pub struct BallbotWorld {
