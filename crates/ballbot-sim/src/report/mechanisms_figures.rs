@@ -19,10 +19,12 @@ impl MechanismStudy {
             s.accel_m_per_s2, self.settings.seed
         ));
         fig.x_label = "heading (deg, 0 = towards OW1)".to_owned();
+        fig.subplot_height_px = 320;
         let paper_h: Vec<f64> = PAPER_MAX_SPEED.iter().map(|p| p.heading_deg).collect();
         let paper_v: Vec<f64> = PAPER_MAX_SPEED.iter().map(|p| p.speed_m_per_s).collect();
         for &c in &self.settings.controllers {
-            let mut sub = Subplot::new(&format!("max speed (m/s), {}", c.label()));
+            let mut sub = Subplot::new(&format!("{} controller: max speed (m/s)", c.as_str()))
+                .with_y_range(0.0, 6.5);
             for (k, &m) in self.settings.mechanisms.iter().enumerate() {
                 let (h, v): (Vec<f64>, Vec<f64>) = self
                     .settings
@@ -115,8 +117,8 @@ impl MechanismStudy {
         Some(fig)
     }
 
-    /// The spectrum's peak and the roller-passing frequency against cruise speed, per wheel;
-    /// `None` without ripple runs.
+    /// The spectrum's peak and the roller-passing frequency against cruise speed, per wheel,
+    /// and the amplitudes at both; `None` without ripple runs.
     pub fn ripple_peak_figure(&self) -> Option<TimeSeriesFigure> {
         let h = self.ripple.first()?.heading_deg;
         let runs: Vec<_> = self
@@ -148,6 +150,32 @@ impl MechanismStudy {
                         .with_color(color),
                 );
         }
-        Some(fig.with(sub))
+        let mut amp = Subplot::new("amplitude (N)");
+        for (i, &color) in PALETTE.iter().take(3).enumerate() {
+            let at_passing: Vec<f64> = runs
+                .iter()
+                .map(|r| {
+                    r.wheels[i]
+                        .amplitude_at_roller_passing_n
+                        .unwrap_or(f64::NAN)
+                })
+                .collect();
+            let peak: Vec<f64> = runs.iter().map(|r| r.wheels[i].peak_amplitude_n).collect();
+            amp = amp
+                .with(
+                    Series::new(
+                        &format!("{} at N_r |ψ̇| / 2π", wheel_name(i)),
+                        &v,
+                        &at_passing,
+                    )
+                    .with_color(color),
+                )
+                .with(
+                    Series::new(&format!("{} at the peak", wheel_name(i)), &v, &peak)
+                        .with_style(LineStyle::Points)
+                        .with_color(color),
+                );
+        }
+        Some(fig.with(sub).with(amp))
     }
 }
