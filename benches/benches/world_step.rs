@@ -3,7 +3,8 @@
 //! simulated IMU and encoders; the three motor speed PIs every step), the omniwheel contact
 //! model, wheel spin states, floor friction, the rapier step, telemetry and failure checks.
 //! The robot balances while it drives a fixed cycle of velocity commands
-//! (`common/world_drive.rs`), so accelerating, cruising and turning steps are all measured.
+//! (`common/world_drive.rs`), so accelerating, cruising and turning steps are all measured; in
+//! the default (realistic) world and, as the baseline of the same run, in the ideal one.
 //!
 //! Measured twice: wall-clock time and, with the `_cpu` suffix, the thread's CPU time
 //! (`CLOCK_THREAD_CPUTIME_ID`, Unix only), which on a shared machine does not count the time
@@ -18,6 +19,8 @@
 mod common;
 #[path = "common/world_drive.rs"]
 mod world_drive;
+use ballbot_core::BallbotParams;
+use ballbot_sim::world::WorldParams;
 use common::bench_both;
 use criterion::{Criterion, criterion_group, criterion_main};
 use world_drive::WorldDrive;
@@ -29,6 +32,14 @@ fn world_step(c: &mut Criterion) {
     });
     assert_eq!(drive.restarts, 0, "the robot failed during the bench");
     assert!(drive.sim().world().failure().is_none());
+    // The same drive in the ideal world (the default before issue 13): the baseline measured in
+    // the same run.
+    let ideal = WorldParams::ideal(BallbotParams::miapure_60kg());
+    let mut drive = WorldDrive::with_params(ideal).unwrap();
+    bench_both(c, "world_step_8khz_ideal_world", || {
+        drive.step().unwrap().time_secs
+    });
+    assert_eq!(drive.restarts, 0, "the robot failed during the bench");
 }
 
 criterion_group!(benches, world_step);
