@@ -6,7 +6,7 @@
 
 use crate::report::plot::{LineStyle, PALETTE, Series, Subplot, TimeSeriesFigure};
 use crate::studies::max_speed::PAPER_MAX_SPEED;
-use crate::studies::mechanisms::MechanismStudy;
+use crate::studies::mechanisms::{MechanismStudy, RippleSpectrum};
 use crate::world::wheel_name;
 
 impl MechanismStudy {
@@ -87,15 +87,21 @@ impl MechanismStudy {
         fig.with(sub)
     }
 
-    /// The normal-force amplitude spectra of the first ripple heading, one subplot per wheel,
-    /// one series per cruise speed; `None` without ripple runs.
-    pub fn ripple_spectrum_figure(&self) -> Option<TimeSeriesFigure> {
+    /// The first ripple heading and its cruises that did not fail; `None` without ripple runs.
+    fn first_heading_cruises(&self) -> Option<(f64, Vec<&RippleSpectrum>)> {
         let h = self.ripple.first()?.heading_deg;
-        let runs: Vec<_> = self
+        let runs = self
             .ripple
             .iter()
             .filter(|r| (r.heading_deg - h).abs() < 1e-9 && r.failure.is_none())
             .collect();
+        Some((h, runs))
+    }
+
+    /// The normal-force amplitude spectra of the first ripple heading, one subplot per wheel,
+    /// one series per cruise speed; `None` without ripple runs.
+    pub fn ripple_spectrum_figure(&self) -> Option<TimeSeriesFigure> {
+        let (h, runs) = self.first_heading_cruises()?;
         let mut fig = TimeSeriesFigure::new(&format!(
             "Contact-load ripple at {h:.0} deg: normal-force amplitude spectra by cruise speed"
         ));
@@ -120,12 +126,7 @@ impl MechanismStudy {
     /// The spectrum's peak and the roller-passing frequency against cruise speed, per wheel,
     /// and the amplitudes at both; `None` without ripple runs.
     pub fn ripple_peak_figure(&self) -> Option<TimeSeriesFigure> {
-        let h = self.ripple.first()?.heading_deg;
-        let runs: Vec<_> = self
-            .ripple
-            .iter()
-            .filter(|r| (r.heading_deg - h).abs() < 1e-9 && r.failure.is_none())
-            .collect();
+        let (h, runs) = self.first_heading_cruises()?;
         let mut fig = TimeSeriesFigure::new(&format!(
             "Contact-load ripple at {h:.0} deg: spectrum peak against the roller-passing frequency"
         ));
