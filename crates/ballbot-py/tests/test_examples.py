@@ -17,6 +17,11 @@ EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "python"
         ("heading_sweep.py", ["--step-deg", "90"], "steepest ramp"),
         ("piptb_comparison.py", ["--quick"], "LQR-PI"),
         ("world_heading_sweep.py", ["--step-deg", "120", "--top", "1.0"], "3 headings in"),
+        (
+            "mechanism_failing_accel.py",
+            ["--headings", "0", "--resolution", "0.25"],
+            "axle_losses |    1.25 / 1.5",
+        ),
     ],
 )
 def test_example_runs(script: str, args: list[str], expect: str, tmp_path: Path) -> None:
