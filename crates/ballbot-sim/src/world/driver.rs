@@ -384,15 +384,41 @@ pub struct MotorDriver {
     params: DriverParams,
     actuator: ActuatorParams<f64>,
     fault: Option<DriverFault>,
+    /// The constants the step uses, derived once from `params` and `actuator`.
+    resolved: Resolved,
+}
+
+/// [`DriverParams`]' derived constants, resolved at construction so that a step does no
+/// unit conversion or table lookup.
+#[derive(Clone, Copy, Debug)]
+struct Resolved {
+    /// `K_t` (N m/A at the rotor).
+    kt_nm_per_a: f64,
+    /// `k_e` (V s/rad at the rotor).
+    ke_v_s_per_rad: f64,
+    /// Largest phase peak voltage (V).
+    max_phase_voltage_v: f64,
+    /// The q-axis current limit in force (A).
+    current_limit_a: f64,
+    /// The wheel speed beyond which the driver trips (rad/s).
+    trip_speed_rad_per_s: f64,
 }
 
 impl MotorDriver {
     /// An armed driver.
     pub fn new(params: DriverParams, actuator: ActuatorParams<f64>) -> Self {
+        let resolved = Resolved {
+            kt_nm_per_a: params.torque_constant_nm_per_a(),
+            ke_v_s_per_rad: params.back_emf_v_s_per_rad(),
+            max_phase_voltage_v: params.max_phase_voltage_v(),
+            current_limit_a: params.effective_current_limit_a(),
+            trip_speed_rad_per_s: params.trip_speed_rad_per_s(actuator.gear_ratio),
+        };
         Self {
             params,
             actuator,
             fault: None,
+            resolved,
         }
     }
 
@@ -410,11 +436,11 @@ impl MotorDriver {
     /// gives 0) at wheel speed `speed_rad_per_s`. Checks the trips first (the ODrive model);
     /// a disarmed driver gives nothing.
     pub fn step(&mut self, torque_nm: f64, speed_rad_per_s: f64) -> DriverOutput {
-        if self.params.model == DriverModel::Odrive && self.fault.is_none() {
-            let trip = self.params.trip_speed_rad_per_s(self.actuator.gear_ratio);
-            if speed_rad_per_s.abs() > trip {
-                self.fault = Some(DriverFault::Overspeed);
-            }
+        if self.params.model == DriverModel::Odrive
+            && self.fault.is_none()
+            && speed_rad_per_s.abs() > self.resolved.trip_speed_rad_per_s
+        {
+            self.fault = Some(DriverFault::Overspeed);
         }
         if self.fault.is_some() {
             return DriverOutput {
@@ -426,7 +452,7 @@ impl MotorDriver {
         let out = self.envelope(torque_nm, speed_rad_per_s);
         let p = &self.params;
         if p.model == DriverModel::Odrive
-            && out.current_a.abs() > p.effective_current_limit_a() + p.current_limit_margin_a
+            && out.current_a.abs() > self.resolved.current_limit_a + p.current_limit_margin_a
         {
             self.fault = Some(DriverFault::CurrentLimitViolation);
         }
@@ -436,7 +462,7 @@ impl MotorDriver {
     /// The torque an armed driver delivers for `torque_nm` at `speed_rad_per_s` (no trips).
     pub fn envelope(&self, torque_nm: f64, speed_rad_per_s: f64) -> DriverOutput {
         let n = self.actuator.gear_ratio;
-        let kt = self.params.torque_constant_nm_per_a();
+        let kt = self.resolved.kt_nm_per_a;
         if !torque_nm.is_finite() {
             return DriverOutput {
                 torque_nm: 0.0,
@@ -468,7 +494,7 @@ impl MotorDriver {
     fn odrive(&self, t_m: f64, w_m: f64) -> DriverOutput {
         let p = &self.params;
         let n = self.actuator.gear_ratio;
-        let kt = p.torque_constant_nm_per_a();
+        let kt = self.resolved.kt_nm_per_a;
         let mut limit = DriverLimit::None;
         let mut t = t_m;
         if p.enable_torque_mode_vel_limit {
@@ -482,7 +508,7 @@ impl MotorDriver {
                 t = limited;
             }
         }
-        let i_lim = p.effective_current_limit_a();
+        let i_lim = self.resolved.current_limit_a;
         let mut i = t / kt;
         if i.abs() > i_lim {
             i = i.clamp(-i_lim, i_lim);
@@ -504,10 +530,9 @@ impl MotorDriver {
 
     /// The q-axis currents (A) the voltage allows at rotor speed `w_m` (rad/s).
     fn voltage_current_bounds_a(&self, w_m: f64) -> (f64, f64) {
-        let p = &self.params;
-        let v_max = p.max_phase_voltage_v();
-        let emf = p.back_emf_v_s_per_rad() * w_m;
-        let r = p.phase_resistance_ohm;
+        let v_max = self.resolved.max_phase_voltage_v;
+        let emf = self.resolved.ke_v_s_per_rad * w_m;
+        let r = self.params.phase_resistance_ohm;
         ((-v_max - emf) / r, (v_max - emf) / r)
     }
 
@@ -526,7 +551,7 @@ impl MotorDriver {
     pub fn electrical_power_w(&self, current_a: f64, speed_rad_per_s: f64) -> f64 {
         let p = &self.params;
         let w_m = self.actuator.gear_ratio * speed_rad_per_s;
-        let v_q = p.phase_resistance_ohm * current_a + p.back_emf_v_s_per_rad() * w_m;
+        let v_q = p.phase_resistance_ohm * current_a + self.resolved.ke_v_s_per_rad * w_m;
         1.5 * v_q * current_a
     }
 

@@ -501,16 +501,17 @@ impl BallbotWorld {
             let rim = self.rollers.at(w.angle_rad);
             let v_rim = v_body_p + d * (rim.rim_radius_m * w.speed_rad_per_s);
             let slip = v_ball_p - v_rim;
+            let axle_dir = d.cross(n);
             out[i] = (
                 ContactKinematics {
                     normal: n,
                     rolling_dir: d,
-                    axle_dir: d.cross(n),
+                    axle_dir,
                     penetration_m: r + (r_w - rim.dip_m) - dist,
                     penetration_rate_m_per_s: -n.dot(v_centre - v_c)
                         - rim.dip_slope_m_per_rad * w.speed_rad_per_s,
                     slip_speed_m_per_s: d.dot(slip),
-                    axle_slip_speed_m_per_s: d.cross(n).dot(slip),
+                    axle_slip_speed_m_per_s: axle_dir.dot(slip),
                 },
                 p,
                 rim,
