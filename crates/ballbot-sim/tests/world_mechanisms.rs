@@ -115,13 +115,21 @@ fn a_small_study_reports_every_run_and_its_summary_records() {
             );
         }
     }
-    // The default world's roller gaps: 10 rollers, the roller-passing line of the driving
-    // wheels at 0 deg is N_r |psi_dot| / 2 pi.
+    // The default world's roller gaps (10 rollers). Cruising towards OW1, OW1's rollers do the
+    // rolling (its wheel barely turns, no roller passes) while OW2 and OW3 turn alike, so
+    // their roller-passing lines coincide.
     let ripple = &study.ripple[0];
     assert_eq!(ripple.roller_count, 10);
-    let ow2 = &ripple.wheels[1];
-    let passing = ow2.roller_passing_hz.unwrap();
-    assert!((passing - 10.0 * ow2.mean_speed_rad_per_s / std::f64::consts::TAU).abs() < 1e-9);
+    let [ow1, ow2, ow3] = &ripple.wheels;
+    assert!(
+        ow1.mean_speed_rad_per_s < 0.05 * ow2.mean_speed_rad_per_s,
+        "{ripple:?}"
+    );
+    let (f2, f3) = (
+        ow2.roller_passing_hz.unwrap(),
+        ow3.roller_passing_hz.unwrap(),
+    );
+    assert!((f2 - f3).abs() < 0.02 * f2 && f2 > 3.0, "{f2} {f3}");
     assert_eq!(study.ripple_json()[0]["wheels"][1]["wheel"], "OW2");
     assert!(study.table().contains("MiaPURE hardware"));
 }
