@@ -36,6 +36,7 @@ pub mod params;
 pub mod rates;
 pub mod safety;
 pub mod spin;
+pub mod traction;
 pub mod wip;
 
 pub use error::Error;

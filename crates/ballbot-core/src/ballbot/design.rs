@@ -10,6 +10,7 @@ use crate::lqr::{
     SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
 };
 use crate::safety::SafetyParams;
+use crate::traction::TractionParams;
 use crate::wip::BALL_RATE;
 use crate::{BallbotParams, Error, OmniKinematics, Spin, Wip};
 use nalgebra::RealField;
@@ -47,6 +48,9 @@ pub struct BallbotControllerConfig<T> {
     /// How the reference rates map to the omniwheels (see [`WheelMapping`]). Default
     /// [`WheelMapping::RollingBall`].
     pub wheel_mapping: WheelMapping,
+    /// Traction-aware control ([`crate::traction`]): off in [`Self::design`], on with
+    /// [`Self::with_traction_control`].
+    pub traction: TractionParams<T>,
 }
 
 /// LQR weights and bandwidths for [`BallbotControllerConfig::design_with`].
@@ -177,7 +181,27 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
             safety: SafetyParams::for_actuator(&robot.drivetrain.actuator),
             outer_dt_secs: dt,
             wheel_mapping: WheelMapping::RollingBall,
+            traction: TractionParams::off(robot),
         })
+    }
+
+    /// This configuration with traction-aware control on, in its recommended settings
+    /// ([`TractionParams::recommended`]): the command shaper follows the traction envelope
+    /// and the slip monitor reacts (see [`crate::traction`]).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let config = BallbotControllerConfig::design(&robot)?.with_traction_control();
+    /// assert!(config.traction.enabled);
+    /// assert!(BallbotController::new(config)?.traction().is_some());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    #[must_use]
+    pub fn with_traction_control(mut self) -> Self {
+        self.traction = TractionParams::recommended(&self.robot);
+        self
     }
 
     /// **An ablation, not a recommendation**: the paper's controller as we read it, built from

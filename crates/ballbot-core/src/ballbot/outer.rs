@@ -9,10 +9,12 @@ use crate::control::{LqrPiOuter, StepStatus};
 use crate::estimation::{
     EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos,
 };
+use crate::kinematics::relative_rate_from_planar;
 use crate::num::clamp_sym;
 use crate::safety::{Fault, Mode, ModeRequest, SafetyInput, SafetyStatus, SafetySupervisor};
 use crate::spin::SpinState;
-use crate::wip::{BALL_ANGLE, TILT, TILT_RATE, WipState};
+use crate::traction::{TractionControl, TractionStatus};
+use crate::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE, WipState};
 use crate::{Error, OmniKinematics, Spin, Wip};
 use nalgebra::{RealField, Vector3};
 
@@ -162,6 +164,9 @@ pub struct OuterOutput<T: nalgebra::Scalar> {
     /// In a controlled stop, whether the shaped command has come to rest (the robot is
     /// holding).
     pub stopped: bool,
+    /// Traction-aware control's report (envelope, limiting, slip and lift-off); `None` when
+    /// it is off ([`BallbotControllerConfig::traction`]).
+    pub traction: Option<TractionStatus<T>>,
 }
 
 /// The outer loop of the 3D controller (see the module docs).
@@ -244,6 +249,7 @@ pub struct BallbotController<T: RealField + Copy> {
     sagittal: LqrPiOuter<T>,
     spin: SpinOuter<T>,
     feedforward: InputFeedforward<T>,
+    traction: Option<TractionControl<T>>,
 }
 
 impl<T: RealField + Copy> BallbotController<T> {
@@ -263,6 +269,12 @@ impl<T: RealField + Copy> BallbotController<T> {
         let kinematics = OmniKinematics::from_ballbot(&config.robot)?;
         positive(config.outer_dt_secs, "outer_dt_secs")?;
         config.motor.validate()?;
+        config.traction.validate()?;
+        let traction = if config.traction.enabled {
+            Some(TractionControl::new(&config.robot, config.traction)?)
+        } else {
+            None
+        };
         Ok(Self {
             config,
             kinematics,
@@ -273,7 +285,21 @@ impl<T: RealField + Copy> BallbotController<T> {
             sagittal: LqrPiOuter::new(Wip::new(config.robot.sagittal)?, config.sagittal)?,
             spin: SpinOuter::new(Spin::new(config.robot.spin)?, config.spin)?,
             feedforward: InputFeedforward::new(&config),
+            traction,
         })
+    }
+
+    /// Traction-aware control (envelope, slip monitor), when enabled.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert!(BallbotController::new(config)?.traction().is_none());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn traction(&self) -> Option<&TractionControl<T>> {
+        self.traction.as_ref()
     }
 
     /// The configuration.
@@ -403,6 +429,26 @@ impl<T: RealField + Copy> BallbotController<T> {
         if !safety.mode.motors_enabled() {
             return self.disabled(safety, states);
         }
+        let mut safety = safety;
+        let mut wheel_speeds = input.encoders.wheel_speeds_rad_per_s;
+        if let Some(traction) = &mut self.traction {
+            if !safety.encoders_valid {
+                wheel_speeds = self
+                    .kinematics
+                    .wheel_speeds_rad_per_s(&relative_rate_from_planar(
+                        [states.frontal[BALL_RATE], states.sagittal[BALL_RATE]],
+                        [states.frontal[TILT_RATE], states.sagittal[TILT_RATE]],
+                        states.spin[1],
+                    ));
+            } else if safety.imu_valid {
+                let rel = self.kinematics.relative_rate_rad_per_s(&wheel_speeds);
+                let monitor = traction.monitor_mut();
+                if monitor.update(&self.kinematics, &states, &rel, dt).1 {
+                    safety.mode = self.supervisor.report(Fault::WheelSlip);
+                    safety.faults.insert(Fault::WheelSlip);
+                }
+            }
+        }
         // By reference: the command is a large enum (a trajectory borrows its samples).
         let stop = Command::Stop;
         let command = if safety.mode == Mode::Balancing {
@@ -410,7 +456,13 @@ impl<T: RealField + Copy> BallbotController<T> {
         } else {
             &stop
         };
-        let shaped = self.shaper.step(command, dt);
+        let shaped = match &self.traction {
+            Some(traction) => {
+                self.shaper
+                    .step_within(command, dt, &traction.step_limit(wheel_speeds))
+            }
+            None => self.shaper.step(command, dt),
+        };
         // Equilibrium-input feedforward through the command states (see the type's docs).
         let mut c = shaped.planar;
         let ff = &self.feedforward;
@@ -491,6 +543,10 @@ impl<T: RealField + Copy> BallbotController<T> {
             };
             return self.disabled(safety, states);
         }
+        let traction = self.traction.as_mut().map(|t| {
+            t.monitor_mut().record_torque(&saturation.planar_torque_nm);
+            t.finish_step(shaped.accel_limit_m_per_s2, shaped.limited)
+        });
         OuterOutput {
             motors: MotorReferences {
                 enabled: true,
@@ -504,6 +560,7 @@ impl<T: RealField + Copy> BallbotController<T> {
             reference_torque_nm: saturation.planar_torque_nm,
             reference_rate_rad_per_s: reference_rate,
             stopped: safety.mode == Mode::ControlledStop && self.shaper.is_at_rest(),
+            traction,
         }
     }
 
@@ -513,6 +570,10 @@ impl<T: RealField + Copy> BallbotController<T> {
         self.frontal.reset();
         self.sagittal.reset();
         self.spin.reset();
+        let traction = self.traction.as_mut().map(|t| {
+            t.monitor_mut().reset();
+            t.finish_step(None, false)
+        });
         self.shaper.reset(
             states.spin[0],
             states.frontal[BALL_ANGLE],
@@ -530,6 +591,7 @@ impl<T: RealField + Copy> BallbotController<T> {
             reference_torque_nm: Vector3::zeros(),
             reference_rate_rad_per_s: Vector3::zeros(),
             stopped: false,
+            traction,
         }
     }
 }

@@ -2,7 +2,7 @@
 //! ([`PlanarCommands`]) with the lean feedforward `theta_ff = (b + c0) a / (r m_U g l)` (see the
 //! [module](super) doc).
 
-use super::{AxisLimits, Command, JerkLimiter, LeanToDrive, LeanToDriveParams};
+use super::{AccelLimit, AxisLimits, Command, JerkLimiter, LeanToDrive, LeanToDriveParams};
 use crate::check::{lit, non_negative, positive};
 use crate::control::dt_is_valid;
 use crate::num::{clamp_sym, min};
@@ -183,6 +183,13 @@ pub struct ShapedCommand<T: nalgebra::Scalar> {
     pub tilt_accel_rad_per_s2: [T; 2],
     /// Whether the command was finite; a non-finite command is replaced by [`Command::Stop`].
     pub command_finite: bool,
+    /// With [`CommandShaper::step_within`]: the acceleration limit along the direction the
+    /// command wanted to accelerate in (m/s^2), `None` when it did not ask to accelerate or
+    /// without a limit.
+    pub accel_limit_m_per_s2: Option<T>,
+    /// Whether that limit held the command back in this step: it was below the
+    /// translation limit and the shaped acceleration rides on it.
+    pub limited: bool,
 }
 
 /// A shaped velocity with named fields (m/s, m/s, rad/s).
@@ -413,6 +420,55 @@ impl<T: RealField + Copy> CommandShaper<T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn step(&mut self, command: &Command<'_, T>, dt_secs: T) -> ShapedCommand<T> {
+        self.step_inner(command, dt_secs, None)
+    }
+
+    /// [`Self::step`] within a direction-dependent acceleration limit (e.g. the traction
+    /// envelope, [`crate::traction`]).
+    ///
+    /// The direction is that of the velocity error (target minus shaped velocity, body x and
+    /// y). The two axes share the smaller of `limit` in that direction and the translation
+    /// limit in proportion to the direction's components, so the *vector* acceleration stays
+    /// within it (without a limit each axis has the full translation limit). A lower limit
+    /// than the present acceleration takes effect at once (a slip reaction cannot wait for
+    /// the jerk limit). A trajectory held back by the limit gets the equilibrium lean of its
+    /// shaped acceleration instead of its own tilt. Yaw is not limited.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::command::{AccelLimit, Command, CommandShaper, CommandShaperParams, VelocityCommand};
+    /// struct Half;
+    /// impl AccelLimit<f64> for Half {
+    ///     fn accel_limit_m_per_s2(&self, _x: f64, _y: f64, _braking: bool) -> f64 { 0.5 }
+    /// }
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
+    /// // Diagonally: the vector acceleration is at most 0.5 m/s^2, not 0.5 per axis.
+    /// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, vy_m_per_s: 1.0, ..Default::default() });
+    /// let mut shaped = shaper.step_within(&go, 0.0025, &Half);
+    /// for _ in 0..400 {
+    ///     shaped = shaper.step_within(&go, 0.0025, &Half);
+    /// }
+    /// let a = shaped.acceleration;
+    /// approx::assert_relative_eq!((a.x * a.x + a.y * a.y).sqrt(), 0.5, epsilon = 1e-9);
+    /// assert!(shaped.limited && shaped.accel_limit_m_per_s2 == Some(0.5));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn step_within<L: AccelLimit<T>>(
+        &mut self,
+        command: &Command<'_, T>,
+        dt_secs: T,
+        limit: &L,
+    ) -> ShapedCommand<T> {
+        self.step_inner(command, dt_secs, Some(limit))
+    }
+
+    fn step_inner(
+        &mut self,
+        command: &Command<'_, T>,
+        dt_secs: T,
+        limit: Option<&dyn AccelLimit<T>>,
+    ) -> ShapedCommand<T> {
         let command_finite = command.is_finite();
         let command = if command_finite {
             *command
@@ -424,6 +480,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
         // Targets (vx, vy, yaw rate) and, for a trajectory, its tilt and tilt rate along the
         // heading with the heading's (sin, cos).
         let mut trajectory_tilt: Option<(T, T, T, T, T)> = None;
+        let is_trajectory = matches!(command, Command::Trajectory { .. });
         // Each target's own rate (nonzero only for a trajectory).
         let mut feed = (zero, zero);
         let (target_x, target_y, target_yaw) = match command {
@@ -457,21 +514,52 @@ impl<T: RealField + Copy> CommandShaper<T> {
             }
         };
         let dt_ok = dt_is_valid(dt_secs);
+        let (mut limits_x, mut limits_y) = (translation, translation);
+        let mut accel_limit_m_per_s2 = None;
+        let mut binding = false;
+        if let Some(limit) = limit {
+            let (vx0, vy0) = (self.vx.value(), self.vy.value());
+            let (ex, ey) = (target_x - vx0, target_y - vy0);
+            let norm = (ex * ex + ey * ey).sqrt();
+            if norm > zero && norm.is_finite() {
+                let (dx, dy) = (ex / norm, ey / norm);
+                let braking = dx * vx0 + dy * vy0 < zero;
+                let allowed = limit.accel_limit_m_per_s2(dx, dy, braking);
+                let allowed = if allowed >= zero { allowed } else { zero };
+                binding = allowed < translation.max_rate_per_s;
+                let rate = min(allowed, translation.max_rate_per_s);
+                limits_x.max_rate_per_s = rate * dx.abs();
+                limits_y.max_rate_per_s = rate * dy.abs();
+                accel_limit_m_per_s2 = Some(allowed);
+            }
+        }
         let (vx, vy, wz) = if dt_ok {
             (
-                self.vx.advance(target_x, feed.0, &translation, dt_secs),
-                self.vy.advance(target_y, feed.1, &translation, dt_secs),
+                self.vx.advance(target_x, feed.0, &limits_x, dt_secs),
+                self.vy.advance(target_y, feed.1, &limits_y, dt_secs),
                 self.yaw_rate
                     .advance(target_yaw, zero, &self.params.yaw, dt_secs),
             )
         } else {
             (self.vx.value(), self.vy.value(), self.yaw_rate.value())
         };
+        let limited = binding && {
+            let (ax, ay) = (self.vx.rate_per_s(), self.vy.rate_per_s());
+            let rate = min(
+                accel_limit_m_per_s2.unwrap_or(zero),
+                translation.max_rate_per_s,
+            );
+            (ax * ax + ay * ay).sqrt() >= rate * lit(0.999)
+        };
+        if limited {
+            // Held back: the trajectory's own lean belongs to an acceleration it no longer has.
+            trajectory_tilt = None;
+        }
         // The reference filter (see `CommandShaperParams::reference_filter_secs`): the speeds,
         // accelerations and jerks the planar reference is built from.
         let tau = self.params.reference_filter_secs;
         let (ax, ay) = (self.vx.rate_per_s(), self.vy.rate_per_s());
-        let ((rvx, rvy), (rax, ray), (rjx, rjy)) = if tau > zero && trajectory_tilt.is_none() {
+        let ((rvx, rvy), (rax, ray), (rjx, rjy)) = if tau > zero && !is_trajectory {
             let (fx, fy) = self.filtered_m_per_s;
             let (afx, afy) = ((vx - fx) / tau, (vy - fy) / tau);
             if dt_ok {
@@ -550,6 +638,8 @@ impl<T: RealField + Copy> CommandShaper<T> {
             planar,
             tilt_accel_rad_per_s2: [accel_x, accel_y],
             command_finite,
+            accel_limit_m_per_s2,
+            limited,
         }
     }
 }

@@ -62,6 +62,9 @@ pub enum Fault {
     CommandNonFinite = 12,
     /// The controller's estimate or output went non-finite.
     StateNonFinite = 13,
+    /// An omniwheel kept slipping on the ball despite the traction reaction
+    /// ([`crate::traction::SlipMonitor`]).
+    WheelSlip = 14,
 }
 
 impl Fault {
@@ -72,7 +75,7 @@ impl Fault {
     /// // In code order, one entry per code.
     /// assert!(Fault::ALL.iter().enumerate().all(|(i, f)| usize::from(f.code()) == i));
     /// ```
-    pub const ALL: [Self; 14] = [
+    pub const ALL: [Self; 15] = [
         Self::ImuNonFinite,
         Self::ImuOutOfRange,
         Self::ImuStale,
@@ -87,6 +90,7 @@ impl Fault {
         Self::CommandLinkLost,
         Self::CommandNonFinite,
         Self::StateNonFinite,
+        Self::WheelSlip,
     ];
 
     /// The fault's canonical name (snake_case), the one string form used by `Display`,
@@ -113,6 +117,7 @@ impl Fault {
             Self::CommandLinkLost => "command_link_lost",
             Self::CommandNonFinite => "command_non_finite",
             Self::StateNonFinite => "state_non_finite",
+            Self::WheelSlip => "wheel_slip",
         }
     }
 
@@ -148,7 +153,8 @@ impl Fault {
             | Self::LoopOverrun
             | Self::ClockFault
             | Self::CommandLinkLost
-            | Self::CommandNonFinite => Severity::Recoverable,
+            | Self::CommandNonFinite
+            | Self::WheelSlip => Severity::Recoverable,
         }
     }
 
@@ -174,6 +180,7 @@ impl Fault {
             Self::CommandLinkLost => "command link lost",
             Self::CommandNonFinite => "command is not finite",
             Self::StateNonFinite => "controller state is not finite",
+            Self::WheelSlip => "omniwheel slip persisted",
         }
     }
 }

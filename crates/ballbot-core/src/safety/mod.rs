@@ -45,6 +45,7 @@
 //! | `CommandLinkLost` | no command newer than `command_timeout_us` | recoverable |
 //! | `CommandNonFinite` | the command holds a NaN/inf | recoverable |
 //! | `StateNonFinite` | reported by the controller: its estimate or output went non-finite | unrecoverable |
+//! | `WheelSlip` | reported by the controller: a wheel kept slipping despite the traction reaction ([`crate::traction`]) | recoverable |
 //!
 //! A single bad sample therefore starts a controlled stop on held data; if no good sample
 //! follows within the timeout the data is stale and the motors are disabled.

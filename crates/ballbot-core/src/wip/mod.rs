@@ -32,6 +32,7 @@
 mod dynamics;
 mod energy;
 mod linearization;
+mod momentum;
 #[cfg(test)]
 mod tests;
 
