@@ -11,3 +11,4 @@ mod names;
 mod safety;
 mod spin;
 mod terms;
+mod traction;

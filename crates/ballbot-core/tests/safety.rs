@@ -36,6 +36,24 @@ fn assert_sane(out: &ballbot_core::ballbot::OuterOutput<f64>) {
         assert_eq!(m.feedforward_torque_nm, Vector3::zeros());
         assert_eq!(m.speed_rad_per_s, Vector3::zeros());
     }
+    if let Some(t) = &out.traction {
+        let s = &t.slip;
+        assert!(s.slip_speed_m_per_s.iter().all(|x| x.is_finite()), "{t:?}");
+        assert!(
+            s.predicted_normal_force_n.iter().all(|x| x.is_finite()),
+            "{t:?}"
+        );
+        assert!(s.accel_scale > 0.0 && s.accel_scale <= 1.0, "{t:?}");
+        assert!(
+            s.friction_estimate > 0.0 && s.friction_estimate <= 0.6,
+            "{t:?}"
+        );
+        assert!(
+            t.accel_limit_m_per_s2
+                .is_none_or(|a| a.is_finite() && a >= 0.0),
+            "{t:?}"
+        );
+    }
 }
 
 /// A rig armed and cruising at `vx`.
@@ -350,9 +368,12 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
     #[test]
     fn step_never_panics_and_outputs_stay_finite_and_bounded(
-        frames in prop::collection::vec(any_frame(), 1..60)
+        frames in prop::collection::vec(any_frame(), 1..60),
+        traction in any::<bool>(),
     ) {
-        let config = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+        let designed = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+        // With and without traction-aware control (envelope, slip monitor).
+        let config = if traction { designed.with_traction_control() } else { designed };
         let mut outer = BallbotController::new(config).unwrap();
         let mut inner = MotorSpeedLoop::new(&config).unwrap();
         let mut now: u64 = 0;
