@@ -141,9 +141,9 @@ pub extern "C" fn ballbot_nostd_robot_loop_f32(pitch_rad: f32, now_us: u64) -> f
 }
 
 /// One step of the 3D ballbot controller in f32 (supervisor, estimation, shaping, three
-/// planes, kinematics: the 400 Hz outer step) and one 8 kHz inner step of its three motor
-/// PIs: the whole 3D controller links without std or an allocator. Returns omniwheel 1's
-/// torque.
+/// planes, kinematics: the 400 Hz outer step), with traction-aware control on (its envelope
+/// is built here, its slip monitor runs), and one 8 kHz inner step of its three motor PIs:
+/// the whole 3D controller links without std or an allocator. Returns omniwheel 1's torque.
 #[unsafe(no_mangle)]
 pub extern "C" fn ballbot_nostd_ballbot_3d_step_f32(
     now_us: u64,
@@ -159,9 +159,11 @@ pub extern "C" fn ballbot_nostd_ballbot_3d_step_f32(
     use ballbot_core::estimation::{EncoderSample, ImuSample};
     use ballbot_core::safety::ModeRequest;
     use nalgebra::Vector3;
-    let Ok(config) = BallbotControllerConfig::design(&BallbotParams::<f32>::miapure_60kg()) else {
+    let Ok(designed) = BallbotControllerConfig::design(&BallbotParams::<f32>::miapure_60kg())
+    else {
         return f32::NAN;
     };
+    let config = designed.with_traction_control();
     let (Ok(mut outer), Ok(mut inner)) =
         (BallbotController::new(config), MotorSpeedLoop::new(&config))
     else {
@@ -181,5 +183,7 @@ pub extern "C" fn ballbot_nostd_ballbot_3d_step_f32(
         request: ModeRequest::Arm,
     });
     inner.set_references(&out.motors);
-    inner.step(&encoders.wheel_speeds_rad_per_s, 1.0 / 8000.0).torque_nm[0]
+    inner
+        .step(&encoders.wheel_speeds_rad_per_s, 1.0 / 8000.0)
+        .torque_nm[0]
 }

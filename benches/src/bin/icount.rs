@@ -174,6 +174,70 @@ mod three_d {
         ballbot_outer_step::<f64>(n)
     }
 
+    /// [`ballbot_outer_step`] with traction-aware control on (the envelope in the command
+    /// shaper, the slip monitor with its normal-force prediction): the same step, with sensor
+    /// readings that agree with each other (a ball rolling at the encoders' rates below an
+    /// upright body turning at the gyro's yaw rate), so the monitor finds no slip and the
+    /// controller keeps balancing.
+    pub(crate) fn ballbot_outer_step_traction_f64(n: u64) -> Result<(), String> {
+        use ballbot_core::OmniKinematics;
+        use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
+        use ballbot_core::command::{Command, VelocityCommand};
+        use ballbot_core::estimation::{EncoderSample, ImuSample};
+        use ballbot_core::safety::ModeRequest;
+        let robot = BallbotParams::<f64>::miapure_60kg();
+        let config = BallbotControllerConfig::design(&robot)
+            .map_err(|e| e.to_string())?
+            .with_traction_control();
+        let kin = OmniKinematics::from_ballbot(&robot).map_err(|e| e.to_string())?;
+        let mut outer = BallbotController::new(config).map_err(|e| e.to_string())?;
+        let command = Command::Velocity(VelocityCommand {
+            vx_m_per_s: 0.8,
+            vy_m_per_s: -0.3,
+            yaw_rate_rad_per_s: 0.2,
+        });
+        // Already rolling when armed: the monitor's observers start from these readings.
+        let relative = |wobble: f64| Vector3::new(2.6 - wobble, 7.0, -0.2);
+        let mut input = OuterInput {
+            now_us: 0,
+            imu: ImuSample::upright(0),
+            encoders: EncoderSample::still(0),
+            command,
+            command_timestamp_us: Some(0),
+            request: ModeRequest::Arm,
+        };
+        input.imu.angular_velocity_rad_per_s = Vector3::new(0.0, 0.0, 0.2);
+        input.encoders.wheel_speeds_rad_per_s = kin.wheel_speeds_rad_per_s(&relative(0.0));
+        outer.step(&input);
+        input.request = ModeRequest::None;
+        let mut acc = 0.0;
+        for i in 0..n {
+            let t = (i + 1) * 2500;
+            let wobble = (i % 7) as f64 * 1e-4;
+            input.now_us = t;
+            input.imu.timestamp_us = t;
+            input.imu.roll_rad = wobble;
+            input.imu.pitch_rad = -wobble;
+            input.imu.angular_velocity_rad_per_s = Vector3::new(wobble, 0.0, 0.2);
+            input.encoders.timestamp_us = t;
+            input.encoders.wheel_speeds_rad_per_s = kin.wheel_speeds_rad_per_s(&relative(wobble));
+            input.command_timestamp_us = Some(t);
+            let out = outer.step(black_box(&input));
+            acc += out.motors.feedforward_torque_nm[0];
+            if out.traction.is_none_or(|t| t.slip.any_slipping()) {
+                return Err(format!("the slip monitor fired: {:?}", out.traction));
+            }
+        }
+        if outer.mode() != ballbot_core::safety::Mode::Balancing {
+            return Err(format!(
+                "left balancing: {:?}",
+                outer.supervisor().latched_faults()
+            ));
+        }
+        black_box(acc);
+        Ok(())
+    }
+
     pub(crate) fn ballbot_outer_step_f32(n: u64) -> Result<(), String> {
         ballbot_outer_step::<f32>(n)
     }
@@ -219,7 +283,8 @@ mod three_d {
 }
 
 use three_d::{
-    ballbot_outer_step_f32, ballbot_outer_step_f64, command_shaper_step_f64, motor_pi_step_f64,
+    ballbot_outer_step_f32, ballbot_outer_step_f64, ballbot_outer_step_traction_f64,
+    command_shaper_step_f64, motor_pi_step_f64,
 };
 
 const OPERATIONS: &[Operation] = &[
@@ -250,6 +315,10 @@ const OPERATIONS: &[Operation] = &[
     Operation {
         name: "ballbot_outer_step_f64",
         run: ballbot_outer_step_f64,
+    },
+    Operation {
+        name: "ballbot_outer_step_traction_f64",
+        run: ballbot_outer_step_traction_f64,
     },
     Operation {
         name: "ballbot_outer_step_f32",

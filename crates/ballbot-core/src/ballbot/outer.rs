@@ -9,14 +9,13 @@ use crate::control::{LqrPiOuter, StepStatus};
 use crate::estimation::{
     EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos,
 };
-use crate::kinematics::relative_rate_from_planar;
 use crate::num::clamp_sym;
 use crate::safety::{Fault, Mode, ModeRequest, SafetyInput, SafetyStatus, SafetySupervisor};
 use crate::spin::SpinState;
-use crate::traction::{TractionControl, TractionStatus};
-use crate::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE, WipState};
+use crate::traction::{TiltTerms, TractionControl, TractionStatus};
+use crate::wip::{BALL_ANGLE, TILT, TILT_RATE, WipState};
 use crate::{Error, OmniKinematics, Spin, Wip};
-use nalgebra::{RealField, Vector3};
+use nalgebra::{RealField, Vector2, Vector3};
 
 /// What the outer loop reads in one step.
 ///
@@ -430,23 +429,31 @@ impl<T: RealField + Copy> BallbotController<T> {
             return self.disabled(safety, states);
         }
         let mut safety = safety;
+        // One sin_cos of each tilt serves the slip monitor, the plane's reference model and
+        // the wheel mapping.
+        let roll_sin_cos = states.frontal[TILT].sin_cos();
+        let pitch_sin_cos = states.sagittal[TILT].sin_cos();
+        // The ball's body-z rate per ball rate when it does not spin about the vertical (see
+        // `ball_body_z_rate_per_ball_rate`): for the slip monitor and the wheel mapping.
+        let terms = TiltTerms {
+            frontal_sin_cos: roll_sin_cos,
+            sagittal_sin_cos: pitch_sin_cos,
+            k: ball_body_z_rate_per_ball_rate_sin_cos(roll_sin_cos, pitch_sin_cos),
+        };
         let mut wheel_speeds = input.encoders.wheel_speeds_rad_per_s;
         if let Some(traction) = &mut self.traction {
-            if !safety.encoders_valid {
-                wheel_speeds = self
-                    .kinematics
-                    .wheel_speeds_rad_per_s(&relative_rate_from_planar(
-                        [states.frontal[BALL_RATE], states.sagittal[BALL_RATE]],
-                        [states.frontal[TILT_RATE], states.sagittal[TILT_RATE]],
-                        states.spin[1],
-                    ));
-            } else if safety.imu_valid {
-                let rel = self.kinematics.relative_rate_rad_per_s(&wheel_speeds);
-                let monitor = traction.monitor_mut();
-                if monitor.update(&self.kinematics, &states, &rel, dt).1 {
-                    safety.mode = self.supervisor.report(Fault::WheelSlip);
-                    safety.faults.insert(Fault::WheelSlip);
-                }
+            let (speeds, stop) = traction.before_shaping(
+                &self.kinematics,
+                &states,
+                &safety,
+                wheel_speeds,
+                &terms,
+                dt,
+            );
+            wheel_speeds = speeds;
+            if stop {
+                safety.mode = self.supervisor.report(Fault::WheelSlip);
+                safety.faults.insert(Fault::WheelSlip);
             }
         }
         // By reference: the command is a large enum (a trajectory borrows its samples).
@@ -475,15 +482,21 @@ impl<T: RealField + Copy> BallbotController<T> {
         let yaw_rate_c = c.spin[1];
         c.spin[0] +=
             ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_secs * yaw_rate_c;
-        // One sin_cos of each tilt serves the plane's reference model and the wheel mapping.
-        let roll_sin_cos = states.frontal[TILT].sin_cos();
-        let pitch_sin_cos = states.sagittal[TILT].sin_cos();
-        let fro =
-            self.frontal
-                .step_with_tilt_sin_cos(&states.frontal, &c.frontal, dt, roll_sin_cos);
-        let sag =
-            self.sagittal
-                .step_with_tilt_sin_cos(&states.sagittal, &c.sagittal, dt, pitch_sin_cos);
+        let (mut fro_tilt_accel, mut sag_tilt_accel) = (T::zero(), T::zero());
+        let fro = self.frontal.step_with_tilt_sin_cos(
+            &states.frontal,
+            &c.frontal,
+            dt,
+            roll_sin_cos,
+            &mut fro_tilt_accel,
+        );
+        let sag = self.sagittal.step_with_tilt_sin_cos(
+            &states.sagittal,
+            &c.sagittal,
+            dt,
+            pitch_sin_cos,
+            &mut sag_tilt_accel,
+        );
         let spin = self.spin.step(&states.spin, &c.spin, dt);
         let planar_torque = Vector3::new(
             fro.reference_torque_nm,
@@ -491,6 +504,20 @@ impl<T: RealField + Copy> BallbotController<T> {
             spin.reference_torque_nm,
         );
         let saturation = self.kinematics.saturate_planar_torque(&planar_torque);
+        if let Some(traction) = &mut self.traction {
+            // The contacts under this step's torque, from the planes' model accelerations.
+            let accelerations = [
+                Vector2::new(fro_tilt_accel, fro.reference_ball_accel_rad_per_s2),
+                Vector2::new(sag_tilt_accel, sag.reference_ball_accel_rad_per_s2),
+            ];
+            traction.after_planes(
+                &self.kinematics,
+                &states,
+                &terms,
+                accelerations,
+                &planar_torque,
+            );
+        }
         let reference_rate = Vector3::new(
             fro.reference_ball_rate_rad_per_s,
             sag.reference_ball_rate_rad_per_s,
@@ -500,9 +527,7 @@ impl<T: RealField + Copy> BallbotController<T> {
         // a component about the body's z axis that the wheels see like a yaw rate (see
         // `ball_body_z_rate_per_ball_rate`). The upright mapping (an ablation) drops it.
         let k = match self.config.wheel_mapping {
-            WheelMapping::RollingBall => {
-                ball_body_z_rate_per_ball_rate_sin_cos(roll_sin_cos, pitch_sin_cos)
-            }
+            WheelMapping::RollingBall => terms.k,
             WheelMapping::Upright => [T::zero(); 2],
         };
         let relative = Vector3::new(
@@ -543,10 +568,10 @@ impl<T: RealField + Copy> BallbotController<T> {
             };
             return self.disabled(safety, states);
         }
-        let traction = self.traction.as_mut().map(|t| {
-            t.monitor_mut().record_torque(&saturation.planar_torque_nm);
-            t.finish_step(shaped.accel_limit_m_per_s2, shaped.limited)
-        });
+        let traction = self
+            .traction
+            .as_mut()
+            .map(|t| t.finish_step(shaped.accel_limit_m_per_s2, shaped.limited));
         OuterOutput {
             motors: MotorReferences {
                 enabled: true,

@@ -420,7 +420,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn step(&mut self, command: &Command<'_, T>, dt_secs: T) -> ShapedCommand<T> {
-        self.step_inner(command, dt_secs, None)
+        self.step_inner::<NoLimit>(command, dt_secs, None)
     }
 
     /// [`Self::step`] within a direction-dependent acceleration limit (e.g. the traction
@@ -463,11 +463,13 @@ impl<T: RealField + Copy> CommandShaper<T> {
         self.step_inner(command, dt_secs, Some(limit))
     }
 
-    fn step_inner(
+    /// The step, monomorphised per limit type: with `None` for [`NoLimit`] the limit's code
+    /// is compiled out of [`Self::step`].
+    fn step_inner<L: AccelLimit<T>>(
         &mut self,
         command: &Command<'_, T>,
         dt_secs: T,
-        limit: Option<&dyn AccelLimit<T>>,
+        limit: Option<&L>,
     ) -> ShapedCommand<T> {
         let command_finite = command.is_finite();
         let command = if command_finite {
@@ -520,7 +522,12 @@ impl<T: RealField + Copy> CommandShaper<T> {
         if let Some(limit) = limit {
             let (vx0, vy0) = (self.vx.value(), self.vy.value());
             let (ex, ey) = (target_x - vx0, target_y - vy0);
-            let norm = (ex * ex + ey * ey).sqrt();
+            // On target (cruising, standing): nothing to limit, no square root.
+            let norm = if ex == zero && ey == zero {
+                zero
+            } else {
+                (ex * ex + ey * ey).sqrt()
+            };
             if norm > zero && norm.is_finite() {
                 let (dx, dy) = (ex / norm, ey / norm);
                 let braking = dx * vx0 + dy * vy0 < zero;
@@ -641,6 +648,15 @@ impl<T: RealField + Copy> CommandShaper<T> {
             accel_limit_m_per_s2,
             limited,
         }
+    }
+}
+
+/// No acceleration limit: [`CommandShaper::step`]'s (never asked).
+struct NoLimit;
+
+impl<T: RealField + Copy> AccelLimit<T> for NoLimit {
+    fn accel_limit_m_per_s2(&self, _dir_x: T, _dir_y: T, _braking: bool) -> T {
+        lit(f64::INFINITY)
     }
 }
 

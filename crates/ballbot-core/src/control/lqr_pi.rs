@@ -375,11 +375,13 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
         command: &WipState<T>,
         dt_secs: T,
     ) -> LqrPiOuterOutput<T> {
-        self.step_with(measured, command, dt_secs, None)
+        self.step_with(measured, command, dt_secs, None, None)
     }
 
     /// [`Self::step`] with `(sin, cos)` of the measured tilt already computed (the 3D
-    /// controller needs them for its wheel mapping too): the same result, one `sin_cos` less.
+    /// controller needs them for its wheel mapping too): the same result, one `sin_cos` less,
+    /// and the reference model's tilt acceleration written to `tilt_accel_rad_per_s2` (rad/s^2;
+    /// left alone when the step is rejected).
     #[inline(always)]
     pub(crate) fn step_with_tilt_sin_cos(
         &mut self,
@@ -387,8 +389,15 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
         command: &WipState<T>,
         dt_secs: T,
         tilt_sin_cos: (T, T),
+        tilt_accel_rad_per_s2: &mut T,
     ) -> LqrPiOuterOutput<T> {
-        self.step_with(measured, command, dt_secs, Some(tilt_sin_cos))
+        self.step_with(
+            measured,
+            command,
+            dt_secs,
+            Some(tilt_sin_cos),
+            Some(tilt_accel_rad_per_s2),
+        )
     }
 
     #[inline(always)]
@@ -398,6 +407,7 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
         command: &WipState<T>,
         dt_secs: T,
         tilt_sin_cos: Option<(T, T)>,
+        tilt_accel_rad_per_s2: Option<&mut T>,
     ) -> LqrPiOuterOutput<T> {
         let [tilt, tilt_rate, ball_rate] = self.config.lqr.terms(measured, command);
         let requested = tilt + tilt_rate + ball_rate;
@@ -414,9 +424,10 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
         }
         let (torque, status) = saturate(requested, self.config.lqr.max_torque_nm);
         let (sin, cos) = tilt_sin_cos.unwrap_or_else(|| measured[TILT].sin_cos());
-        let accel = self
+        let accelerations = self
             .model
-            .accelerations_with_sin_cos(measured, sin, cos, torque)[1];
+            .accelerations_with_sin_cos(measured, sin, cos, torque);
+        let accel = accelerations[1];
 
         let measured_rate = measured[BALL_RATE];
         let band = self.config.max_speed_error_rad_per_s;
@@ -433,6 +444,9 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
             return self.rejected();
         }
         self.reference_ball_rate_rad_per_s = Some(next);
+        if let Some(out) = tilt_accel_rad_per_s2 {
+            *out = accelerations[0];
+        }
         LqrPiOuterOutput {
             reference_torque_nm: torque,
             reference_ball_rate_rad_per_s: output_rate,

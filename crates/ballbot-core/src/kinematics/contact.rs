@@ -321,20 +321,35 @@ pub fn decoupled_support_force_n<T: RealField + Copy>(
     sagittal: (&WipParams<T>, &WipState<T>, &Vector2<T>),
     frontal: (&WipParams<T>, &WipState<T>, &Vector2<T>),
 ) -> Vector3<T> {
+    decoupled_support_force_sin_cos_n(
+        (
+            sagittal.0,
+            sagittal.1,
+            sagittal.2,
+            sagittal.1[TILT].sin_cos(),
+        ),
+        (frontal.0, frontal.1, frontal.2, frontal.1[TILT].sin_cos()),
+    )
+}
+
+/// [`decoupled_support_force_n`] with each plane's `(sin, cos)` of its tilt given.
+fn decoupled_support_force_sin_cos_n<T: RealField + Copy>(
+    sagittal: (&WipParams<T>, &WipState<T>, &Vector2<T>, (T, T)),
+    frontal: (&WipParams<T>, &WipState<T>, &Vector2<T>, (T, T)),
+) -> Vector3<T> {
     // Inertial part of one plane: (along its travel, up).
-    let inertial = |p: &WipParams<T>, s: &WipState<T>, acc: &Vector2<T>| {
-        let (sin_t, cos_t) = s[TILT].sin_cos();
+    let inertial = |p: &WipParams<T>, s: &WipState<T>, acc: &Vector2<T>, (sin_t, cos_t): (T, T)| {
         let m = p.body_mass_kg;
         (
             m * (p.ball_radius_m * acc[1] * cos_t + p.com_height_m * acc[0]),
             m * (p.ball_radius_m * acc[1] * sin_t - p.com_height_m * s[TILT_RATE] * s[TILT_RATE]),
         )
     };
-    let (along_x, up_sagittal) = inertial(sagittal.0, sagittal.1, sagittal.2);
-    let (along_minus_y, up_frontal) = inertial(frontal.0, frontal.1, frontal.2);
+    let (along_x, up_sagittal) = inertial(sagittal.0, sagittal.1, sagittal.2, sagittal.3);
+    let (along_minus_y, up_frontal) = inertial(frontal.0, frontal.1, frontal.2, frontal.3);
     let weight = sagittal.0.body_mass_kg * sagittal.0.gravity_m_per_s2;
-    let (sin_y, cos_y) = sagittal.1[TILT].sin_cos();
-    let (sin_x, cos_x) = frontal.1[TILT].sin_cos();
+    let (sin_y, cos_y) = sagittal.3;
+    let (sin_x, cos_x) = frontal.3;
     Vector3::new(
         along_x - weight * sin_y,
         -along_minus_y + weight * sin_x * cos_y,
@@ -418,26 +433,27 @@ impl<T: RealField + Copy> OmniKinematics<T> {
         wheel_torques_nm: &Vector3<T>,
     ) -> ContactForces<T> {
         let normal = self.normal_forces_n(support_force_n, wheel_torques_nm);
+        ContactForces {
+            wheels: core::array::from_fn(|i| self.wheel_contact(normal[i], wheel_torques_nm[i])),
+        }
+    }
+
+    /// One contact from its normal force (N) and its omniwheel's torque (N m).
+    pub(crate) fn wheel_contact(&self, normal_force_n: T, wheel_torque_nm: T) -> WheelContact<T> {
         let mu = self.drivetrain.wheel_ball_friction;
-        let wheel_radius_m = self.drivetrain.wheel_radius_m;
-        let infinity: T = nalgebra::convert(f64::INFINITY);
-        let wheels = core::array::from_fn(|i| {
-            let normal_force_n = normal[i];
-            let traction_n = wheel_torques_nm[i] / wheel_radius_m;
-            let lifted_off = normal_force_n <= T::zero();
-            let friction_utilisation = if lifted_off {
-                infinity
-            } else {
-                traction_n.abs() / (mu * normal_force_n)
-            };
-            WheelContact {
-                normal_force_n,
-                traction_n,
-                friction_utilisation,
-                lifted_off,
-            }
-        });
-        ContactForces { wheels }
+        let traction_n = wheel_torque_nm / self.drivetrain.wheel_radius_m;
+        let lifted_off = normal_force_n <= T::zero();
+        let friction_utilisation = if lifted_off {
+            nalgebra::convert(f64::INFINITY)
+        } else {
+            traction_n.abs() / (mu * normal_force_n)
+        };
+        WheelContact {
+            normal_force_n,
+            traction_n,
+            friction_utilisation,
+            lifted_off,
+        }
     }
 
     /// The contact forces of a planar WIP motion at heading `heading_rad` (body frame, 0 =
@@ -469,7 +485,7 @@ impl<T: RealField + Copy> OmniKinematics<T> {
         s: &WipState<T>,
         torque_nm: T,
     ) -> ContactForces<T> {
-        let (acc, contact_torque_nm) = transmitted_torque(wip, s, torque_nm);
+        let (acc, contact_torque_nm) = transmitted_torque(wip, s, s[TILT].sin_cos(), torque_nm);
         let wheel =
             self.wheel_torques_nm(&planar_torque_at_heading(heading_rad, contact_torque_nm));
         let support = planar_support_force_n(wip.params(), heading_rad, s, &acc);
@@ -527,29 +543,82 @@ impl<T: RealField + Copy> OmniKinematics<T> {
         frontal: (&Wip<T>, &WipState<T>),
         planar_torque_nm: &Vector3<T>,
     ) -> ContactForces<T> {
-        let (acc_y, tau_y) = transmitted_torque(sagittal.0, sagittal.1, planar_torque_nm[1]);
-        let (acc_x, tau_x) = transmitted_torque(frontal.0, frontal.1, planar_torque_nm[0]);
-        let wheel = self.wheel_torques_nm(&Vector3::new(tau_x, tau_y, planar_torque_nm[2]));
-        let support = decoupled_support_force_n(
-            (sagittal.0.params(), sagittal.1, &acc_y),
-            (frontal.0.params(), frontal.1, &acc_x),
+        let (normal, wheel) = self.decoupled_normal_forces_sin_cos_n(
+            (sagittal.0, sagittal.1, sagittal.1[TILT].sin_cos()),
+            (frontal.0, frontal.1, frontal.1[TILT].sin_cos()),
+            planar_torque_nm,
         );
-        self.contact_forces(&support, &wheel)
+        ContactForces {
+            wheels: core::array::from_fn(|i| self.wheel_contact(normal[i], wheel[i])),
+        }
+    }
+
+    /// The normal forces (N) and omniwheel torques (N m) of
+    /// [`Self::decoupled_contact_forces`], with each plane's `(sin, cos)` of its tilt given.
+    pub(crate) fn decoupled_normal_forces_sin_cos_n(
+        &self,
+        sagittal: (&Wip<T>, &WipState<T>, (T, T)),
+        frontal: (&Wip<T>, &WipState<T>, (T, T)),
+        planar_torque_nm: &Vector3<T>,
+    ) -> (Vector3<T>, Vector3<T>) {
+        let acceleration = |wip: &Wip<T>, s: &WipState<T>, (sin, cos): (T, T), torque_nm: T| {
+            wip.accelerations_with_sin_cos(s, sin, cos, torque_nm)
+        };
+        let acc_y = acceleration(sagittal.0, sagittal.1, sagittal.2, planar_torque_nm[1]);
+        let acc_x = acceleration(frontal.0, frontal.1, frontal.2, planar_torque_nm[0]);
+        self.decoupled_normal_forces_with_accelerations_n(
+            (sagittal.0, sagittal.1, &acc_y, sagittal.2),
+            (frontal.0, frontal.1, &acc_x, frontal.2),
+            planar_torque_nm,
+        )
+    }
+
+    /// [`Self::decoupled_normal_forces_sin_cos_n`] with each plane's accelerations
+    /// `[theta_ddot, phi_ddot]` under its torque given too (the 3D controller's LQR-PI planes
+    /// compute them for their reference models: the slip monitor's every-step prediction then
+    /// needs neither trigonometry nor the dynamics).
+    pub(crate) fn decoupled_normal_forces_with_accelerations_n(
+        &self,
+        sagittal: (&Wip<T>, &WipState<T>, &Vector2<T>, (T, T)),
+        frontal: (&Wip<T>, &WipState<T>, &Vector2<T>, (T, T)),
+        planar_torque_nm: &Vector3<T>,
+    ) -> (Vector3<T>, Vector3<T>) {
+        let tau_y = contact_torque(sagittal.0, sagittal.1, sagittal.2, planar_torque_nm[1]);
+        let tau_x = contact_torque(frontal.0, frontal.1, frontal.2, planar_torque_nm[0]);
+        let wheel = self.wheel_torques_nm(&Vector3::new(tau_x, tau_y, planar_torque_nm[2]));
+        let support = decoupled_support_force_sin_cos_n(
+            (sagittal.0.params(), sagittal.1, sagittal.2, sagittal.3),
+            (frontal.0.params(), frontal.1, frontal.2, frontal.3),
+        );
+        (self.normal_forces_n(&support, &wheel), wheel)
     }
 }
 
-/// The WIP accelerations `[theta_ddot, phi_ddot]` under `torque_nm`, and the torque the
-/// wheels transmit to the ball through the contacts,
-/// `tau - I_W (phi_ddot - theta_ddot) - b_m (phi_dot - theta_dot)`.
+/// The WIP accelerations `[theta_ddot, phi_ddot]` under `torque_nm` (with `(sin, cos)` of the
+/// tilt), and the torque the wheels transmit to the ball through the contacts
+/// ([`contact_torque`]).
 fn transmitted_torque<T: RealField + Copy>(
     wip: &Wip<T>,
     s: &WipState<T>,
+    (sin_t, cos_t): (T, T),
     torque_nm: T,
 ) -> (Vector2<T>, T) {
+    let acc = wip.accelerations_with_sin_cos(s, sin_t, cos_t, torque_nm);
+    (acc, contact_torque(wip, s, &acc, torque_nm))
+}
+
+/// The torque the wheels transmit to the ball through the contacts when the WIP `wip` in
+/// state `s` accelerates at `acc = [theta_ddot, phi_ddot]` under `torque_nm`:
+/// `tau - I_W (phi_ddot - theta_ddot) - b_m (phi_dot - theta_dot)` (reflected wheel inertia
+/// and drivetrain friction take their share before the contact).
+fn contact_torque<T: RealField + Copy>(
+    wip: &Wip<T>,
+    s: &WipState<T>,
+    acc: &Vector2<T>,
+    torque_nm: T,
+) -> T {
     let p = wip.params();
-    let acc = wip.accelerations(s, torque_nm);
-    let contact_torque_nm = torque_nm
+    torque_nm
         - p.wheel_inertia_kg_m2 * (acc[1] - acc[0])
-        - p.drive_damping_nm_s_per_rad * (s[BALL_RATE] - s[TILT_RATE]);
-    (acc, contact_torque_nm)
+        - p.drive_damping_nm_s_per_rad * (s[BALL_RATE] - s[TILT_RATE])
 }

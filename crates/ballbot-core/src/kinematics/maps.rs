@@ -45,6 +45,16 @@ impl<T: RealField + Copy> OmniKinematics<T> {
         self.rel_from_wheel_speed * wheel_speeds_rad_per_s
     }
 
+    /// The z part alone of [`Self::relative_rate_rad_per_s`] (rad/s): the one the slip monitor
+    /// needs, a third of the work.
+    #[inline]
+    pub(crate) fn relative_z_rate_rad_per_s(&self, wheel_speeds_rad_per_s: &Vector3<T>) -> T {
+        self.rel_from_wheel_speed
+            .row(2)
+            .transpose()
+            .dot(wheel_speeds_rad_per_s)
+    }
+
     /// Motor rotor speeds (rad/s): `gear_ratio` times [`Self::wheel_speeds_rad_per_s`].
     ///
     /// ```

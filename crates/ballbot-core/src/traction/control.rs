@@ -1,11 +1,16 @@
 //! [`TractionControl`]: the envelope and the slip monitor as the 3D controller runs them, and
 //! what it reports ([`TractionStatus`]).
 
+use super::monitor::TiltTerms;
 use super::{SlipMonitor, SlipStatus, TractionEnvelope, TractionParams};
 use crate::command::AccelLimit;
+use crate::estimation::PlanarStates;
+use crate::kinematics::relative_rate_from_planar;
 use crate::num::{max, min};
-use crate::{BallbotParams, Error};
-use nalgebra::{RealField, Vector3};
+use crate::safety::SafetyStatus;
+use crate::wip::{BALL_RATE, TILT_RATE};
+use crate::{BallbotParams, Error, OmniKinematics};
+use nalgebra::{RealField, Vector2, Vector3};
 
 /// What traction-aware control did in one outer step
 /// ([`OuterOutput::traction`](crate::ballbot::OuterOutput::traction)).
@@ -133,18 +138,73 @@ impl<T: RealField + Copy> TractionControl<T> {
         &mut self.monitor
     }
 
+    /// The 3D controller's step before command shaping: the slip monitor's update on this
+    /// step's valid samples, with the tilt terms the controller computed. Returns the omniwheel speeds for the actuator limit (measured, or
+    /// from the estimate when the encoder sample was rejected) and whether a persisting slip
+    /// asks for a controlled stop.
+    #[inline]
+    pub(crate) fn before_shaping(
+        &mut self,
+        kinematics: &OmniKinematics<T>,
+        states: &PlanarStates<T>,
+        safety: &SafetyStatus,
+        measured_wheel_speeds_rad_per_s: Vector3<T>,
+        terms: &TiltTerms<T>,
+        dt_secs: T,
+    ) -> (Vector3<T>, bool) {
+        if !safety.encoders_valid {
+            let estimated = kinematics.wheel_speeds_rad_per_s(&relative_rate_from_planar(
+                [states.frontal[BALL_RATE], states.sagittal[BALL_RATE]],
+                [states.frontal[TILT_RATE], states.sagittal[TILT_RATE]],
+                states.spin[1],
+            ));
+            return (estimated, false);
+        }
+        let speeds = measured_wheel_speeds_rad_per_s;
+        if !safety.imu_valid {
+            return (speeds, false);
+        }
+        let rel_z = kinematics.relative_z_rate_rad_per_s(&speeds);
+        let stop = self
+            .monitor
+            .update_with_sin_cos(kinematics, states, rel_z, terms, dt_secs);
+        (speeds, stop)
+    }
+
+    /// The 3D controller's step after its planes: the contact prediction under this step's
+    /// reference planar torque, from the planes' model accelerations `[theta_ddot, phi_ddot]`
+    /// (frontal, sagittal). Out of line: the controller without traction control keeps its own
+    /// code layout.
+    #[inline(never)]
+    pub(crate) fn after_planes(
+        &mut self,
+        kinematics: &OmniKinematics<T>,
+        states: &PlanarStates<T>,
+        terms: &TiltTerms<T>,
+        accelerations: [Vector2<T>; 2],
+        planar_torque_nm: &Vector3<T>,
+    ) {
+        let tilts = (terms.frontal_sin_cos, terms.sagittal_sin_cos);
+        self.monitor.predict_with_accelerations(
+            kinematics,
+            states,
+            tilts,
+            accelerations,
+            planar_torque_nm,
+        );
+    }
+
     /// The limit the shaper applies in this step, with the omniwheels at
     /// `wheel_speeds_rad_per_s`.
     pub(crate) fn step_limit(&self, wheel_speeds_rad_per_s: Vector3<T>) -> StepLimit<'_, T> {
         StepLimit {
-            envelope: &self.envelope,
+            control: self,
             wheel_speeds_rad_per_s,
-            scale: self.monitor.envelope_scale(),
-            min_braking_decel_m_per_s2: self.monitor.min_braking_decel_m_per_s2(),
         }
     }
 
     /// Counts a limited step and returns the step's status.
+    #[inline(always)]
     pub(crate) fn finish_step(
         &mut self,
         accel_limit_m_per_s2: Option<T>,
@@ -165,22 +225,21 @@ impl<T: RealField + Copy> TractionControl<T> {
 /// The envelope of one step, as the command shaper asks it: friction table times the slip
 /// reaction's scale, the actuators' limit at the present wheel speeds, and the braking floor.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct StepLimit<'a, T> {
-    envelope: &'a TractionEnvelope<T>,
+pub(crate) struct StepLimit<'a, T: RealField + Copy> {
+    control: &'a TractionControl<T>,
     wheel_speeds_rad_per_s: Vector3<T>,
-    scale: T,
-    min_braking_decel_m_per_s2: T,
 }
 
 impl<T: RealField + Copy> AccelLimit<T> for StepLimit<'_, T> {
     fn accel_limit_m_per_s2(&self, dir_x: T, dir_y: T, braking: bool) -> T {
-        let friction = self.envelope.friction_limit_m_per_s2(dir_x, dir_y) * self.scale;
-        let actuators =
-            self.envelope
-                .actuator_limit_m_per_s2(dir_x, dir_y, &self.wheel_speeds_rad_per_s);
+        // Read when asked: a settled command never asks.
+        let (envelope, monitor) = (&self.control.envelope, &self.control.monitor);
+        let friction = envelope.friction_limit_m_per_s2(dir_x, dir_y) * monitor.envelope_scale();
+        let speeds = &self.wheel_speeds_rad_per_s;
+        let actuators = envelope.actuator_limit_m_per_s2(dir_x, dir_y, speeds);
         let limit = min(friction, actuators);
         if braking {
-            max(limit, self.min_braking_decel_m_per_s2)
+            max(limit, monitor.min_braking_decel_m_per_s2())
         } else {
             limit
         }

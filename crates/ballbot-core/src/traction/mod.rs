@@ -67,5 +67,6 @@ mod params;
 
 pub use control::{TractionControl, TractionStatus};
 pub use envelope::{ENVELOPE_DIRECTIONS, TractionEnvelope};
+pub(crate) use monitor::TiltTerms;
 pub use monitor::{SlipMonitor, SlipStatus};
 pub use params::TractionParams;

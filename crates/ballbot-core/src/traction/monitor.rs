@@ -1,11 +1,26 @@
 //! [`SlipMonitor`]: wheel-slip and lift-off detection and the traction-control reaction.
 
 use super::TractionParams;
+use crate::check::lit;
 use crate::estimation::{PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos};
 use crate::num::{max, min};
 use crate::wip::{BALL_RATE, TILT};
 use crate::{OmniKinematics, WHEEL_COUNT, Wip};
-use nalgebra::{RealField, Vector3};
+use nalgebra::{RealField, Vector2, Vector3};
+
+/// The smallest predicted friction-cone use at a slip's onset from which the monitor infers
+/// the friction (see [`SlipMonitor`]).
+const MIN_USE_FOR_ESTIMATE: f64 = 0.25;
+
+/// `(sin, cos)` of the frontal and the sagittal tilt, and the ball's body-z rate per ball
+/// rate `k` ([`crate::estimation::ball_body_z_rate_per_ball_rate`]): what the 3D controller
+/// has computed already and hands to the monitor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct TiltTerms<T> {
+    pub(crate) frontal_sin_cos: (T, T),
+    pub(crate) sagittal_sin_cos: (T, T),
+    pub(crate) k: [T; 2],
+}
 
 /// What the slip monitor found in one step, and the traction state it keeps.
 ///
@@ -26,8 +41,6 @@ pub struct SlipStatus<T: nalgebra::Scalar> {
     pub predicted_normal_force_n: Vector3<T>,
     /// Whether a predicted normal force is below the envelope's minimum.
     pub lift_off_imminent: bool,
-    /// How long the present slip has lasted (s; 0 without slip).
-    pub slip_secs: T,
     /// The factor on the envelope now: 1, or less after a slip or an imminent lift-off.
     pub accel_scale: T,
     /// The wheel-ball friction the envelope uses now (the parameter's `mu`, or less after a
@@ -51,7 +64,6 @@ impl<T: RealField + Copy> SlipStatus<T> {
             slipping: [false; WHEEL_COUNT],
             predicted_normal_force_n: Vector3::zeros(),
             lift_off_imminent: false,
-            slip_secs: T::zero(),
             accel_scale: T::one(),
             friction_estimate: mu,
             slip_events: 0,
@@ -89,7 +101,9 @@ impl<T: RealField + Copy> SlipStatus<T> {
 /// back to zero by itself when the wheel grips again.
 ///
 /// **Lift-off.** The contact model ([`OmniKinematics::decoupled_contact_forces`]) predicts the
-/// normal forces for the measured state and the last reference torque.
+/// normal forces for the measured state and the reference torque (in the 3D controller from
+/// its planes' reference-model accelerations, after they ran; standalone, in [`Self::update`],
+/// from the torque given to [`Self::record_torque`]); the next update acts on it.
 ///
 /// **Reaction** (the controller applies it when [`TractionParams::enabled`]): while a wheel
 /// slips or a lift-off is imminent the envelope is scaled by
@@ -98,7 +112,9 @@ impl<T: RealField + Copy> SlipStatus<T> {
 /// for a controlled stop ([`Self::update`] returns `true`). At each slip's onset the friction
 /// estimate drops to `mu` times the predicted friction-cone use of the slipping wheel (the
 /// friction the wheel actually had, as far as the model knows), if that is lower and the
-/// prediction sound (no predicted lift-off); it climbs back to `mu` over
+/// inference sound: no predicted lift-off, and a predicted use of at least a quarter (a slip
+/// of a lightly loaded wheel has another cause: a bump, a glitch, a model error). It climbs
+/// back to `mu` over
 /// [`TractionParams::friction_recovery_secs`].
 ///
 /// Allocation-free, O(1) per step.
@@ -134,8 +150,12 @@ pub struct SlipMonitor<T: RealField + Copy> {
     mu: T,
     /// Observed momenta `[frontal, sagittal]` (kg m^2/s); `None` until the first update.
     momentum_estimate: Option<[T; 2]>,
-    /// The last reference planar torque (N m), for the normal-force prediction.
+    /// The last reference planar torque (N m), for [`Self::update`]'s normal-force prediction.
     last_torque_nm: Vector3<T>,
+    /// The omniwheel torques of the last prediction (N m), for the friction estimate.
+    predicted_wheel_torques_nm: Vector3<T>,
+    /// How long the present slip has lasted (s; 0 without slip).
+    slip_secs: T,
     status: SlipStatus<T>,
 }
 
@@ -163,6 +183,8 @@ impl<T: RealField + Copy> SlipMonitor<T> {
             mu,
             momentum_estimate: None,
             last_torque_nm: Vector3::zeros(),
+            predicted_wheel_torques_nm: Vector3::zeros(),
+            slip_secs: T::zero(),
             status: SlipStatus::quiet(mu),
         })
     }
@@ -204,9 +226,11 @@ impl<T: RealField + Copy> SlipMonitor<T> {
     pub fn reset(&mut self) {
         self.momentum_estimate = None;
         self.last_torque_nm = Vector3::zeros();
+        self.predicted_wheel_torques_nm = Vector3::zeros();
+        self.status.predicted_normal_force_n = Vector3::zeros();
         self.status.slip_speed_m_per_s = Vector3::zeros();
         self.status.slipping = [false; WHEEL_COUNT];
-        self.status.slip_secs = T::zero();
+        self.slip_secs = T::zero();
         self.status.accel_scale = T::one();
         self.status.lift_off_imminent = false;
     }
@@ -271,22 +295,82 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         relative_rate_rad_per_s: &Vector3<T>,
         dt_secs: T,
     ) -> (SlipStatus<T>, bool) {
+        let tilts = (
+            states.frontal[TILT].sin_cos(),
+            states.sagittal[TILT].sin_cos(),
+        );
+        if states.is_finite() {
+            let (normal, wheel) = kinematics.decoupled_normal_forces_sin_cos_n(
+                (&self.sagittal, &states.sagittal, tilts.1),
+                (&self.frontal, &states.frontal, tilts.0),
+                &self.last_torque_nm,
+            );
+            self.set_prediction(&normal, &wheel);
+        }
+        let rel_z = relative_rate_rad_per_s[2];
+        let terms = TiltTerms {
+            frontal_sin_cos: tilts.0,
+            sagittal_sin_cos: tilts.1,
+            k: ball_body_z_rate_per_ball_rate_sin_cos(tilts.0, tilts.1),
+        };
+        let stop = self.update_with_sin_cos(kinematics, states, rel_z, &terms, dt_secs);
+        (self.status, stop)
+    }
+
+    /// The normal forces for the measured `states` (with `(sin, cos)` of the frontal and the
+    /// sagittal tilt) under the reference planar torque `planar_torque_nm`, from the planes'
+    /// accelerations `[theta_ddot, phi_ddot]` under it (frontal, sagittal), which the
+    /// controller's reference models computed: [`SlipStatus::predicted_normal_force_n`] and
+    /// [`SlipStatus::lift_off_imminent`], acted on in the next update.
+    pub(crate) fn predict_with_accelerations(
+        &mut self,
+        kinematics: &OmniKinematics<T>,
+        states: &PlanarStates<T>,
+        (sin_cos_x, sin_cos_y): ((T, T), (T, T)),
+        [acc_x, acc_y]: [Vector2<T>; 2],
+        planar_torque_nm: &Vector3<T>,
+    ) {
+        let (normal, wheel) = kinematics.decoupled_normal_forces_with_accelerations_n(
+            (&self.sagittal, &states.sagittal, &acc_y, sin_cos_y),
+            (&self.frontal, &states.frontal, &acc_x, sin_cos_x),
+            planar_torque_nm,
+        );
+        self.set_prediction(&normal, &wheel);
+    }
+
+    fn set_prediction(&mut self, normal: &Vector3<T>, wheel_torques_nm: &Vector3<T>) {
+        if normal
+            .iter()
+            .chain(wheel_torques_nm.iter())
+            .all(|x| x.is_finite())
+        {
+            self.status.predicted_normal_force_n = *normal;
+            self.status.lift_off_imminent =
+                normal.iter().any(|&n| n < self.params.min_normal_force_n);
+            self.predicted_wheel_torques_nm = *wheel_torques_nm;
+        }
+    }
+
+    /// [`Self::update`] with only the z part of the relative rate, and `(sin, cos)` of the
+    /// frontal and the sagittal tilt and the ball's body-z rate per ball rate `k` given (the
+    /// controller has them already); returns only whether to stop (the status stays in
+    /// [`Self::status`]).
+    pub(crate) fn update_with_sin_cos(
+        &mut self,
+        kinematics: &OmniKinematics<T>,
+        states: &PlanarStates<T>,
+        relative_z_rate_rad_per_s: T,
+        terms: &TiltTerms<T>,
+        dt_secs: T,
+    ) -> bool {
         let p = &self.params;
         let fro = &states.frontal;
         let sag = &states.sagittal;
-        let sin_cos_x = fro[TILT].sin_cos();
-        let sin_cos_y = sag[TILT].sin_cos();
+        let (sin_cos_x, sin_cos_y, k) = (terms.frontal_sin_cos, terms.sagittal_sin_cos, terms.k);
         let measured = [
             self.frontal.momentum(fro, sin_cos_x.1),
             self.sagittal.momentum(sag, sin_cos_y.1),
         ];
-        let usable = states.is_finite()
-            && relative_rate_rad_per_s.iter().all(|x| x.is_finite())
-            && dt_secs.is_finite()
-            && dt_secs > T::zero();
-        if !usable {
-            return (self.status, false);
-        }
         let estimate = self.momentum_estimate.unwrap_or(measured);
         let residual = [measured[0] - estimate[0], measured[1] - estimate[1]];
         // Coast while slipping: the residual keeps the slip.
@@ -299,66 +383,68 @@ impl<T: RealField + Copy> SlipMonitor<T> {
             self.frontal.momentum_rate(fro, sin_cos_x.0),
             self.sagittal.momentum_rate(sag, sin_cos_y.0),
         ];
-        self.momentum_estimate = Some([
+        let next = [
             estimate[0] + (rates[0] + gain * residual[0]) * dt_secs,
             estimate[1] + (rates[1] + gain * residual[1]) * dt_secs,
-        ]);
-        let k = ball_body_z_rate_per_ball_rate_sin_cos(sin_cos_x, sin_cos_y);
+        ];
         let expected_z = k[0] * fro[BALL_RATE] + k[1] * sag[BALL_RATE] - states.spin[1];
         let rate_error = Vector3::new(
             residual[0] / self.frontal.momentum_per_ball_rate(sin_cos_x.1),
             residual[1] / self.sagittal.momentum_per_ball_rate(sin_cos_y.1),
-            relative_rate_rad_per_s[2] - expected_z,
+            relative_z_rate_rad_per_s - expected_z,
         );
         let rim_m = kinematics.drivetrain().wheel_radius_m;
         let slip = kinematics.wheel_speeds_rad_per_s(&rate_error) * rim_m;
+        // Non-finite inputs (or a non-positive period) change nothing: NaN anywhere reaches
+        // the slip or the next estimate.
+        let finite = slip.iter().chain(next.iter()).all(|x| x.is_finite());
+        if !(finite && dt_secs > T::zero()) {
+            return false;
+        }
+        self.momentum_estimate = Some(next);
         let threshold = p.slip_speed_threshold_m_per_s;
         let slipping = core::array::from_fn(|i| slip[i].abs() > threshold);
-        let contacts = kinematics.decoupled_contact_forces(
-            (&self.sagittal, sag),
-            (&self.frontal, fro),
-            &self.last_torque_nm,
-        );
-        let normal = contacts.normal_forces_n();
-        let lift_off_imminent = normal.iter().any(|&n| n < p.min_normal_force_n);
         let any = slipping.iter().any(|&s| s);
         let onset = any && !self.status.any_slipping();
-        let mut status = self.status;
         let mu = self.mu;
+        let status = &mut self.status;
         if onset {
             status.slip_events = status.slip_events.saturating_add(1);
             // The friction the slipping wheel had, as far as the model knows.
+            let normal = &status.predicted_normal_force_n;
+            let wheel_torques = &self.predicted_wheel_torques_nm;
             let worst = (0..WHEEL_COUNT)
                 .filter(|&i| slipping[i])
                 .fold(T::zero(), |acc, i| {
-                    max(acc, contacts.wheels[i].friction_utilisation)
+                    let contact = kinematics.wheel_contact(normal[i], wheel_torques[i]);
+                    max(acc, contact.friction_utilisation)
                 });
-            if p.estimate_friction && !contacts.any_lifted_off() && worst.is_finite() {
+            let lifted_off = normal.iter().any(|&n| n <= T::zero());
+            // Sound only where the model says the wheel was working hard: a slip at low
+            // predicted use has another cause (a bump, a glitch, a model error).
+            let sound = worst.is_finite() && worst >= lit(MIN_USE_FOR_ESTIMATE);
+            if p.estimate_friction && !lifted_off && sound {
                 let seen = max(mu * worst, p.min_friction);
                 status.friction_estimate = min(status.friction_estimate, seen);
             }
-        } else if !any {
+        } else if !any && status.friction_estimate < mu {
             let climb = mu * dt_secs / p.friction_recovery_secs;
             status.friction_estimate = min(status.friction_estimate + climb, mu);
         }
-        status.slip_secs = if any {
-            status.slip_secs + dt_secs
+        self.slip_secs = if any {
+            self.slip_secs + dt_secs
         } else {
             T::zero()
         };
-        status.accel_scale = if any || lift_off_imminent {
-            p.slip_accel_scale
-        } else {
+        if any || status.lift_off_imminent {
+            status.accel_scale = p.slip_accel_scale;
+        } else if status.accel_scale < T::one() {
             let back = (T::one() - p.slip_accel_scale) * dt_secs / p.recovery_secs;
-            min(status.accel_scale + back, T::one())
-        };
+            status.accel_scale = min(status.accel_scale + back, T::one());
+        }
         status.slip_speed_m_per_s = slip;
         status.slipping = slipping;
-        status.predicted_normal_force_n = normal;
-        status.lift_off_imminent = lift_off_imminent;
-        self.status = status;
-        let stop = status.slip_secs > p.slip_fault_secs;
-        (status, stop)
+        self.slip_secs > p.slip_fault_secs
     }
 
     /// The factor on the envelope's friction part: `accel_scale * friction_estimate / mu`.

@@ -20,7 +20,11 @@ use nalgebra::RealField;
 
 impl<T: RealField + Copy> Wip<T> {
     /// The generalised momentum `p = (a + c(theta)) theta_dot + (c(theta) + b) phi_dot`
-    /// (kg m^2/s), with `c(theta)` from `cos_tilt = cos(theta)`: see the [module](self) docs.
+    /// (kg m^2/s), with `c(theta)` from `cos_tilt = cos(theta)`: the sum of the two rows of
+    /// `M(theta) q_dot`. Adding the two equations of motion cancels the input torque and the
+    /// drivetrain friction (both act between body and ball), so `p` changes only as gravity
+    /// and the floor friction say ([`Self::momentum_rate`]) as long as the wheels do not slip:
+    /// the basis of slip detection ([`crate::traction::SlipMonitor`]).
     ///
     /// ```
     /// use ballbot_core::{Wip, WipParams};
@@ -58,8 +62,8 @@ impl<T: RealField + Copy> Wip<T> {
     }
 
     /// The momentum's rate `dp/dt = m_U l sin(theta) (g - r theta_dot phi_dot) - b_k phi_dot`
-    /// (N m), with `sin_tilt = sin(theta)`; independent of the input torque (see the
-    /// [module](self) docs).
+    /// (N m), with `sin_tilt = sin(theta)`; independent of the input torque (see
+    /// [`Self::momentum`]).
     ///
     /// ```
     /// use ballbot_core::{Wip, WipParams, rk4_step};
