@@ -27,6 +27,8 @@ from ballbot._results import (
     Rollout,
     ScenarioRun,
     SlowRampTrial,
+    TractionEnvelope,
+    TractionStatus,
     WorldLoopRun,
     WorldRun,
 )
@@ -1484,9 +1486,13 @@ class WorldLoop:
         max_tilt_command_rad: Optional[float] = None,
         max_tilt_rate_command_rad_per_s: Optional[float] = None,
         wheel_mapping: Optional[Literal["rolling_ball", "upright"]] = None,
+        traction_control: bool = False,
     ) -> WorldLoop: ...
     @property
     def mode(self) -> Mode: ...
+    @property
+    def traction(self) -> Optional[TractionStatus]: ...
+    def traction_envelope(self) -> Optional[TractionEnvelope]: ...
     def step(
         self,
         vx_m_per_s: float = 0.0,

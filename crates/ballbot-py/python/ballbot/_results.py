@@ -145,6 +145,46 @@ class WorldLoopRun(_WorldTrace):
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
+class TractionStatus(_Result):
+    """Traction-aware control's report of one outer step (``WorldLoop.traction``)."""
+
+    accel_limit_m_per_s2: Optional[float]
+    """The acceleration limit along the direction the command wanted to accelerate in
+    (m/s^2): envelope, actuators, slip reaction and braking floor; ``None`` when the command
+    did not ask to accelerate."""
+    limited: bool
+    """Whether the envelope held the command back in this step."""
+    limited_steps: int
+    """Outer steps with a limited command so far."""
+    slip_speed_m_per_s: _F64
+    """Each omniwheel's estimated slip speed at the rim (m/s), ``(3,)``."""
+    slipping: tuple[bool, bool, bool]
+    """Which omniwheels slip (estimated slip speed above the threshold)."""
+    predicted_normal_force_n: _F64
+    """The contact model's normal forces for the measured state and the reference torque
+    (N), ``(3,)``."""
+    lift_off_imminent: bool
+    """Whether a predicted normal force is below the envelope's minimum."""
+    accel_scale: float
+    """The factor on the envelope after a slip or an imminent lift-off (1 when quiet)."""
+    friction_estimate: float
+    """The wheel-ball friction the envelope uses now."""
+    slip_events: int
+    """Slip events so far."""
+
+
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
+class TractionEnvelope(_Result):
+    """The controller's traction envelope (``WorldLoop.traction_envelope()``): the largest
+    acceleration that keeps every omniwheel inside its margin, per direction."""
+
+    heading_rad: _F64
+    """Table headings (rad, body frame, 0 towards OW1, in (-pi, pi]), ``(96,)``."""
+    accel_m_per_s2: _F64
+    """Largest acceleration towards each heading (m/s^2), ``(96,)``."""
+
+
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class RampRun(_Result):
     """A maximum-speed ramp in the 3D world (``max_speed_ramp``)."""
 
@@ -465,6 +505,8 @@ __all__ = [
     "Rollout",
     "ScenarioRun",
     "SlowRampTrial",
+    "TractionEnvelope",
+    "TractionStatus",
     "TrialOutcome",
     "WorldLoopRun",
     "WorldRun",

@@ -4,7 +4,8 @@
 controller in the loop (``mode`` is a ``Mode``). Their parameters (``WorldParams`` and its
 parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``), failures
 (``Failure`` with a ``FailureKind``; wheels named ``"OW1"``..``"OW3"``) and run results
-(``WorldRun``, ``WorldLoopRun``).
+(``WorldRun``, ``WorldLoopRun``); traction-aware control's report and envelope
+(``TractionStatus``, ``TractionEnvelope``; ``WorldLoop(traction_control=True)``).
 """
 
 from ballbot._core import (
@@ -23,7 +24,7 @@ from ballbot._core import (
     WorldParams,
 )
 from ballbot._enums import FailureKind, Mode
-from ballbot._results import WorldLoopRun, WorldRun
+from ballbot._results import TractionEnvelope, TractionStatus, WorldLoopRun, WorldRun
 
 __all__ = [
     "AxleLossParams",
@@ -37,6 +38,8 @@ __all__ = [
     "Mode",
     "SensorParams",
     "StepTelemetry",
+    "TractionEnvelope",
+    "TractionStatus",
     "WheelTelemetry",
     "World",
     "WorldLoop",

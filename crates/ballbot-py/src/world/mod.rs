@@ -7,6 +7,7 @@ mod class;
 mod ramp;
 mod telemetry;
 mod trace;
+mod traction;
 mod world_loop;
 
 use crate::errors::{Kind, error};

@@ -90,6 +90,7 @@ pub(crate) fn max_speed_ramp<'py>(
         max_tilt_command_rad,
         max_tilt_rate_command_rad_per_s,
         wheel_mapping: None,
+        traction_control: false,
     }
     .config(py, &params)?;
     finite(py, &[heading_deg], "heading_deg")?;

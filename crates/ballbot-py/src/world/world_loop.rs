@@ -30,6 +30,8 @@ pub(crate) struct Shaping {
     /// The wheel mapping by its canonical name (`"rolling_ball"`, `"upright"`); `None`: the
     /// designed default.
     pub(crate) wheel_mapping: Option<WheelMapping>,
+    /// Traction-aware control on (`BallbotControllerConfig::with_traction_control`).
+    pub(crate) traction_control: bool,
 }
 
 impl Shaping {
@@ -88,6 +90,9 @@ impl Shaping {
         if let Some(mapping) = self.wheel_mapping {
             config.wheel_mapping = mapping;
         }
+        if self.traction_control {
+            config = config.with_traction_control();
+        }
         Ok(config)
     }
 }
@@ -113,7 +118,10 @@ world_class! {
     /// math.inf` removes the jerk limit). `wheel_mapping` chooses how the reference rates map to
     /// the wheels: `"rolling_ball"` (default) or `"upright"`, the paper's mapping, an ablation
     /// (`WheelMapping` in the core; with `max_jerk_m_per_s3 = math.inf` this is
-    /// `BallbotControllerConfig::with_paper_ablation`).
+    /// `BallbotControllerConfig::with_paper_ablation`). `traction_control = True` turns on
+    /// traction-aware control (`BallbotControllerConfig::with_traction_control`: the
+    /// direction-dependent acceleration envelope, slip and lift-off detection); `traction`
+    /// then reports each outer step and `traction_envelope()` gives the envelope.
     PyWorldLoop("WorldLoop") {
         inner: WorldRobot,
         world: |this| this.inner.world(),
@@ -125,6 +133,7 @@ world_class! {
             params = None, *, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
             max_jerk_m_per_s3 = None, max_tilt_command_rad = None,
             max_tilt_rate_command_rad_per_s = None, wheel_mapping = None,
+            traction_control = false,
         ))]
         #[allow(clippy::too_many_arguments)]
         fn py_new(
@@ -136,6 +145,7 @@ world_class! {
             max_tilt_command_rad: Option<f64>,
             max_tilt_rate_command_rad_per_s: Option<f64>,
             wheel_mapping: Option<&str>,
+            traction_control: bool,
         ) -> PyResult<Self> {
             let params = params_or_default(params);
             let wheel_mapping = wheel_mapping
@@ -156,6 +166,7 @@ world_class! {
                 max_tilt_command_rad,
                 max_tilt_rate_command_rad_per_s,
                 wheel_mapping,
+                traction_control,
             }
             .config(py, &params)?;
             let inner = WorldRobot::with_config(params, config).map_err(|e| world_error(py, e))?;
@@ -167,6 +178,25 @@ world_class! {
         #[getter]
         fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
             crate::enums::mode(py, self.inner.mode())
+        }
+
+        /// Traction-aware control's report of the last outer step (`TractionStatus`): the
+        /// acceleration limit along the command's direction, whether it limited the command,
+        /// each wheel's estimated slip speed and slip flag, the predicted normal forces, the
+        /// envelope scale and the friction estimate. `None` when traction control is off or
+        /// before the first outer step.
+        #[getter]
+        fn traction<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+            let status = self.inner.last_outer().and_then(|out| out.traction);
+            status.map(|s| super::traction::status(py, &s)).transpose()
+        }
+
+        /// The controller's traction envelope (`TractionEnvelope`): the largest acceleration
+        /// (m/s^2) at each of its 96 table headings (rad, body frame, 0 towards OW1), with the
+        /// recommended margins; `None` when traction control is off.
+        fn traction_envelope<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+            let control = self.inner.robot().controller().traction();
+            control.map(|c| super::traction::envelope(py, c)).transpose()
         }
 
         /// One physics step (8 kHz) with the velocity command (m/s, m/s, rad/s; body frame);
