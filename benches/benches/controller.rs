@@ -1,6 +1,6 @@
 //! The 3D ballbot controller's steps on MiaPURE with a 60 kg payload: the 400 Hz outer step
 //! (safety, estimation, command shaping, two LQR-PI planes and the spin plane, the kinematic
-//! mapping) in f64 and f32, the command shaper alone, and the 8 kHz inner step of one motor
+//! mapping) in f64 and f32, in f64 with traction-aware control on, the command shaper alone, and the 8 kHz inner step of one motor
 //! driver and of all three.
 //!
 //! Each is measured twice: wall-clock time (criterion's default) and, with the `_cpu` suffix,
@@ -14,7 +14,6 @@
 #![allow(clippy::unwrap_used)]
 
 mod common;
-use ballbot_core::BallbotParams;
 use ballbot_core::ballbot::{
     BallbotController, BallbotControllerConfig, MotorReferences, MotorSpeedLoop, MotorSpeedPi,
     OuterInput,
@@ -22,6 +21,7 @@ use ballbot_core::ballbot::{
 use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, VelocityCommand};
 use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::safety::{Mode, ModeRequest};
+use ballbot_core::{BallbotParams, OmniKinematics};
 use common::bench_both;
 use criterion::{Criterion, criterion_group, criterion_main};
 use nalgebra::{RealField, Vector3};
@@ -59,6 +59,55 @@ fn bench_outer<T: RealField + Copy>(c: &mut Criterion, name: &str) {
         input.imu.angular_velocity_rad_per_s = Vector3::new(wobble, v(0.02), v(0.2));
         input.encoders.timestamp_us = t;
         input.encoders.wheel_speeds_rad_per_s = Vector3::new(v(1.0) + wobble, v(-3.0), v(2.5));
+        input.command_timestamp_us = Some(t);
+        outer.step(black_box(&input)).motors
+    });
+    assert_eq!(
+        outer.mode(),
+        Mode::Balancing,
+        "the benchmark left balancing"
+    );
+}
+
+/// [`bench_outer`] with traction-aware control on, on sensor readings that agree with each
+/// other (a ball rolling at the encoders' rates under an upright body turning at the gyro's
+/// yaw rate), so the slip monitor runs its quiet path as on a robot that does not slip.
+fn bench_outer_traction(c: &mut Criterion) {
+    let robot = BallbotParams::<f64>::miapure_60kg();
+    let config = BallbotControllerConfig::design(&robot)
+        .unwrap()
+        .with_traction_control();
+    let kin = OmniKinematics::from_ballbot(&robot).unwrap();
+    let mut outer = BallbotController::new(config).unwrap();
+    let relative = |wobble: f64| Vector3::new(2.6 - wobble, 7.0, -0.2);
+    let mut input = OuterInput {
+        now_us: 0,
+        imu: ImuSample::upright(0),
+        encoders: EncoderSample::still(0),
+        command: Command::Velocity(VelocityCommand {
+            vx_m_per_s: 0.8,
+            vy_m_per_s: -0.3,
+            yaw_rate_rad_per_s: 0.2,
+        }),
+        command_timestamp_us: Some(0),
+        request: ModeRequest::Arm,
+    };
+    input.imu.angular_velocity_rad_per_s = Vector3::new(0.0, 0.0, 0.2);
+    input.encoders.wheel_speeds_rad_per_s = kin.wheel_speeds_rad_per_s(&relative(0.0));
+    outer.step(&input);
+    input.request = ModeRequest::None;
+    let mut k: u64 = 0;
+    bench_both(c, "ballbot_outer_step_traction_f64", || {
+        k += 1;
+        let t = k * 2500;
+        let wobble = (k % 7) as f64 * 1e-4;
+        input.now_us = t;
+        input.imu.timestamp_us = t;
+        input.imu.roll_rad = wobble;
+        input.imu.pitch_rad = -wobble;
+        input.imu.angular_velocity_rad_per_s = Vector3::new(wobble, 0.0, 0.2);
+        input.encoders.timestamp_us = t;
+        input.encoders.wheel_speeds_rad_per_s = kin.wheel_speeds_rad_per_s(&relative(wobble));
         input.command_timestamp_us = Some(t);
         outer.step(black_box(&input)).motors
     });
@@ -126,6 +175,7 @@ fn bench_inner(c: &mut Criterion) {
 fn benches(c: &mut Criterion) {
     bench_outer::<f64>(c, "ballbot_outer_step_f64");
     bench_outer::<f32>(c, "ballbot_outer_step_f32");
+    bench_outer_traction(c);
     bench_shaper(c);
     bench_inner(c);
 }
