@@ -56,6 +56,7 @@ grep -q '"piptb"' target/reproduce-quick/summary.json
 grep -q '"max_speed_by_heading"' target/reproduce-quick/summary.json
 grep -q '"min_braking_time_3d_secs": 2' target/reproduce-quick/summary.json
 grep -q '"push_recovery_ns"' target/reproduce-quick/summary.json
+grep -q '"traction_aware"' target/reproduce-quick/summary.json
 # Every number of the summary equal to the committed reference, to the last digit (the
 # simulations are seeded and deterministic; only the wall-clock solve time and the log paths
 # may differ). A change that moves a number updates the reference in the same commit and says

@@ -11,7 +11,9 @@ use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::safety::{Fault, Mode, ModeRequest};
 
 /// The designed controller with traction-aware control on and the user's translation limits
-/// lifted (8 m/s, 20 m/s^2), so that the envelope alone limits the acceleration.
+/// lifted (8 m/s, 20 m/s^2), so that the envelope alone limits the acceleration; without the
+/// reference filter that `with_traction_control` adds, so that the shaped command itself
+/// (which the envelope bounds) is what the tests see.
 fn traction_config() -> BallbotControllerConfig<f64> {
     let mut config = BallbotControllerConfig::design(&BallbotParams::miapure_60kg())
         .unwrap()
@@ -20,6 +22,7 @@ fn traction_config() -> BallbotControllerConfig<f64> {
     config.shaping.translation.max_rate_per_s = 20.0;
     config.shaping.max_tilt_command_rad = 0.5;
     config.shaping.max_tilt_rate_command_rad_per_s = 5.0;
+    config.shaping.reference_filter_secs = 0.0;
     config
 }
 

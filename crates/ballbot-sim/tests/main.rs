@@ -24,4 +24,5 @@ mod world_max_speed;
 mod world_mechanisms;
 mod world_paper_ablation;
 mod world_setters;
+mod world_traction;
 mod world_yaw;

@@ -13,7 +13,7 @@ use crate::num::clamp_sym;
 use crate::safety::{Fault, Mode, ModeRequest, SafetyInput, SafetyStatus, SafetySupervisor};
 use crate::spin::SpinState;
 use crate::traction::{TiltTerms, TractionControl, TractionStatus};
-use crate::wip::{BALL_ANGLE, TILT, TILT_RATE, WipState};
+use crate::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE, WipState};
 use crate::{Error, OmniKinematics, Spin, Wip};
 use nalgebra::{RealField, Vector2, Vector3};
 
@@ -151,7 +151,8 @@ pub struct OuterOutput<T: nalgebra::Scalar> {
     pub motors: MotorReferences<T>,
     /// The supervisor's verdict (mode, faults of this step).
     pub safety: SafetyStatus,
-    /// The estimated planar states.
+    /// The estimated planar states (with traction-aware control, while a wheel slips, the
+    /// ball rates without the slip the monitor estimated).
     pub states: PlanarStates<T>,
     /// The shaped planar command states (zero when the motors are off).
     pub commands: PlanarCommands<T>,
@@ -420,7 +421,7 @@ impl<T: RealField + Copy> BallbotController<T> {
             command_finite: input.command.is_finite(),
             request: input.request,
         });
-        let states = self.estimator.update(
+        let mut states = self.estimator.update(
             safety.imu_valid.then_some(&input.imu),
             safety.encoders_valid.then_some(&input.encoders),
             dt,
@@ -455,6 +456,10 @@ impl<T: RealField + Copy> BallbotController<T> {
                 safety.mode = self.supervisor.report(Fault::WheelSlip);
                 safety.faults.insert(Fault::WheelSlip);
             }
+            // A slipping wheel reports a ball that is not there: take its error off.
+            let [dx, dy] = traction.monitor().ball_rate_correction_rad_per_s();
+            states.frontal[BALL_RATE] -= dx;
+            states.sagittal[BALL_RATE] -= dy;
         }
         // By reference: the command is a large enum (a trajectory borrows its samples).
         let stop = Command::Stop;
@@ -465,6 +470,11 @@ impl<T: RealField + Copy> BallbotController<T> {
         };
         let shaped = match &self.traction {
             Some(traction) => {
+                if traction.monitor().status().any_slipping() {
+                    // The reference filter's pending acceleration too, not only what comes.
+                    let limit = traction.step_limit(wheel_speeds);
+                    self.shaper.bound_pending_acceleration(&limit);
+                }
                 self.shaper
                     .step_within(command, dt, &traction.step_limit(wheel_speeds))
             }

@@ -46,6 +46,8 @@
 
 mod jerk;
 mod lean;
+mod limit;
+mod pending;
 mod shaper;
 #[cfg(test)]
 mod tests;
@@ -53,32 +55,11 @@ mod trajectory;
 
 pub use jerk::{AxisLimits, JerkLimiter};
 pub use lean::{LeanInput, LeanToDrive, LeanToDriveParams};
+pub use limit::AccelLimit;
 pub use shaper::{
     BodyMotion, BodyVelocity, CommandShaper, CommandShaperParams, PlanarCommands, ShapedCommand,
 };
 pub use trajectory::Trajectory;
-
-/// The largest acceleration the robot may take in a direction, as
-/// [`CommandShaper::step_within`] asks it (e.g. the traction envelope,
-/// [`crate::traction`]).
-///
-/// ```
-/// use ballbot_core::command::AccelLimit;
-/// // Half as much towards -x as towards +x; never below 0.5 m/s^2 when braking.
-/// struct Lopsided;
-/// impl AccelLimit<f64> for Lopsided {
-///     fn accel_limit_m_per_s2(&self, dir_x: f64, _dir_y: f64, braking: bool) -> f64 {
-///         let limit: f64 = if dir_x < 0.0 { 0.5 } else { 1.0 };
-///         if braking { limit.max(0.5) } else { limit }
-///     }
-/// }
-/// assert_eq!(Lopsided.accel_limit_m_per_s2(-1.0, 0.0, false), 0.5);
-/// ```
-pub trait AccelLimit<T> {
-    /// The largest acceleration (m/s^2, > 0) along the unit body-frame direction
-    /// `(dir_x, dir_y)`; `braking` when that direction is against the present velocity.
-    fn accel_limit_m_per_s2(&self, dir_x: T, dir_y: T, braking: bool) -> T;
-}
 
 use nalgebra::RealField;
 

@@ -2,6 +2,7 @@
 //! ([`PlanarCommands`]) with the lean feedforward `theta_ff = (b + c0) a / (r m_U g l)` (see the
 //! [module](super) doc).
 
+use super::limit::NoLimit;
 use super::{AccelLimit, AxisLimits, Command, JerkLimiter, LeanToDrive, LeanToDriveParams};
 use crate::check::{lit, non_negative, positive};
 use crate::control::dt_is_valid;
@@ -263,19 +264,19 @@ impl<T: RealField + Copy> PlaneShaping<T> {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CommandShaper<T> {
-    params: CommandShaperParams<T>,
+    pub(super) params: CommandShaperParams<T>,
     lean: LeanToDrive<T>,
     sagittal: PlaneShaping<T>,
     frontal: PlaneShaping<T>,
     pub(super) vx: JerkLimiter<T>,
-    vy: JerkLimiter<T>,
+    pub(super) vy: JerkLimiter<T>,
     yaw_rate: JerkLimiter<T>,
     heading_rad: T,
     phi_x_rad: T,
     phi_y_rad: T,
     /// The filtered speeds `v_f` (m/s, body x and y; equal to the shaped speeds when the
     /// reference filter is off or a trajectory runs).
-    filtered_m_per_s: (T, T),
+    pub(super) filtered_m_per_s: (T, T),
 }
 
 impl<T: RealField + Copy> CommandShaper<T> {
@@ -648,15 +649,6 @@ impl<T: RealField + Copy> CommandShaper<T> {
             accel_limit_m_per_s2,
             limited,
         }
-    }
-}
-
-/// No acceleration limit: [`CommandShaper::step`]'s (never asked).
-struct NoLimit;
-
-impl<T: RealField + Copy> AccelLimit<T> for NoLimit {
-    fn accel_limit_m_per_s2(&self, _dir_x: T, _dir_y: T, _braking: bool) -> T {
-        lit(f64::INFINITY)
     }
 }
 

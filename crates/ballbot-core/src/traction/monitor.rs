@@ -106,7 +106,9 @@ impl<T: RealField + Copy> SlipStatus<T> {
 /// from the torque given to [`Self::record_torque`]); the next update acts on it.
 ///
 /// **Reaction** (the controller applies it when [`TractionParams::enabled`]): while a wheel
-/// slips or a lift-off is imminent the envelope is scaled by
+/// slips the controller takes the ball-rate error off its estimate (the encoders of a
+/// spinning wheel report a ball that is not there), and while a wheel slips or a lift-off is
+/// imminent the envelope is scaled by
 /// [`TractionParams::slip_accel_scale`], and afterwards restored over
 /// [`TractionParams::recovery_secs`]; a slip lasting [`TractionParams::slip_fault_secs`] asks
 /// for a controlled stop ([`Self::update`] returns `true`). At each slip's onset the friction
@@ -156,6 +158,9 @@ pub struct SlipMonitor<T: RealField + Copy> {
     predicted_wheel_torques_nm: Vector3<T>,
     /// How long the present slip has lasted (s; 0 without slip).
     slip_secs: T,
+    /// While a wheel slips: the ball-rate error the encoders report, `[frontal, sagittal]`
+    /// (rad/s; the momentum residuals), to take off the estimate; 0 otherwise.
+    ball_rate_correction_rad_per_s: [T; 2],
     status: SlipStatus<T>,
 }
 
@@ -185,6 +190,7 @@ impl<T: RealField + Copy> SlipMonitor<T> {
             last_torque_nm: Vector3::zeros(),
             predicted_wheel_torques_nm: Vector3::zeros(),
             slip_secs: T::zero(),
+            ball_rate_correction_rad_per_s: [T::zero(); 2],
             status: SlipStatus::quiet(mu),
         })
     }
@@ -231,6 +237,7 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         self.status.slip_speed_m_per_s = Vector3::zeros();
         self.status.slipping = [false; WHEEL_COUNT];
         self.slip_secs = T::zero();
+        self.ball_rate_correction_rad_per_s = [T::zero(); 2];
         self.status.accel_scale = T::one();
         self.status.lift_off_imminent = false;
     }
@@ -436,6 +443,11 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         } else {
             T::zero()
         };
+        self.ball_rate_correction_rad_per_s = if any {
+            [rate_error.x, rate_error.y]
+        } else {
+            [T::zero(); 2]
+        };
         if any || status.lift_off_imminent {
             status.accel_scale = p.slip_accel_scale;
         } else if status.accel_scale < T::one() {
@@ -459,6 +471,13 @@ impl<T: RealField + Copy> SlipMonitor<T> {
     /// ```
     pub fn envelope_scale(&self) -> T {
         self.status.accel_scale * self.status.friction_estimate / self.mu
+    }
+
+    /// While a wheel slips, the ball-rate error `[frontal, sagittal]` (rad/s) the encoders
+    /// report (the momentum residuals): the controller takes it off its estimate, so that a
+    /// spinning wheel does not make it see a ball that is not there; 0 without slip.
+    pub(crate) fn ball_rate_correction_rad_per_s(&self) -> [T; 2] {
+        self.ball_rate_correction_rad_per_s
     }
 
     /// The braking floor of the settings (m/s^2).

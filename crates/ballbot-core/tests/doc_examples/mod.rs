@@ -55,6 +55,8 @@ pub(super) const CHECKED: &[&str] = &[
     "traction/envelope.rs",
     "traction/monitor.rs",
     "traction/params.rs",
+    "command/limit.rs",
+    "command/pending.rs",
     "hal.rs",
     "linalg.rs",
     "kinematics/mod.rs",

@@ -6,7 +6,7 @@
 //!
 //! - [`reproduce`](mod@reproduce): `ballbot reproduce` as a library call: every study, its table, figures,
 //!   logs and `summary.json`.
-//! - [`piptb`], [`brake`], [`max_speed`], [`mechanisms`], [`world_suite`]: one study's JSON and tables each;
+//! - [`piptb`], [`brake`], [`max_speed`], [`mechanisms`], [`world_suite`], [`traction`]: one study's JSON and tables each;
 //!   the `*_figures` modules draw its figures.
 
 pub mod brake;
@@ -23,6 +23,9 @@ pub mod piptb_figures;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod reproduce;
+pub mod traction;
+#[cfg(feature = "plot")]
+pub mod traction_figures;
 pub mod world_suite;
 #[cfg(feature = "plot")]
 pub mod world_suite_figures;

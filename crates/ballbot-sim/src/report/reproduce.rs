@@ -21,6 +21,9 @@
 //! success and the first failure of the descent at 180 deg) and `world_push_h180.mcap` (the
 //! largest push recovered at 180 deg); telemetry at 1 kHz, 100 Hz when quick. Open them with
 //! `foxglove/world-layout.json`.
+//!
+//! Traction-aware control (issue 14, [`crate::report::traction`]): summary key
+//! `traction_aware`; figures `traction_envelope_polar`, `traction_limited_ramp`.
 
 use super::ReportError;
 use crate::planar::ControllerKind;
@@ -29,6 +32,7 @@ use crate::studies::mechanisms::{self, MechanismStudySettings};
 use crate::studies::piptb::{self, PiptbSettings};
 use crate::studies::replay::{log_braking, log_push, log_slow_ramp};
 use crate::studies::runner;
+use crate::studies::traction::{self, TractionStudySettings};
 use crate::studies::world_suite::{WorldSuiteSettings, run_world_suite};
 use crate::world::WorldParams;
 use serde_json::{Map, Value};
@@ -105,6 +109,9 @@ pub fn reproduce(
 
     // 3D world: minimum braking time and push recovery (paper Sec. V, issue 6).
     world_suite_section(options, observer, &mut summary)?;
+
+    // Traction-aware control against the same controller without it (issue 14).
+    traction_section(options, observer, &mut summary)?;
 
     let summary = Value::Object(summary);
     let path = out.join("summary.json");
@@ -301,6 +308,36 @@ fn mechanisms_section(
     summary.insert("slow_ramp_mechanisms".to_owned(), study.slow_ramp_json());
     summary.insert("ramp_accel_sweep".to_owned(), study.sweep_json());
     summary.insert("contact_ripple".to_owned(), study.ripple_json());
+    Ok(())
+}
+
+fn traction_section(
+    options: &ReproduceOptions,
+    observer: &dyn ReproduceObserver,
+    summary: &mut Map<String, Value>,
+) -> Result<(), ReportError> {
+    let settings = if options.quick {
+        TractionStudySettings::quick()
+    } else {
+        TractionStudySettings::paper()
+    };
+    observer.start("traction", traction::job_count(&settings) as u64);
+    let robot = ballbot_core::BallbotParams::miapure_60kg();
+    let study = traction::run_study(robot, &settings, &|what| observer.step(what))?;
+    observer.finish();
+    let table = study.table();
+    observer.text(table.strip_suffix('\n').unwrap_or(&table));
+    #[cfg(feature = "plot")]
+    if options.plots {
+        let out = &options.out;
+        study
+            .envelope_figure()
+            .save_svg_and_png(&out.join("traction_envelope_polar"))?;
+        if let Some(f) = study.limited_ramp_figure() {
+            f.save_svg_and_png(&out.join("traction_limited_ramp"))?;
+        }
+    }
+    summary.insert("traction_aware".to_owned(), study.summary_json());
     Ok(())
 }
 

@@ -12,6 +12,7 @@
 //! - [`world_braking`]: optimal braking to rest in the 3D world (Sec. V, issue 6).
 //! - [`push`]: push recovery in the 3D world.
 //! - [`world_suite`]: the world braking and push studies of `ballbot reproduce`, run together.
+//! - [`traction`]: traction-aware control against the same controller without it (issue 14).
 //! - [`scenario_run`]: one planar run from a scenario file (`ballbot simulate`).
 //! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
@@ -25,6 +26,7 @@ pub mod ramp;
 pub mod replay;
 pub mod runner;
 pub mod scenario_run;
+pub mod traction;
 pub mod world_braking;
 pub mod world_run;
 pub mod world_suite;

@@ -1,0 +1,103 @@
+//! Traction-aware control in the 3D world (issue 14): a ramp towards OW1 that fails without it
+//! survives with it; a slip on a wet patch is found within a stated latency; slow ramps raise
+//! no alarm.
+
+use ballbot_core::BallbotParams;
+use ballbot_sim::studies::max_speed::ShaperLimits;
+use ballbot_sim::studies::traction::runs::{cross_patch, ramp};
+use ballbot_sim::studies::traction::{Control, FrictionPatch};
+use ballbot_sim::world::WorldParams;
+
+fn params() -> WorldParams {
+    let mut p = WorldParams::with_robot(BallbotParams::miapure_60kg());
+    p.sensors.seed = 1;
+    p
+}
+
+/// Towards OW1 a 1.5 m/s^2 ramp to 2 m/s makes OW2 or OW3 slip in the default world; with
+/// traction-aware control the same request is held to the envelope (1.30 m/s^2) and nothing
+/// slips. The ball's own acceleration overshoots the envelope where the acceleration starts
+/// and ends (the LQR rights the body by running the ball: 1.72 m/s^2 over 0.1 s, measured):
+/// within 40 %, which the safety factor of 2 absorbs. Checked by mutation: with the safety factor at 1 the
+/// envelope (2.25 m/s^2) lets the ramp through unchanged and it fails.
+#[test]
+fn a_ramp_towards_ow1_that_slips_without_traction_control_survives_with_it() {
+    let caps = ShaperLimits::default();
+    let p = params();
+    let off = ramp(
+        p,
+        Control::TractionOff.config(&p, &caps).unwrap(),
+        0.0,
+        1.5,
+        2.0,
+    )
+    .unwrap();
+    assert!(off.failure.is_some(), "off: {:?}", off.failure);
+    let on = ramp(
+        p,
+        Control::TractionOn.config(&p, &caps).unwrap(),
+        0.0,
+        1.5,
+        2.0,
+    )
+    .unwrap();
+    assert!(on.failure.is_none(), "on: {:?}", on.failure);
+    assert_eq!(on.slip_events, 0);
+    assert!(on.limited_steps > 100, "{}", on.limited_steps);
+    assert!(
+        (1.0..1.3 * 1.4).contains(&on.max_accel_m_per_s2),
+        "{}",
+        on.max_accel_m_per_s2
+    );
+}
+
+/// A wet patch (wheel-ball friction 0.3) crossed while accelerating at the envelope towards
+/// OW1: the wheels slip, and the monitor flags it within 20 ms of the world's first slip
+/// (measured 12 ms), counts one event and lowers its friction estimate.
+#[test]
+fn slip_on_a_wet_patch_is_detected_within_20_ms() {
+    let p = params();
+    let config = Control::TractionOn
+        .config(&p, &ShaperLimits::default())
+        .unwrap();
+    let patch = FrictionPatch {
+        length_m: 0.5,
+        floor_friction: 0.3,
+        wheel_ball_friction: Some(0.3),
+    };
+    let (r, window) = cross_patch(p, config, 0.0, 3.0, 2.0, 1.4, 0.0, &patch, 0.2).unwrap();
+    let entered = window.expect("the ball reached the patch").entered_secs;
+    let slip = r
+        .first_world_slip_secs
+        .expect("the wheels slip on the wet patch");
+    assert!(slip >= entered, "slip {slip} before the patch {entered}");
+    let detected = r.first_detection_secs.expect("detected");
+    let latency_ms = (detected - slip) * 1e3;
+    assert!((0.0..=20.0).contains(&latency_ms), "{latency_ms} ms");
+    assert!(r.slip_events >= 1);
+    assert!(r.min_friction_estimate.is_some_and(|mu| mu < 0.6));
+}
+
+/// Gentle ramps (0.5 m/s^2 to 1 m/s) at 0, 90 and 180 deg: nothing slips and the monitor
+/// raises no alarm (its estimate stays at the roller ripple's and the sensors' level).
+#[test]
+fn gentle_ramps_raise_no_alarm() {
+    let p = params();
+    let config = Control::TractionOn
+        .config(&p, &ShaperLimits::default())
+        .unwrap();
+    for h in [0.0, 90.0, 180.0] {
+        let r = ramp(p, config, h, 0.5, 1.0).unwrap();
+        assert!(
+            r.failure.is_none() && r.first_world_slip_secs.is_none(),
+            "{h}"
+        );
+        assert_eq!(r.slip_events, 0, "{h} deg: false alarm");
+        let peak = r
+            .samples
+            .iter()
+            .map(|s| s.max_slip_estimate_m_per_s)
+            .fold(0.0, f64::max);
+        assert!(peak < 0.04, "{h} deg: slip estimate {peak}");
+    }
+}
