@@ -27,6 +27,7 @@ fn run_json(r: &RunRecord) -> Value {
         "max_accel_m_per_s2": r.max_accel_m_per_s2,
         "max_decel_m_per_s2": r.max_decel_m_per_s2,
         "reached_1_4_m_per_s_secs": r.reached_1_4_secs,
+        "mean_accel_0_2_to_1_4_m_per_s2": r.mean_accel_m_per_s2(),
         "first_world_slip_secs": r.first_world_slip_secs,
         "first_detection_secs": r.first_detection_secs,
         "slip_events": r.slip_events,
@@ -66,6 +67,7 @@ impl HeadingResult {
             "off_censored": off.smallest_failing_m_per_s2.is_none(),
             "off_failure": failure_json(off.failing.and_then(|f| f.failure)),
             "max_accel_on_m_per_s2": self.on_top.max_accel_m_per_s2,
+            "mean_accel_on_m_per_s2": self.on_top.mean_accel_m_per_s2(),
             "envelope_accel_m_per_s2": self.envelope_m_per_s2,
             "quasi_static_accel_m_per_s2": self.quasi_static_m_per_s2,
             "time_to_1_4_m_per_s_on_secs": self.time_to_1_4_on_secs(),
@@ -106,6 +108,7 @@ impl TractionStudy {
                     "max_accel_m_per_s2": s.protocol.shaper.max_accel_m_per_s2,
                 },
                 "max_accel_definition": "largest 0.1 s mean of the ball's acceleration along the heading",
+                "mean_accel_definition": "the ball's mean acceleration from 0.2 to 1.4 m/s along the heading",
             },
             "by_heading": self.headings.iter().map(HeadingResult::to_json).collect::<Vec<_>>(),
             "braking_s": Value::Object(braking),
@@ -151,12 +154,13 @@ impl TractionStudy {
             self.settings.protocol.fast_top_m_per_s
         );
         out.push_str(&format!(
-            "{:>8} | {:>14} | {:>30} | {:>9} | {:>11} | {:>13} | {:>10}\n",
+            "{:>8} | {:>14} | {:>30} | {:>9} | {:>15} | {:>15} | {:>14} | {:>10}\n",
             "heading",
             "off: survives",
             "off: fails",
             "envelope",
-            "on: reached",
+            "on: mean 0.2-1.4",
+            "on: peak 0.1 s",
             "on: to 1.4 m/s",
             "on: failed"
         ));
@@ -169,11 +173,12 @@ impl TractionStudy {
                 None => "none in the search".to_owned(),
             };
             out.push_str(&format!(
-                "{:>8} | {:>14} | {:>30} | {:>9.2} | {:>11.2} | {:>13} | {:>10}\n",
+                "{:>8} | {:>14} | {:>30} | {:>9.2} | {:>15} | {:>15.2} | {:>14} | {:>10}\n",
                 format!("{:.0} deg", h.heading_deg),
                 optional(h.off.largest_surviving_m_per_s2, 2),
                 fails,
                 h.envelope_m_per_s2,
+                optional(h.on_top.mean_accel_m_per_s2(), 2),
                 h.on_top.max_accel_m_per_s2,
                 optional(h.time_to_1_4_on_secs(), 2),
                 if h.failed_on() { "FAILED" } else { "no" },

@@ -39,6 +39,8 @@ pub struct RunRecord {
     pub max_accel_m_per_s2: f64,
     /// Largest deceleration along the heading, the same way (m/s^2).
     pub max_decel_m_per_s2: f64,
+    /// When the ball first reached 0.2 m/s along the heading (s), if it did.
+    pub reached_0_2_secs: Option<f64>,
     /// When the ball first reached 1.4 m/s along the heading (s), if it did.
     pub reached_1_4_secs: Option<f64>,
     /// When the world first saw a wheel slip (|slip speed| above its threshold) (s).
@@ -61,6 +63,15 @@ pub struct RunRecord {
     pub max_tilt_rad: f64,
     /// Samples.
     pub samples: Vec<TractionSample>,
+}
+
+impl RunRecord {
+    /// The ball's mean acceleration from 0.2 to 1.4 m/s along the heading (m/s^2), if it got
+    /// there: what the ramp sustained, without the transients at its start and end.
+    pub fn mean_accel_m_per_s2(&self) -> Option<f64> {
+        let dt = self.reached_1_4_secs? - self.reached_0_2_secs?;
+        (dt > 0.0).then(|| 1.2 / dt)
+    }
 }
 
 /// Measures a run in the 3D world step by step: call [`Probe::observe`] after every physics
@@ -90,6 +101,7 @@ impl Probe {
                 failure: None,
                 max_accel_m_per_s2: 0.0,
                 max_decel_m_per_s2: 0.0,
+                reached_0_2_secs: None,
                 reached_1_4_secs: None,
                 first_world_slip_secs: None,
                 first_detection_secs: None,
@@ -120,6 +132,9 @@ impl Probe {
         let t = sim.world().telemetry();
         let time = t.time_secs;
         let r = &mut self.record;
+        if r.reached_0_2_secs.is_none() && speed >= 0.2 {
+            r.reached_0_2_secs = Some(time);
+        }
         if r.reached_1_4_secs.is_none() && speed >= 1.4 {
             r.reached_1_4_secs = Some(time);
         }

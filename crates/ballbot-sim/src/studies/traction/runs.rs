@@ -60,6 +60,15 @@ fn velocity_along(heading_deg: f64, speed_m_per_s: f64) -> Command<'static, f64>
     })
 }
 
+/// The shaped command along `heading_deg` (m/s): `r` times the planar commanded ball rates.
+fn shaped_m_per_s(sim: &WorldRobot, heading_deg: f64) -> f64 {
+    let r = sim.world().params().robot.ball_radius_m();
+    let (s, c) = heading_deg.to_radians().sin_cos();
+    sim.last_outer().map_or(0.0, |o| {
+        r * o.commands.sagittal[3] * c - r * o.commands.frontal[3] * s
+    })
+}
+
 fn probe_for(params: &WorldParams, heading_deg: f64) -> Probe {
     let every = (SAMPLE_PERIOD_SECS / params.dt_secs).round() as u64;
     Probe::new(
@@ -70,7 +79,8 @@ fn probe_for(params: &WorldParams, heading_deg: f64) -> Probe {
 }
 
 /// A velocity ramp towards `heading_deg` at `accel_m_per_s2` to `top_m_per_s` after 0.5 s at
-/// rest, held 1 s (the failing-acceleration protocol's ramp).
+/// rest (the failing-acceleration protocol's ramp), held until 1 s after the *shaped* command
+/// has reached the top too (a limited command gets there later than the ramp), at most 15 s.
 pub fn ramp(
     params: WorldParams,
     config: BallbotControllerConfig<f64>,
@@ -81,13 +91,20 @@ pub fn ramp(
     let mut sim = WorldRobot::with_config(params, config)?;
     let mut probe = probe_for(&params, heading_deg);
     let settle = 0.5;
-    let end = settle + top_m_per_s / accel_m_per_s2 + 1.0;
-    let steps = (end / params.dt_secs).ceil() as u64;
+    let ramp_end = settle + top_m_per_s / accel_m_per_s2;
+    let steps = (15.0 / params.dt_secs).ceil() as u64;
+    let mut hold_from = None;
     for k in 0..steps {
         let t = k as f64 * params.dt_secs;
         let v = ((t - settle).max(0.0) * accel_m_per_s2).min(top_m_per_s);
         sim.step(velocity_along(heading_deg, v));
         if probe.observe(&sim, v) {
+            break;
+        }
+        if hold_from.is_none() && t >= ramp_end && shaped_m_per_s(&sim, heading_deg) >= v - 1e-3 {
+            hold_from = Some(t);
+        }
+        if hold_from.is_some_and(|h| t >= h + 1.0) {
             break;
         }
     }
