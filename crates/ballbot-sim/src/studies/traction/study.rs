@@ -92,9 +92,9 @@ pub enum PatchVariant {
     /// A wet patch (the floor at mu 0.3 and the wheel-ball friction at 0.3 while the ball is
     /// on it: the water wets the ball), crossed cruising at 1.4 m/s.
     WetCruise,
-    /// The wet patch crossed while the command still accelerates (at the protocol's top
-    /// request, to 2 m/s) and the ball passes 1.4 m/s: the envelope, planned for mu 0.6, is
-    /// beyond what the wet contacts carry, and the wheels slip.
+    /// The wet patch crossed while the ball still accelerates towards 2 m/s at the envelope's
+    /// acceleration towards OW1 (1.30 m/s^2, planned for mu 0.6) and passes 1.4 m/s: more than
+    /// the wet contacts carry, and the wheels slip.
     Wet,
 }
 
@@ -274,10 +274,16 @@ fn run_job(
         Job::Patch(v, c) => {
             let config = c.config(&params, caps)?;
             // Cruising: the shipped acceleration, then 1 s at 1.4 m/s before the patch.
+            // Accelerating: at the envelope's acceleration towards OW1 for both controllers
+            // (on, the envelope holds any request to it; off, the ramp asks for exactly it).
             let (accel, lead, top) = if v.cruising() {
                 (1.0, 1.0, 1.4)
             } else {
-                (s.protocol.accel_bracket_m_per_s2[1], 0.0, 2.0)
+                let envelope = TractionEnvelope::new(
+                    &params.robot,
+                    &TractionParams::recommended(&params.robot),
+                )?;
+                (envelope.friction_limit_m_per_s2(1.0, 0.0), 0.0, 2.0)
             };
             let (r, window) =
                 cross_patch(params, config, 0.0, accel, top, 1.4, lead, &v.patch(), 1.0)?;
