@@ -17,8 +17,13 @@
 //!    [`TractionParams::min_braking_decel_m_per_s2`].
 //! 3. [`SlipMonitor`]: slip of each wheel from the sensors' redundancy (two momentum observers
 //!    and the ball's no-spin condition), imminent lift-off from the predicted normal forces,
-//!    and the reaction of a traction control: less acceleration, balancing on, a controlled
-//!    stop ([`Fault::WheelSlip`]) if the slip persists, and a friction estimate.
+//!    and the reaction of a traction control: less acceleration (also what the reference filter
+//!    has pending), the slip taken off the ball-rate estimate, balancing on, a controlled stop
+//!    ([`Fault::WheelSlip`]) if the slip persists, and a friction estimate.
+//!
+//! `with_traction_control` also turns on the shaper's 0.3 s reference filter, without which
+//! the ball overshoots the envelope where an acceleration ends. `docs/traction.md` has the
+//! defaults with their sources and the measurements in the 3D world.
 //!
 //! Enable it with [`BallbotControllerConfig::with_traction_control`]; it is off in
 //! [`BallbotControllerConfig::design`], which keeps the paper's controller.
