@@ -25,8 +25,9 @@ pub enum ReportError {
     /// A trajectory optimisation was malformed.
     #[error(transparent)]
     Trajopt(#[from] TrajoptError),
-    /// The maximum-speed study rejected its parameters.
-    #[error("maximum-speed study: {0}")]
+    /// A 3D-world study (maximum speed, mechanisms, traction) rejected its parameters or its
+    /// world failed to build.
+    #[error("3D world study: {0}")]
     World(#[from] WorldError),
     /// A world braking or push study rejected its parameters.
     #[error(transparent)]

@@ -47,6 +47,7 @@ impl HeadingResult {
     /// Whether any ramp with traction control on failed at this heading.
     pub fn failed_on(&self) -> bool {
         self.on_top.failure.is_some()
+            || self.on_top_other_seeds.iter().any(|r| r.failure.is_some())
             || self
                 .on_at_off_failing
                 .as_ref()
@@ -74,6 +75,7 @@ impl HeadingResult {
             "failed_on": self.failed_on(),
             "on": run_json(&self.on_top),
             "on_at_off_failing": self.on_at_off_failing.as_ref().map(run_json),
+            "on_other_seeds": self.on_top_other_seeds.iter().map(run_json).collect::<Vec<_>>(),
         })
     }
 }
@@ -99,6 +101,7 @@ impl TractionStudy {
                 "world": "default (realistic)",
                 "robot": "MiaPURE 60 kg",
                 "sensor_seed": s.seed,
+                "extra_on_seeds": s.extra_on_seeds,
                 "ramp_top_m_per_s": s.protocol.fast_top_m_per_s,
                 "search_m_per_s2": s.protocol.accel_bracket_m_per_s2,
                 "search_resolution_m_per_s2": s.protocol.accel_resolution_m_per_s2,
@@ -147,9 +150,11 @@ impl TractionStudy {
     /// The comparison tables (per heading; stops; patches; rider).
     pub fn table(&self) -> String {
         let mut out = format!(
-            "Traction-aware control, default world, MiaPURE 60 kg (seed {}): failing ramp \
-             acceleration off against the acceleration reached on (request {} m/s^2 to {} m/s)\n",
+            "Traction-aware control, default world, MiaPURE 60 kg (seed {}; on also seeds {:?}): \
+             failing ramp acceleration off against the acceleration reached on (request {} m/s^2 \
+             to {} m/s)\n",
             self.settings.seed,
+            self.settings.extra_on_seeds,
             self.settings.protocol.accel_bracket_m_per_s2[1],
             self.settings.protocol.fast_top_m_per_s
         );

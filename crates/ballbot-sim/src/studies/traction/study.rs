@@ -22,6 +22,9 @@ pub struct TractionStudySettings {
     pub headings_deg: Vec<f64>,
     /// Seed of the sensor noise of every run. Default 1.
     pub seed: u64,
+    /// More seeds for the traction-on ramps at the search's top request (`failed_on` if any
+    /// fails). Default 2, 3; none in the quick variant.
+    pub extra_on_seeds: Vec<u64>,
     /// Headings of the stop from 1.4 m/s (deg). Default 0, 90, 180.
     pub stop_headings_deg: Vec<f64>,
     /// Controllers of the stop. Default on, off, shipped.
@@ -49,6 +52,7 @@ impl TractionStudySettings {
             protocol: MaxSpeedProtocol::default(),
             headings_deg: (0..24).map(|k| f64::from(k) * 15.0).collect(),
             seed: 1,
+            extra_on_seeds: vec![2, 3],
             stop_headings_deg: vec![0.0, 90.0, 180.0],
             stop_controls: vec![Control::TractionOn, Control::TractionOff, Control::Shipped],
             patch_variants: PatchVariant::ALL.to_vec(),
@@ -75,6 +79,7 @@ impl TractionStudySettings {
                 ..paper.protocol
             },
             headings_deg: vec![0.0, 180.0],
+            extra_on_seeds: Vec::new(),
             stop_headings_deg: vec![0.0, 180.0],
             stop_controls: vec![Control::TractionOn],
             patch_variants: vec![PatchVariant::Wet],
@@ -133,6 +138,9 @@ pub struct HeadingResult {
     pub off: FailingAccel,
     /// On: the ramp at the search's top request.
     pub on_top: RunRecord,
+    /// On: the same ramp with [`TractionStudySettings::extra_on_seeds`] (without samples), in
+    /// their order.
+    pub on_top_other_seeds: Vec<RunRecord>,
     /// On: the ramp at the acceleration that failed off (if one did).
     pub on_at_off_failing: Option<RunRecord>,
     /// The controller's envelope at this heading (m/s^2; friction and lift-off, recommended
@@ -214,7 +222,7 @@ pub struct TractionStudy {
 #[derive(Clone, Copy, Debug)]
 enum Job {
     Failing(f64),
-    RampOn(f64, f64),
+    RampOn(f64, f64, u64),
     Stop(f64, Control),
     Patch(PatchVariant, Control),
     Rider(f64, Control),
@@ -234,7 +242,9 @@ pub fn job_count(settings: &TractionStudySettings) -> usize {
 fn phase_one(s: &TractionStudySettings) -> Vec<Job> {
     let top = s.protocol.accel_bracket_m_per_s2[1];
     let mut jobs: Vec<Job> = s.headings_deg.iter().map(|&h| Job::Failing(h)).collect();
-    jobs.extend(s.headings_deg.iter().map(|&h| Job::RampOn(h, top)));
+    for &seed in std::iter::once(&s.seed).chain(&s.extra_on_seeds) {
+        jobs.extend(s.headings_deg.iter().map(|&h| Job::RampOn(h, top, seed)));
+    }
     for &h in &s.stop_headings_deg {
         jobs.extend(s.stop_controls.iter().map(|&c| Job::Stop(h, c)));
     }
@@ -262,9 +272,11 @@ fn run_job(
             h,
             s.seed,
         )?)),
-        Job::RampOn(h, a) => {
+        Job::RampOn(h, a, seed) => {
             let config = Control::TractionOn.config(&params, caps)?;
-            run(ramp(params, config, h, a, top_speed)?)
+            let mut p = params;
+            p.sensors.seed = seed;
+            run(ramp(p, config, h, a, top_speed)?)
         }
         Job::Stop(h, c) => {
             let config = c.config(&params, caps)?;
@@ -330,12 +342,15 @@ pub fn run_study(
             ..recommended
         },
     )?;
-    let (mut failing, mut ramps_on) = (Vec::new(), Vec::new());
+    let (mut failing, mut ramps_on, mut ramps_other) = (Vec::new(), Vec::new(), Vec::new());
     let (mut stops, mut patches, mut riders) = (Vec::new(), Vec::new(), Vec::new());
     for (job, outcome) in jobs.iter().zip(outcomes) {
         match (*job, outcome) {
             (Job::Failing(_), Outcome::Failing(f)) => failing.push(*f),
-            (Job::RampOn(..), Outcome::Run(r, ..)) => ramps_on.push(*r),
+            (Job::RampOn(_, _, seed), Outcome::Run(r, ..)) if seed == settings.seed => {
+                ramps_on.push(*r);
+            }
+            (Job::RampOn(..), Outcome::Run(r, ..)) => ramps_other.push(without_samples(*r)),
             (Job::Stop(h, control), Outcome::Run(r, _, stop_secs)) => stops.push(StopResult {
                 heading_deg: h,
                 control,
@@ -379,10 +394,16 @@ pub fn run_study(
         },
         &|i| progress(&format!("traction run {}", jobs.len() + i + 1)),
     )?;
+    let n = settings.headings_deg.len();
     let headings = failing
         .into_iter()
         .zip(ramps_on)
-        .map(|(off, on_top)| {
+        .enumerate()
+        .map(|(i, (off, on_top))| {
+            // The extra seeds' runs are in seed-major order.
+            let on_top_other_seeds = (0..settings.extra_on_seeds.len())
+                .filter_map(|k| ramps_other.get(k * n + i).cloned())
+                .collect();
             let h = off.heading_deg.to_radians();
             let (dx, dy) = (h.cos(), h.sin());
             let on_at_off_failing = second
@@ -396,6 +417,7 @@ pub fn run_study(
                 quasi_static_m_per_s2: exact.friction_limit_m_per_s2(dx, dy),
                 off,
                 on_top,
+                on_top_other_seeds,
             }
         })
         .collect();
