@@ -13,6 +13,7 @@
 //! - [`push`]: push recovery in the 3D world.
 //! - [`world_suite`]: the world braking and push studies of `ballbot reproduce`, run together.
 //! - [`traction`]: traction-aware control against the same controller without it (issue 14).
+//! - [`robustness`]: the reliability campaign: fuzzing, fault injection, Monte Carlo (issue 15).
 //! - [`scenario_run`]: one planar run from a scenario file (`ballbot simulate`).
 //! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
@@ -24,6 +25,7 @@ pub mod planar_braking;
 pub mod push;
 pub mod ramp;
 pub mod replay;
+pub mod robustness;
 pub mod runner;
 pub mod scenario_run;
 pub mod traction;
