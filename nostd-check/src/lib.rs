@@ -163,7 +163,9 @@ pub extern "C" fn ballbot_nostd_ballbot_3d_step_f32(
     else {
         return f32::NAN;
     };
-    let config = designed.with_traction_control();
+    let config = designed
+        .with_traction_control()
+        .with_balance_point_estimation();
     let (Ok(mut outer), Ok(mut inner)) =
         (BallbotController::new(config), MotorSpeedLoop::new(&config))
     else {

@@ -1,5 +1,6 @@
 //! Integration tests of ballbot-core, one module per area.
 
+mod balance_point;
 mod ballbot3d;
 mod controllers;
 mod doc_examples;

@@ -370,10 +370,13 @@ proptest! {
     fn step_never_panics_and_outputs_stay_finite_and_bounded(
         frames in prop::collection::vec(any_frame(), 1..60),
         traction in any::<bool>(),
+        balance_point in any::<bool>(),
     ) {
         let designed = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
-        // With and without traction-aware control (envelope, slip monitor).
+        // With and without traction-aware control (envelope, slip monitor) and balance-point
+        // estimation.
         let config = if traction { designed.with_traction_control() } else { designed };
+        let config = if balance_point { config.with_balance_point_estimation() } else { config };
         let mut outer = BallbotController::new(config).unwrap();
         let mut inner = MotorSpeedLoop::new(&config).unwrap();
         let mut now: u64 = 0;

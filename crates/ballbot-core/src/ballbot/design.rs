@@ -2,7 +2,7 @@
 //! ([`BallbotControllerConfig::design`]), with the per-motor PI gains
 //! ([`motor_speed_pi_gains`]).
 
-use super::{SpinGains, SpinOuterConfig, WheelMapping};
+use super::{BalancePointParams, SpinGains, SpinOuterConfig, WheelMapping};
 use crate::check::{lit, positive};
 use crate::command::{AxisLimits, CommandShaperParams};
 use crate::control::{LqrGains, LqrPiOuterConfig, SpeedPiGains};
@@ -51,6 +51,9 @@ pub struct BallbotControllerConfig<T> {
     /// Traction-aware control ([`crate::traction`]): off in [`Self::design`], on with
     /// [`Self::with_traction_control`].
     pub traction: TractionParams<T>,
+    /// Balance-point estimation ([`super::BalancePoint`]): off in [`Self::design`], on with
+    /// [`Self::with_balance_point_estimation`].
+    pub balance_point: BalancePointParams<T>,
 }
 
 /// LQR weights and bandwidths for [`BallbotControllerConfig::design_with`].
@@ -182,6 +185,7 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
             outer_dt_secs: dt,
             wheel_mapping: WheelMapping::RollingBall,
             traction: TractionParams::off(robot),
+            balance_point: BalancePointParams::off(),
         })
     }
 
@@ -209,6 +213,25 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
         if self.shaping.reference_filter_secs == T::zero() {
             self.shaping.reference_filter_secs = lit(0.3);
         }
+        self
+    }
+
+    /// This configuration with balance-point estimation on, in its recommended settings
+    /// ([`BalancePointParams::recommended`]): the controller learns the tilt at which the
+    /// robot really balances (a payload off centre, a crooked IMU) and stops driving off.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let config = BallbotControllerConfig::design(&robot)?.with_balance_point_estimation();
+    /// assert!(config.balance_point.enabled);
+    /// assert!(BallbotController::new(config)?.balance_point().is_some());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    #[must_use]
+    pub fn with_balance_point_estimation(mut self) -> Self {
+        self.balance_point = BalancePointParams::recommended();
         self
     }
 

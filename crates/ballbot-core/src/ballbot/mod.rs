@@ -80,6 +80,7 @@
 //! [`Mode::Balancing`]: crate::safety::Mode::Balancing
 //! [`Mode::ControlledStop`]: crate::safety::Mode::ControlledStop
 
+mod balance;
 mod design;
 mod feedforward;
 mod mapping;
@@ -89,6 +90,7 @@ mod spin;
 #[cfg(test)]
 mod tests;
 
+pub use balance::{BalancePoint, BalancePointParams};
 pub use design::{BallbotControllerConfig, BallbotDesign, motor_speed_pi_gains};
 pub use mapping::WheelMapping;
 pub use motor::{InnerOutput, MotorSpeedLoop, MotorSpeedPi};

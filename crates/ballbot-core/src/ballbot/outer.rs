@@ -2,7 +2,7 @@
 //! [`MotorReferences`] sent to the motor drivers.
 
 use super::feedforward::InputFeedforward;
-use super::{BallbotControllerConfig, SpinOuter, WheelMapping};
+use super::{BalancePoint, BallbotControllerConfig, SpinOuter, WheelMapping};
 use crate::check::{lit, positive};
 use crate::command::{Command, CommandShaper, PlanarCommands};
 use crate::control::{LqrPiOuter, StepStatus};
@@ -250,6 +250,7 @@ pub struct BallbotController<T: RealField + Copy> {
     spin: SpinOuter<T>,
     feedforward: InputFeedforward<T>,
     traction: Option<TractionControl<T>>,
+    balance_point: Option<BalancePoint<T>>,
 }
 
 impl<T: RealField + Copy> BallbotController<T> {
@@ -275,6 +276,12 @@ impl<T: RealField + Copy> BallbotController<T> {
         } else {
             None
         };
+        let balance_point = if config.balance_point.enabled {
+            Some(BalancePoint::new(config.balance_point)?)
+        } else {
+            config.balance_point.validate()?;
+            None
+        };
         Ok(Self {
             config,
             kinematics,
@@ -286,6 +293,7 @@ impl<T: RealField + Copy> BallbotController<T> {
             spin: SpinOuter::new(Spin::new(config.robot.spin)?, config.spin)?,
             feedforward: InputFeedforward::new(&config),
             traction,
+            balance_point,
         })
     }
 
@@ -300,6 +308,19 @@ impl<T: RealField + Copy> BallbotController<T> {
     /// ```
     pub fn traction(&self) -> Option<&TractionControl<T>> {
         self.traction.as_ref()
+    }
+
+    /// The balance-point estimator, when enabled ([`BallbotControllerConfig::balance_point`]).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert!(BallbotController::new(config)?.balance_point().is_none());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn balance_point(&self) -> Option<&BalancePoint<T>> {
+        self.balance_point.as_ref()
     }
 
     /// The configuration.
@@ -489,22 +510,40 @@ impl<T: RealField + Copy> BallbotController<T> {
         let tilt_shift_y = ff.sagittal_tilt.shift(c.sagittal[TILT], tilt_accel_y);
         c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y + tilt_shift_x;
         c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x + tilt_shift_y;
+        // The planes see the tilt from the learnt balance point (see `BalancePoint`): there
+        // the body's centre of mass is above the ball, and the reference models' upright.
+        let (mut fro_state, mut sag_state) = (states.frontal, states.sagittal);
+        let (mut fro_sin_cos, mut sag_sin_cos) = (roll_sin_cos, pitch_sin_cos);
+        if let Some(bp) = &mut self.balance_point {
+            bp.update(
+                Vector2::new(states.frontal[TILT], states.sagittal[TILT]),
+                Vector2::new(states.frontal[TILT_RATE], states.sagittal[TILT_RATE]),
+                Vector2::new(c.frontal[TILT], c.sagittal[TILT]),
+                a.x.hypot(a.y),
+                dt,
+            );
+            let offset = bp.offset_rad();
+            fro_state[TILT] -= offset[0];
+            sag_state[TILT] -= offset[1];
+            fro_sin_cos = fro_state[TILT].sin_cos();
+            sag_sin_cos = sag_state[TILT].sin_cos();
+        }
         let yaw_rate_c = c.spin[1];
         c.spin[0] +=
             ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_secs * yaw_rate_c;
         let (mut fro_tilt_accel, mut sag_tilt_accel) = (T::zero(), T::zero());
         let fro = self.frontal.step_with_tilt_sin_cos(
-            &states.frontal,
+            &fro_state,
             &c.frontal,
             dt,
-            roll_sin_cos,
+            fro_sin_cos,
             &mut fro_tilt_accel,
         );
         let sag = self.sagittal.step_with_tilt_sin_cos(
-            &states.sagittal,
+            &sag_state,
             &c.sagittal,
             dt,
-            pitch_sin_cos,
+            sag_sin_cos,
             &mut sag_tilt_accel,
         );
         let spin = self.spin.step(&states.spin, &c.spin, dt);

@@ -56,6 +56,7 @@ pub(super) const CHECKED: &[&str] = &[
     "traction/monitor.rs",
     "traction/params.rs",
     "command/limit.rs",
+    "ballbot/balance.rs",
     "command/pending.rs",
     "hal.rs",
     "linalg.rs",
