@@ -112,22 +112,30 @@ impl MotorTorques<f64> for WorldMotors {
     }
 }
 
-/// The world's clock (us), set by the rig to the simulated time.
+/// The world's clock (us), set by the rig to the simulated time. Each read advances it by
+/// `task_us`: the outer task reads it at its start and end, so a `task_us` longer than the
+/// period is a task that overran (fault injection, [`super::Tick::Run`]); 0 on a healthy rig.
 ///
 /// ```
 /// use ballbot_core::hal::MonotonicClock;
 /// use ballbot_sim::rig::WorldClock;
-/// let mut clock = WorldClock { now_us: 2500 };
-/// assert_eq!(clock.now_us(), 2500);
+/// let mut clock = WorldClock { now_us: 2500, task_us: 0 };
+/// assert_eq!((clock.now_us(), clock.now_us()), (2500, 2500));
+/// let mut slow = WorldClock { now_us: 2500, task_us: 3000 };
+/// assert_eq!((slow.now_us(), slow.now_us()), (2500, 5500));
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WorldClock {
     /// The simulated time (us).
     pub now_us: u64,
+    /// How far each read advances the clock (us).
+    pub task_us: u64,
 }
 
 impl MonotonicClock for WorldClock {
     fn now_us(&mut self) -> u64 {
-        self.now_us
+        let now = self.now_us;
+        self.now_us = now.saturating_add(self.task_us);
+        now
     }
 }

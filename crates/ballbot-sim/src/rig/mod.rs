@@ -3,6 +3,7 @@
 //! ([`ballbot_core::hal`]).
 //!
 //! * [`devices`]: the world's IMU, encoders, motor drivers and clock behind the `hal` traits.
+//! * [`inject`]: fault injection between the world and the loop ([`Injector`]).
 //! * [`world_robot`]: [`WorldRobot`], the world and the robot loop stepped together (outer task
 //!   at 400 Hz on a fresh sensor sample, inner task at every 8 kHz physics step).
 //!
@@ -13,7 +14,9 @@
 //! Layer: imports the physics (`world`), the core and the runtime; nothing above it.
 
 pub mod devices;
+pub mod inject;
 pub mod world_robot;
 
 pub use devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
+pub use inject::{Injector, NoFaults, Tick};
 pub use world_robot::WorldRobot;

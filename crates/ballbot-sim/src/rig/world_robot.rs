@@ -1,6 +1,7 @@
 //! [`WorldRobot`]: the world stepped together with the shipped robot loop.
 
 use super::devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
+use super::inject::{Injector, NoFaults, Tick};
 use crate::world::{BallbotWorld, StepTelemetry, WorldError, WorldParams};
 use ballbot_core::ballbot::{BallbotControllerConfig, OuterOutput};
 use ballbot_core::command::Command;
@@ -133,39 +134,60 @@ impl WorldRobot {
     /// One physics step (8 kHz): every `outer_dt / dt` steps the outer task first, on a fresh
     /// sensor sample, then the inner task, whose torque the world applies for this step.
     pub fn step(&mut self, command: Command<'_, f64>) -> &StepTelemetry {
+        self.step_injected(command, &mut NoFaults)
+    }
+
+    /// [`Self::step`] with the samples, ticks, command link and torques passing through
+    /// `faults` (see [`Injector`]).
+    pub fn step_injected<F: Injector + ?Sized>(
+        &mut self,
+        command: Command<'_, f64>,
+        faults: &mut F,
+    ) -> &StepTelemetry {
         if self.step_index.is_multiple_of(self.steps_per_outer) {
             let m = self.world.measure();
             let now_us = (m.time_secs * 1e6).round() as u64;
-            let (imu, encoders, _, clock) = self.robot.devices_mut();
-            imu.sample = ImuSample {
-                timestamp_us: now_us,
-                roll_rad: m.tilt_rad[0],
-                pitch_rad: m.tilt_rad[1],
-                yaw_rad: m.yaw_rad,
-                angular_velocity_rad_per_s: Vector3::from(m.body_rate_rad_per_s),
-            };
-            encoders.sample = EncoderSample {
-                timestamp_us: now_us,
-                wheel_speeds_rad_per_s: Vector3::from(m.wheel_speed_rad_per_s),
-            };
-            clock.now_us = now_us;
-            let report = self.robot.outer_task(&OperatorInput {
-                command,
-                command_timestamp_us: Some(now_us),
-                request: ModeRequest::None,
-            });
-            self.last_outer = Some(report.output);
+            if let Tick::Run { task_us } = faults.outer_tick(now_us) {
+                let (imu, encoders, _, clock) = self.robot.devices_mut();
+                let fresh_imu = ImuSample {
+                    timestamp_us: now_us,
+                    roll_rad: m.tilt_rad[0],
+                    pitch_rad: m.tilt_rad[1],
+                    yaw_rad: m.yaw_rad,
+                    angular_velocity_rad_per_s: Vector3::from(m.body_rate_rad_per_s),
+                };
+                if let Some(sample) = faults.imu(now_us, fresh_imu) {
+                    imu.sample = sample;
+                }
+                let fresh_encoders = EncoderSample {
+                    timestamp_us: now_us,
+                    wheel_speeds_rad_per_s: Vector3::from(m.wheel_speed_rad_per_s),
+                };
+                if let Some(sample) = faults.encoders(now_us, fresh_encoders, true) {
+                    encoders.sample = sample;
+                }
+                *clock = WorldClock { now_us, task_us };
+                let command_timestamp_us = faults.command_timestamp_us(now_us);
+                let report = self.robot.outer_task(&OperatorInput {
+                    command,
+                    command_timestamp_us,
+                    request: ModeRequest::None,
+                });
+                self.last_outer = Some(report.output);
+            }
         }
         self.step_index += 1;
         let speeds = Vector3::from(self.world.encoder_speeds_rad_per_s());
         let now_us = (self.world.time_secs() * 1e6).round() as u64;
-        let (_, encoders, _, _) = self.robot.devices_mut();
-        encoders.sample = EncoderSample {
+        let fresh = EncoderSample {
             timestamp_us: now_us,
             wheel_speeds_rad_per_s: speeds,
         };
+        if let Some(sample) = faults.encoders(now_us, fresh, false) {
+            self.robot.devices_mut().1.sample = sample;
+        }
         self.robot.inner_task();
-        let torque = self.robot.devices().2.torque_nm;
+        let torque = faults.torques(now_us, self.robot.devices().2.torque_nm, speeds);
         self.world.step([torque.x, torque.y, torque.z])
     }
 }

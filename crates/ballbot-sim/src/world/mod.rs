@@ -12,6 +12,7 @@
 //!   gaps), [`axle_loss`] (roller losses along the axle) and [`rubber`] (stiffness and damping
 //!   of the ball's coating) are its realistic mechanisms (on in the default world,
 //!   [`WorldParams::realistic`]; off in [`WorldParams::ideal`]).
+//! * [`disturbance`]: a payload that shifts, a bump on the floor ([`FloorBump`]).
 //! * [`driver`]: the motor driver between torque command and wheel (ideal line or ODrive).
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
@@ -27,6 +28,7 @@
 pub mod axle_loss;
 mod check;
 pub mod contact;
+pub mod disturbance;
 pub mod driver;
 pub mod failure;
 pub mod params;
@@ -37,6 +39,7 @@ pub mod sim;
 pub mod telemetry;
 
 pub use axle_loss::AxleLossParams;
+pub use disturbance::FloorBump;
 pub use driver::{DriverLimit, DriverModel, DriverParams};
 pub use failure::{Failure, FailureKind, wheel_name};
 pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};

@@ -75,11 +75,13 @@ struct WheelState {
 /// ```
 pub struct BallbotWorld {
     params: WorldParams,
-    physics: PhysicsWorld,
+    pub(super) physics: PhysicsWorld,
     ball: RigidBodyHandle,
-    body: RigidBodyHandle,
+    pub(super) body: RigidBodyHandle,
     ball_collider: ColliderHandle,
     floor_collider: ColliderHandle,
+    /// Floor obstacles added after construction ([`BallbotWorld::add_floor_bump`]).
+    pub(super) obstacles: Vec<ColliderHandle>,
     law: ContactLaw,
     rollers: RollerProfile,
     geometry: [WheelGeometry; 3],
@@ -194,6 +196,7 @@ impl BallbotWorld {
             body,
             ball_collider,
             floor_collider,
+            obstacles: Vec::new(),
             law,
             rollers,
             geometry,
@@ -341,7 +344,8 @@ impl BallbotWorld {
     pub fn set_floor_friction(&mut self, friction: f64) -> Result<(), WorldError> {
         non_negative(friction, "robot.drivetrain.ball_floor_friction")?;
         self.params.robot.drivetrain.ball_floor_friction = friction;
-        for h in [self.ball_collider, self.floor_collider] {
+        let floors = [self.ball_collider, self.floor_collider];
+        for &h in floors.iter().chain(&self.obstacles) {
             if let Some(c) = self.physics.colliders.get_mut(h) {
                 c.set_friction(friction);
             }
