@@ -64,6 +64,10 @@ grep -q '"traction_aware"' target/reproduce-quick/summary.json
 python3 scripts/compare-summary.py scripts/reference/reproduce-quick-summary.json \
     target/reproduce-quick/summary.json --ignore solve_ms --ignore log_path
 
+step "reliability campaign smoke run (ballbot robustness --quick)"
+cargo run -q -p ballbot-cli --bin ballbot -- robustness --quick --out target/robustness-quick
+python3 scripts/check-robustness.py target/robustness-quick/robustness.json
+
 step "Python package: pip install into a fresh venv, mypy.stubtest, mypy --strict, pytest"
 bash scripts/test-python.sh
 

@@ -6,12 +6,15 @@
 //!   (`ballbot_sim::scenario`); writes its MCAP log and a JSON summary.
 //! - `ballbot reproduce --out DIR [--quick]`: every paper experiment that exists so far;
 //!   prints a comparison table and writes plots, MCAP logs and `DIR/summary.json`.
+//! - `ballbot robustness --out DIR [--quick]`: the reliability campaign (fuzzing, fault
+//!   injection in the 3D world, Monte Carlo); writes `DIR/robustness.json`, figures and logs.
 //! - `ballbot brake [--preset miapure|piptb] [--json]`: a minimum-effort braking trajectory.
 //! - `ballbot world [--heading-deg D --accel-m-per-s2 A ...] --out FILE.mcap`: one 3D world run
 //!   with the core's controller; prints the outcome and writes an MCAP log for Foxglove.
 
 pub mod brake;
 pub mod reproduce;
+pub mod robustness;
 pub mod simulate;
 pub mod world;
 
@@ -34,6 +37,10 @@ pub enum Command {
     /// Run the paper's experiments; print the comparison and write plots, logs and
     /// DIR/summary.json.
     Reproduce(reproduce::ReproduceArgs),
+    /// Run the reliability campaign: fuzz the core, inject faults in the 3D world, Monte Carlo
+    /// pushes on mismatched robots; print the tables and write DIR/robustness.json, figures
+    /// and logs.
+    Robustness(robustness::RobustnessArgs),
     /// Compute a minimum-effort braking trajectory (direct collocation, SQP with clarabel).
     Brake(brake::BrakeArgs),
     /// Run the 3D world (rapier3d) with the core's controller: a velocity ramp and an optional
@@ -47,6 +54,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Simulate(args) => simulate::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
+        Command::Robustness(args) => robustness::run(&args),
         Command::Brake(args) => brake::run(&args),
         Command::World(args) => world::run(&args),
     }

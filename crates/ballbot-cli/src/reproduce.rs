@@ -27,9 +27,9 @@ pub struct ReproduceArgs {
     pub no_plots: bool,
 }
 
-/// A progress bar per study; tables go to stdout.
+/// A progress bar per study; tables go to stdout (also `ballbot robustness`'s).
 #[derive(Default)]
-struct Bars {
+pub(crate) struct Bars {
     bar: Mutex<Option<ProgressBar>>,
 }
 

@@ -11,6 +11,7 @@ mod planar_plant;
 mod planar_sim;
 mod plot;
 mod rig;
+mod robustness_faults;
 mod rollout;
 mod scenario;
 mod trajopt;

@@ -42,4 +42,7 @@ pub enum ReportError {
     /// The summary could not be serialised.
     #[error(transparent)]
     Json(#[from] serde_json::Error),
+    /// A cell of the fault-injection matrix failed to run or to log.
+    #[error("fault-injection matrix: {0}")]
+    FaultCell(#[from] crate::studies::robustness::CellError),
 }

@@ -8,6 +8,8 @@
 //!   logs and `summary.json`.
 //! - [`piptb`], [`brake`], [`max_speed`], [`mechanisms`], [`world_suite`], [`traction`]: one study's JSON and tables each;
 //!   the `*_figures` modules draw its figures.
+//! - [`robustness`](mod@robustness): `ballbot robustness` as a library call: the reliability
+//!   campaign (fuzzing, fault-injection matrix, Monte Carlo) and `robustness.json`.
 
 pub mod brake;
 mod error;
@@ -23,6 +25,9 @@ pub mod piptb_figures;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod reproduce;
+pub mod robustness;
+#[cfg(feature = "plot")]
+pub mod robustness_figures;
 pub mod traction;
 #[cfg(feature = "plot")]
 pub mod traction_figures;
@@ -32,3 +37,4 @@ pub mod world_suite_figures;
 
 pub use error::ReportError;
 pub use reproduce::{ReproduceObserver, ReproduceOptions, reproduce};
+pub use robustness::{RobustnessOptions, robustness};

@@ -1,7 +1,8 @@
 //! Fault injection between the world and the robot loop: an [`Injector`] sees every sample the
 //! world's devices hand the loop, every outer tick, the command link and the torque the motor
-//! drivers apply, and may change, delay, drop or skip them. [`WorldRobot::step_injected`]
-//! (super::WorldRobot::step_injected) runs a step through one; [`NoFaults`] changes nothing.
+//! drivers apply, and may change, delay, drop or skip them.
+//! [`WorldRobot::step_injected`](super::WorldRobot::step_injected) runs a step through one;
+//! [`NoFaults`] changes nothing.
 //!
 //! The loop and the controller are the shipped ones: an injected fault reaches them exactly as a
 //! failing device, a late task or a dead link would on the robot.

@@ -5,6 +5,7 @@
 //!   subplot with a legend, shaded time intervals (e.g. the braking phase) and vertical marker
 //!   lines (e.g. the failure instant).
 //! - [`PolarFigure`]: a value against heading, e.g. the maximum speed per heading.
+//! - [`GridFigure`]: a table of coloured cells, e.g. a fault-injection matrix.
 //!
 //! Text is drawn with an embedded font (DejaVu Sans), so PNGs need no system fonts and look
 //! the same on every machine. Figures are plain data: build them, then
@@ -13,12 +14,14 @@
 
 mod error;
 mod font;
+mod grid;
 mod polar;
 mod render;
 mod style;
 mod timeseries;
 
 pub use error::PlotError;
+pub use grid::{GridCell, GridFigure};
 pub use polar::{PolarFigure, PolarSeries};
 pub use style::{LegendPosition, LineStyle, PALETTE, Rgb};
 pub use timeseries::{Series, Subplot, TimeInterval, TimeMarker, TimeSeriesFigure};

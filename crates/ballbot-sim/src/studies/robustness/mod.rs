@@ -3,3 +3,15 @@
 //! - fuzzing the core and the parsers: seeded hostile inputs, invariants checked on every step;
 //! - a fault-injection matrix in the 3D world: each fault while standing, cruising and braking;
 //! - Monte Carlo robustness: pushes on robots that differ from the controller's model.
+
+pub mod fault_run;
+pub mod faults;
+pub mod injector;
+
+pub use fault_run::{
+    Cell, CellError, CellLog, CellProtocol, CellResult, ControllerVariant, run_cell,
+};
+pub use faults::{Condition, FaultClass, FaultMagnitudes, SafeState};
+pub use injector::FaultInjector;
+pub mod fault_matrix;
+pub use fault_matrix::{FaultMatrix, FaultMatrixSettings, FaultMatrixSummary, run_fault_matrix};

@@ -1,0 +1,130 @@
+//! The fault-injection matrix (issue 15, section 2): cells whose outcome the supervisor's
+//! documented timeouts predict, the balance-point estimator against the payload shift, logs,
+//! determinism.
+
+use ballbot_sim::studies::robustness::{
+    Cell, CellProtocol, CellResult, Condition, ControllerVariant, FaultClass, FaultMagnitudes,
+    SafeState, run_cell,
+};
+use ballbot_sim::world::WorldParams;
+use std::path::Path;
+
+fn run(controller: ControllerVariant, class: FaultClass, condition: Condition) -> CellResult {
+    run_logged(controller, class, condition, None)
+}
+
+fn run_logged(
+    controller: ControllerVariant,
+    class: FaultClass,
+    condition: Condition,
+    log: Option<&Path>,
+) -> CellResult {
+    let protocol = CellProtocol {
+        moving_inject_secs: 3.0,
+        observe_secs: 4.0,
+        ..CellProtocol::issue15()
+    };
+    let cell = Cell {
+        controller,
+        class,
+        condition,
+        heading_deg: 90.0,
+        seed: 7,
+    };
+    run_cell(
+        &WorldParams::miapure_60kg(),
+        &protocol,
+        &FaultMagnitudes::issue15(),
+        cell,
+        log,
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_silent_imu_switches_the_motors_off_at_the_stale_timeout() {
+    let c = run(
+        ControllerVariant::Design,
+        FaultClass::ImuStale,
+        Condition::Standing,
+    );
+    assert_eq!(c.observed, SafeState::ProtectiveStop, "{c:?}");
+    assert_eq!(c.detected.first(), Some(&"imu_stale"), "{c:?}");
+    // The supervisor's 20 ms timeout, to within one outer period.
+    let ms = c.time_to_detect_ms.unwrap();
+    assert!((20.0..=22.5).contains(&ms), "{ms} ms");
+    assert!(c.faults_before_injection.is_empty());
+}
+
+#[test]
+fn a_lost_link_while_cruising_brakes_to_rest() {
+    let c = run(
+        ControllerVariant::Design,
+        FaultClass::CommandLinkLost,
+        Condition::Cruising,
+    );
+    assert_eq!(c.observed, SafeState::ControlledStop, "{c:?}");
+    assert!(!c.fell && c.final_speed_m_per_s < 0.1, "{c:?}");
+    let ms = c.time_to_detect_ms.unwrap();
+    assert!((250.0..=252.5).contains(&ms), "{ms} ms");
+    assert!((c.speed_at_injection_m_per_s - 1.4).abs() < 0.15, "{c:?}");
+}
+
+#[test]
+fn a_shifted_payload_drives_the_designed_controller_off_but_not_the_balance_point_one() {
+    let design = run(
+        ControllerVariant::Design,
+        FaultClass::PayloadShift,
+        Condition::Standing,
+    );
+    assert_eq!(design.observed, SafeState::Drifting, "{design:?}");
+    assert!(design.final_speed_m_per_s > 0.4, "{design:?}");
+    let learnt = run(
+        ControllerVariant::BalancePoint,
+        FaultClass::PayloadShift,
+        Condition::Standing,
+    );
+    assert_eq!(learnt.observed, SafeState::KeepsBalancing, "{learnt:?}");
+}
+
+#[test]
+fn an_overrun_is_a_controlled_stop_and_the_cell_is_deterministic() {
+    let a = run(
+        ControllerVariant::Design,
+        FaultClass::LoopOverrun,
+        Condition::Standing,
+    );
+    assert_eq!(a.observed, SafeState::ControlledStop, "{a:?}");
+    assert_eq!(a.detected, ["loop_overrun"]);
+    let b = run(
+        ControllerVariant::Design,
+        FaultClass::LoopOverrun,
+        Condition::Standing,
+    );
+    assert_eq!(a, b);
+}
+
+#[test]
+fn every_faulted_run_writes_a_log_that_reads_back_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("glitch.mcap");
+    let c = run_logged(
+        ControllerVariant::Design,
+        FaultClass::EncoderGlitch,
+        Condition::Standing,
+        Some(&path),
+    );
+    let log = c.log.unwrap();
+    assert!(log.read_back_whole && log.messages > 100, "{log:?}");
+    let read = ballbot_sim::log::McapLog::open(&path).unwrap();
+    // The injection is in the log as an event.
+    let events: Vec<(f64, serde_json::Value)> =
+        read.decode(ballbot_sim::log::topics::FAULTS).unwrap();
+    assert!(
+        events.iter().any(|(_, e)| e["kind"] == "fault"
+            && e["description"]
+                .as_str()
+                .is_some_and(|d| d.contains("encoder_glitch"))),
+        "{events:?}"
+    );
+}
