@@ -150,6 +150,40 @@ fn stale_imu_data_disables_the_motors() {
     );
 }
 
+/// Steps `rig` with the IMU silent (NaN) until the motors go off; returns how long it took
+/// (us), or `None` after a second.
+fn time_to_motors_off_with_a_dead_imu(rig: &mut Rig) -> Option<u64> {
+    let start = rig.now_us;
+    for _ in 0..400 {
+        let mut input = rig.input(velocity(0.0, 0.0, 0.0), ModeRequest::None);
+        input.imu.pitch_rad = f64::NAN;
+        if !rig.step_with(&input).motors.enabled {
+            return Some(rig.now_us - start);
+        }
+    }
+    None
+}
+
+#[test]
+fn a_sample_stamped_in_the_future_does_not_hold_the_stale_check_off() {
+    let mut rig = cruising(0.5);
+    // One valid sample stamped an hour ahead, then the IMU dies.
+    let mut input = rig.input(velocity(0.5, 0.0, 0.0), ModeRequest::None);
+    input.imu.timestamp_us += 3_600_000_000;
+    input.encoders.timestamp_us += 3_600_000_000;
+    rig.step_with(&input);
+    let off = time_to_motors_off_with_a_dead_imu(&mut rig).expect("the IMU went stale");
+    assert!(off <= 25_000, "{off} us");
+}
+
+#[test]
+fn a_clock_that_jumps_back_does_not_hold_the_stale_check_off() {
+    let mut rig = cruising(0.5);
+    rig.now_us -= 1_000_000;
+    let off = time_to_motors_off_with_a_dead_imu(&mut rig).expect("the IMU went stale");
+    assert!(off <= 25_000, "{off} us");
+}
+
 #[test]
 fn frozen_imu_disables_the_motors() {
     let mut rig = cruising(0.5);

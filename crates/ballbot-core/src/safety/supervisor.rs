@@ -332,6 +332,11 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
         if let Some(last) = self.last_step_us {
             if now < last {
                 faults.insert(Fault::ClockFault);
+                // Nothing can have arrived after `now`: times kept from before the jump would
+                // hold the stale checks off until the clock caught up with them.
+                self.last_valid_imu_us = self.last_valid_imu_us.map(|t| t.min(now));
+                self.last_valid_encoder_us = self.last_valid_encoder_us.map(|t| t.min(now));
+                self.imu_unchanged_since_us = self.imu_unchanged_since_us.min(now);
             } else if now - last > p.max_loop_period_us {
                 faults.insert(Fault::LoopOverrun);
             }
@@ -350,10 +355,10 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
             true
         };
         if imu_valid {
-            self.last_valid_imu_us = Some(
-                self.last_valid_imu_us
-                    .map_or(imu.timestamp_us, |t| t.max(imu.timestamp_us)),
-            );
+            // A sample stamped in the future counts as taken now: one bad stamp must not hold
+            // the stale check off until the clock reaches it.
+            let stamp = imu.timestamp_us.min(now);
+            self.last_valid_imu_us = Some(self.last_valid_imu_us.map_or(stamp, |t| t.max(stamp)));
             // The tilt from the vertical, `sqrt(roll^2 + pitch^2)`: within 0.1 deg of the exact
             // `acos(cos roll cos pitch)` at 20 deg, and without trigonometry. (Roll and pitch
             // each against the limit let a body fall at 45 deg between the axes undetected
@@ -391,10 +396,9 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
             true
         };
         if encoders_valid {
-            self.last_valid_encoder_us = Some(
-                self.last_valid_encoder_us
-                    .map_or(enc.timestamp_us, |t| t.max(enc.timestamp_us)),
-            );
+            let stamp = enc.timestamp_us.min(now);
+            self.last_valid_encoder_us =
+                Some(self.last_valid_encoder_us.map_or(stamp, |t| t.max(stamp)));
             if speeds
                 .iter()
                 .any(|s| s.abs() > p.wheel_speed_limit_rad_per_s)
