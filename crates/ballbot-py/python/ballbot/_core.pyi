@@ -127,6 +127,7 @@ __all__ = [
     "braking_study",
     "push_trial",
     "push_recovery_limit",
+    "robustness_json",
 ]
 
 __version__: str
@@ -1632,6 +1633,13 @@ def push_trial(
 ) -> PushTrial: ...
 
 
+def robustness_json(
+    out: str,
+    *,
+    quick: bool = False,
+    seed: int = 1,
+    threads: int = 0,
+) -> str: ...
 def push_recovery_limit(
     params: Optional[WorldParams] = None,
     *,

@@ -4,7 +4,8 @@ In the 3D world: the maximum-speed ramp and study (``max_speed_ramp`` with ``Ram
 ``slow_ramp_trial``, ``failing_acceleration``, ``max_speed_study`` with ``MaxSpeedSettings``),
 braking (``braking_run``, ``braking_study`` with ``BrakingSettings``) and push recovery
 (``push_trial``, ``push_recovery_limit`` with ``PushSettings``). On the planar simulator: the
-PIPTB controller comparison (``piptb_experiment``) and TOML scenarios (``Scenario``).
+PIPTB controller comparison (``piptb_experiment``) and TOML scenarios (``Scenario``). The
+reliability campaign: ``robustness`` (issue 15).
 
 Each study takes its settings as one parameter class; the settings' fields may also be given
 as keyword arguments (they map one to one onto the class and override ``settings``).
@@ -13,6 +14,8 @@ Results are frozen classes (``MaxSpeedStudy``, ``BrakingRun``, ...) with ``to_di
 
 from __future__ import annotations
 
+import json
+import os
 from typing import Any, Optional, TypeVar
 
 from ballbot import _core
@@ -31,6 +34,15 @@ from ballbot._results import (
     ScenarioRun,
     SlowRampTrial,
     TrialOutcome,
+)
+from ballbot._robustness import (
+    CellLog,
+    FaultCell,
+    FaultMatrix,
+    Mismatch,
+    MonteCarlo,
+    MonteCarloRun,
+    Robustness,
 )
 from ballbot._settings import (
     BrakingSettings,
@@ -170,16 +182,37 @@ def push_recovery_limit(
     )
 
 
+def robustness(
+    out: str | os.PathLike[str],
+    *,
+    quick: bool = False,
+    seed: int = 1,
+    threads: int = 0,
+) -> Robustness:
+    """The reliability campaign of ``ballbot robustness`` (without its figures): the
+    fault-injection matrix in the 3D world and the Monte Carlo pushes on mismatched robots, on
+    ``threads`` threads (0: every core) without the GIL. Writes ``out/robustness.json`` and each faulted run's MCAP log under
+    ``out/logs/``; ``quick`` is the CI-sized campaign; ``seed`` seeds every random input."""
+    text = _core.robustness_json(os.fspath(out), quick=quick, seed=seed, threads=threads)
+    return Robustness._from_json(json.loads(text))
+
+
 __all__ = [
     "BrakingOutcome",
     "BrakingPeaks",
     "BrakingRun",
     "BrakingSettings",
     "BrakingStudy",
+    "CellLog",
     "FailingAcceleration",
+    "FaultCell",
+    "FaultMatrix",
     "Feedforward",
     "MaxSpeedSettings",
     "MaxSpeedStudy",
+    "Mismatch",
+    "MonteCarlo",
+    "MonteCarloRun",
     "PiptbExperiment",
     "PushOutcome",
     "PushRecovery",
@@ -187,6 +220,7 @@ __all__ = [
     "PushTrial",
     "RampRun",
     "RampSettings",
+    "Robustness",
     "Scenario",
     "ScenarioRun",
     "SlowRampTrial",
@@ -199,5 +233,6 @@ __all__ = [
     "piptb_experiment",
     "push_recovery_limit",
     "push_trial",
+    "robustness",
     "slow_ramp_trial",
 ]

@@ -114,14 +114,23 @@ pub fn reproduce(
     traction_section(options, observer, &mut summary)?;
 
     let summary = Value::Object(summary);
-    let path = out.join("summary.json");
-    let text = serde_json::to_string_pretty(&summary)?;
-    std::fs::write(&path, format!("{text}\n")).map_err(|source| ReportError::Io {
-        path: path.clone(),
+    write_json(&out.join("summary.json"), &summary, observer)?;
+    Ok(summary)
+}
+
+/// Writes `value` as pretty JSON to `path` and tells `observer`.
+pub(crate) fn write_json(
+    path: &Path,
+    value: &Value,
+    observer: &dyn ReproduceObserver,
+) -> Result<(), ReportError> {
+    let text = serde_json::to_string_pretty(value)?;
+    std::fs::write(path, format!("{text}\n")).map_err(|source| ReportError::Io {
+        path: path.to_owned(),
         source,
     })?;
     observer.text(&format!("wrote {}", path.display()));
-    Ok(summary)
+    Ok(())
 }
 
 fn piptb_section(

@@ -6,9 +6,10 @@
 //! the tables and progress to a [`ReproduceObserver`].
 
 use super::ReportError;
-use super::reproduce::ReproduceObserver;
+use super::reproduce::{ReproduceObserver, write_json};
 use crate::studies::robustness::{
-    ControllerVariant, FaultMatrix, FaultMatrixSettings, run_fault_matrix,
+    ControllerVariant, FaultMatrix, FaultMatrixSettings, MonteCarlo, MonteCarloSettings,
+    run_fault_matrix, run_monte_carlo,
 };
 use crate::world::WorldParams;
 use serde_json::{Map, Value, json};
@@ -45,14 +46,9 @@ pub fn robustness(
     summary.insert("quick".to_owned(), Value::Bool(options.quick));
     summary.insert("seed".to_owned(), json!(options.seed));
     fault_matrix_section(options, observer, &mut summary)?;
+    monte_carlo_section(options, observer, &mut summary)?;
     let summary = Value::Object(summary);
-    let path = out.join("robustness.json");
-    let text = serde_json::to_string_pretty(&summary)?;
-    std::fs::write(&path, format!("{text}\n")).map_err(|source| ReportError::Io {
-        path: path.clone(),
-        source,
-    })?;
-    observer.text(&format!("wrote {}", path.display()));
+    write_json(&out.join("robustness.json"), &summary, observer)?;
     Ok(summary)
 }
 
@@ -141,6 +137,134 @@ pub fn fault_matrix_table(
     let _ = writeln!(
         t,
         "{as_expected} of {cells} cells in their expected safe state; marks: kb keeps balancing, cs controlled stop, ps protective stop, dr drifting off the command, FELL fell undetected, n/a fault never acted; ms = time to detect"
+    );
+    t
+}
+
+fn monte_carlo_section(
+    options: &RobustnessOptions,
+    observer: &dyn ReproduceObserver,
+    summary: &mut Map<String, Value>,
+) -> Result<(), ReportError> {
+    let base = if options.quick {
+        MonteCarloSettings::quick()
+    } else {
+        MonteCarloSettings::full()
+    };
+    let world = WorldParams::miapure_60kg();
+    let mut results = Map::new();
+    for controller in ControllerVariant::ALL {
+        let settings = MonteCarloSettings {
+            controller,
+            seed: options.seed,
+            ..base
+        };
+        observer.start(&format!("mc {}", controller.as_str()), settings.runs as u64);
+        let mc = run_monte_carlo(&world, &settings, options.threads, &|_, _| {
+            observer.step("run")
+        })?;
+        observer.finish();
+        observer.text(&monte_carlo_table(&mc));
+        #[cfg(feature = "plot")]
+        if options.plots {
+            super::robustness_figures::monte_carlo_figure(&mc).save_svg_and_png(
+                &options
+                    .out
+                    .join(format!("monte_carlo_{}", controller.as_str())),
+            )?;
+        }
+        results.insert(controller.as_str().to_owned(), serde_json::to_value(&mc)?);
+    }
+    // The headline: the designed controller's rate, as the issue asks for it.
+    let design = results.get("design").cloned().unwrap_or(Value::Null);
+    let mut value = Map::new();
+    value.insert(
+        "recovery_rate".to_owned(),
+        design.get("recovery_rate").cloned().unwrap_or(Value::Null),
+    );
+    value.insert(
+        "recovery_rate_ci95".to_owned(),
+        design
+            .get("recovery_rate_ci95")
+            .cloned()
+            .unwrap_or(Value::Null),
+    );
+    for key in ["at_rest_rate", "at_rest_rate_ci95"] {
+        value.insert(
+            key.to_owned(),
+            design.get(key).cloned().unwrap_or(Value::Null),
+        );
+    }
+    value.insert("by_controller".to_owned(), Value::Object(results));
+    summary.insert("monte_carlo".to_owned(), Value::Object(value));
+    Ok(())
+}
+
+/// The Monte Carlo study as text: the rate with its interval, outcomes, the largest
+/// recovered push's quantiles, the worst runs with their seeds, and the throughput.
+pub fn monte_carlo_table(mc: &MonteCarlo) -> String {
+    let s = &mc.settings;
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "Monte Carlo, controller `{}`: {} runs, +-{:.0} % mismatch, {} N s push over 0.1 s at a random heading, base seed {}",
+        s.controller.as_str(),
+        mc.runs,
+        s.fraction * 100.0,
+        s.impulse_ns,
+        s.seed
+    );
+    let [lo, hi] = mc.recovery_rate_ci95;
+    let [rest_lo, rest_hi] = mc.at_rest_rate_ci95;
+    let _ = writeln!(
+        t,
+        "  stayed up {} of {}: {:.1} % (95 % CI {:.1} to {:.1} %); also at rest within 3 s: {} ({:.1} %, CI {:.1} to {:.1} %); outcomes: {}",
+        mc.stayed_up,
+        mc.runs,
+        100.0 * mc.recovery_rate,
+        100.0 * lo,
+        100.0 * hi,
+        mc.at_rest,
+        100.0 * mc.at_rest_rate,
+        100.0 * rest_lo,
+        100.0 * rest_hi,
+        mc.outcomes
+            .iter()
+            .map(|(o, n)| format!("{o} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    if let Some(q) = &mc.limit_quantiles {
+        let _ = writeln!(
+            t,
+            "  largest recovered push over {} bisected runs (N s): min {:.0}, 5 % {:.0}, median {:.0}, 95 % {:.0}, max {:.0}",
+            s.limit_runs, q.min, q.p05, q.p50, q.p95, q.max
+        );
+    }
+    for r in &mc.worst {
+        let m = &r.mismatch;
+        let _ = writeln!(
+            t,
+            "  run {:>4} seed {:>20}: {:<13} peak tilt {:>5.1} deg, heading {:>5.1} deg, payload x{:.2}, COM x{:.2}, tilt bias [{:+.3}, {:+.3}] rad{}",
+            r.index,
+            r.seed,
+            r.outcome,
+            r.peak_tilt_deg,
+            m.heading_deg,
+            m.payload_mass,
+            m.com_height,
+            m.tilt_bias_rad[0],
+            m.tilt_bias_rad[1],
+            r.failure
+                .as_ref()
+                .map_or(String::new(), |f| format!(": {f}"))
+        );
+    }
+    let th = &mc.throughput;
+    let _ = writeln!(
+        t,
+        "  throughput (this run's wall clock): {:.2} runs/s on one thread, {:.2} runs/s on {} threads",
+        th.one_thread_runs_per_s, th.all_threads_runs_per_s, th.threads
     );
     t
 }

@@ -1,7 +1,10 @@
-//! Figures of the reliability campaign: the fault-injection matrix as a coloured grid.
+//! Figures of the reliability campaign: the fault-injection matrix as a coloured grid, the
+//! Monte Carlo runs' largest recovered push against heading.
 
-use super::plot::{GridCell, GridFigure, Rgb};
-use crate::studies::robustness::{ControllerVariant, FaultMatrix, FaultMatrixSettings, SafeState};
+use super::plot::{GridCell, GridFigure, LineStyle, PolarFigure, PolarSeries, Rgb};
+use crate::studies::robustness::{
+    ControllerVariant, FaultMatrix, FaultMatrixSettings, MonteCarlo, MonteCarloRun, SafeState,
+};
 
 const AS_EXPECTED: Rgb = Rgb(150, 210, 150);
 const SAFE_OTHER: Rgb = Rgb(250, 220, 120);
@@ -85,4 +88,60 @@ fn short(state: SafeState) -> &'static str {
         SafeState::Drifting => "drift",
         SafeState::Unsafe => "unsafe",
     }
+}
+
+/// The Monte Carlo runs against the push heading: the largest recovered push of each bisected
+/// run (points), the study's push (dashed ring), and the runs that did not stay up after it
+/// (red points on the ring).
+pub fn monte_carlo_figure(mc: &MonteCarlo) -> PolarFigure {
+    let s = &mc.settings;
+    let (mut h, mut r) = (Vec::new(), Vec::new());
+    for run in &mc.all_runs {
+        if let Some(limit) = run.largest_recovered_ns {
+            h.push(run.mismatch.heading_deg);
+            r.push(limit);
+        }
+    }
+    let ring: Vec<f64> = (0..=72).map(|k| f64::from(k) * 5.0).collect();
+    let failed: Vec<&MonteCarloRun> = mc.all_runs.iter().filter(|r| !r.stayed_up).collect();
+    let mut figure = PolarFigure::new(
+        &format!(
+            "Monte Carlo, `{}` controller, ±{:.0} % mismatch: largest recovered push",
+            s.controller.as_str(),
+            s.fraction * 100.0
+        ),
+        "push (N·s)",
+    )
+    .with(
+        PolarSeries::new(
+            &format!("largest recovered ({} bisected runs)", h.len()),
+            &h,
+            &r,
+        )
+        .with_style(LineStyle::Points)
+        .open(),
+    )
+    .with(
+        PolarSeries::new(
+            &format!("the study's push, {} N·s", s.impulse_ns),
+            &ring,
+            &vec![s.impulse_ns; ring.len()],
+        )
+        .with_style(LineStyle::Dashed)
+        .with_color(Rgb(120, 120, 120)),
+    );
+    if !failed.is_empty() {
+        let fh: Vec<f64> = failed.iter().map(|r| r.mismatch.heading_deg).collect();
+        figure = figure.with(
+            PolarSeries::new(
+                &format!("fell at {} N·s ({} runs)", s.impulse_ns, failed.len()),
+                &fh,
+                &vec![s.impulse_ns; fh.len()],
+            )
+            .with_style(LineStyle::Points)
+            .with_color(Rgb::RED)
+            .open(),
+        );
+    }
+    figure
 }

@@ -16,7 +16,7 @@
 //! tilt below `rest_tilt_rad` ([`PushParams`]). [`push_recovery_limit`] bisects the impulse
 //! for the largest one recovered.
 
-use crate::rig::WorldRobot;
+use crate::rig::{Injector, NoFaults, WorldRobot};
 use crate::world::WorldError;
 use crate::world::failure::{Failure, tilt_from_vertical_rad};
 use crate::world::params::WorldParams;
@@ -192,6 +192,15 @@ impl PushTrial {
     pub fn recovered(&self) -> bool {
         self.outcome == PushOutcome::Recovered
     }
+
+    /// Whether the robot stayed up: no failure, tilt below the bound (recovered, or not at
+    /// rest in the rest window).
+    pub fn stayed_up(&self) -> bool {
+        matches!(
+            self.outcome,
+            PushOutcome::Recovered | PushOutcome::NotAtRest
+        )
+    }
 }
 
 /// Stands the robot still for `settle_secs`, pushes its body's centre of mass with a horizontal
@@ -217,6 +226,21 @@ pub fn push_trial_observed(
     impulse_ns: f64,
     observe: &mut dyn FnMut(&WorldRobot),
 ) -> Result<PushTrial, WorldError> {
+    let sim = WorldRobot::new(world_params)?;
+    push_trial_with(sim, &mut NoFaults, params, heading_deg, impulse_ns, observe)
+}
+
+/// [`push_trial_observed`] on a given robot (e.g. with a controller designed for another
+/// model than the world's, [`WorldRobot::with_config`]) whose steps pass through `faults`
+/// (e.g. a sensor bias, [`crate::rig::Injector`]).
+pub fn push_trial_with(
+    mut sim: WorldRobot,
+    faults: &mut dyn Injector,
+    params: &PushParams,
+    heading_deg: f64,
+    impulse_ns: f64,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<PushTrial, WorldError> {
     params.validate()?;
     if !(heading_deg.is_finite() && impulse_ns.is_finite() && impulse_ns >= 0.0) {
         return Err(WorldError::InvalidParameter {
@@ -224,8 +248,7 @@ pub fn push_trial_observed(
             requirement: "heading must be finite and the impulse finite and >= 0",
         });
     }
-    let mut sim = WorldRobot::new(world_params)?;
-    let dt = world_params.dt_secs;
+    let dt = sim.world().params().dt_secs;
     let push_step = (params.settle_secs / dt).round() as u64;
     let push_steps = (params.push_duration_secs / dt).round().max(1.0) as u64;
     let mut direction = Vector3::x();
@@ -257,7 +280,7 @@ pub fn push_trial_observed(
             sim.world_mut()
                 .push_body(direction * (impulse_ns / push_steps as f64));
         }
-        let tel = *sim.step(still);
+        let tel = *sim.step_injected(still, faults);
         observe(&sim);
         tel.hash_into(&mut trial.telemetry_hash);
         let tilt = tilt_from_vertical_rad(&tel);
@@ -310,7 +333,7 @@ pub fn push_trial_observed(
 }
 
 /// Search range of [`push_recovery_limit`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct PushSearch {
     /// An impulse expected to fail (N s); tried first. Default 100.
     pub upper_ns: f64,
@@ -372,6 +395,26 @@ pub fn push_recovery_limit(
     heading_deg: f64,
     on_trial: &mut dyn FnMut(&PushTrial),
 ) -> Result<PushRecovery, WorldError> {
+    let mut trial = |impulse_ns| push_trial(world_params, params, heading_deg, impulse_ns);
+    push_recovery_limit_by(
+        search,
+        heading_deg,
+        &mut trial,
+        &PushTrial::recovered,
+        on_trial,
+    )
+}
+
+/// [`push_recovery_limit`] with the trial at an impulse (N s) given by `trial`, e.g.
+/// [`push_trial_with`] on a robot whose controller was designed for another model, and what
+/// counts as recovered given by `recovered` (e.g. staying up without coming to rest).
+pub fn push_recovery_limit_by(
+    search: &PushSearch,
+    heading_deg: f64,
+    trial: &mut dyn FnMut(f64) -> Result<PushTrial, WorldError>,
+    recovered: &dyn Fn(&PushTrial) -> bool,
+    on_trial: &mut dyn FnMut(&PushTrial),
+) -> Result<PushRecovery, WorldError> {
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(search.upper_ns) && ok(search.resolution_ns)) {
         return Err(WorldError::InvalidParameter {
@@ -387,11 +430,11 @@ pub fn push_recovery_limit(
         });
     }
     let mut trials = Vec::new();
-    let first = push_trial(world_params, params, heading_deg, search.upper_ns)?;
+    let first = trial(search.upper_ns)?;
     on_trial(&first);
-    let recovered = first.recovered();
+    let first_recovered = recovered(&first);
     trials.push(first);
-    if recovered {
+    if first_recovered {
         return Ok(PushRecovery {
             heading_deg,
             largest_recovered_ns: search.upper_ns,
@@ -402,14 +445,14 @@ pub fn push_recovery_limit(
     let (mut lo, mut hi) = (0.0, search.upper_ns);
     while hi - lo > search.resolution_ns {
         let mid = 0.5 * (lo + hi);
-        let trial = push_trial(world_params, params, heading_deg, mid)?;
-        on_trial(&trial);
-        if trial.recovered() {
+        let t = trial(mid)?;
+        on_trial(&t);
+        if recovered(&t) {
             lo = mid;
         } else {
             hi = mid;
         }
-        trials.push(trial);
+        trials.push(t);
     }
     Ok(PushRecovery {
         heading_deg,

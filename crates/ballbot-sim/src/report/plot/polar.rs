@@ -144,11 +144,7 @@ impl PolarFigure {
 
     /// Writes `<base>.svg` and `<base>.png` and returns their paths.
     pub fn save_svg_and_png(&self, base: &Path) -> Result<[PathBuf; 2], PlotError> {
-        let svg = base.with_extension("svg");
-        let png = base.with_extension("png");
-        self.save(&svg)?;
-        self.save(&png)?;
-        Ok([svg, png])
+        render::save_svg_and_png(self, base)
     }
 
     /// The figure as an SVG document.

@@ -69,6 +69,18 @@ pub(crate) fn save(figure: &impl Figure, path: &Path) -> Result<(), PlotError> {
     }
 }
 
+/// Writes `<base>.svg` and `<base>.png` and returns their paths.
+pub(crate) fn save_svg_and_png(
+    figure: &impl Figure,
+    base: &Path,
+) -> Result<[std::path::PathBuf; 2], PlotError> {
+    let svg = base.with_extension("svg");
+    let png = base.with_extension("png");
+    save(figure, &svg)?;
+    save(figure, &png)?;
+    Ok([svg, png])
+}
+
 /// Draws a figure into an SVG document in memory.
 pub(crate) fn svg_string(figure: &impl Figure) -> Result<String, PlotError> {
     let path = Path::new("<svg string>");

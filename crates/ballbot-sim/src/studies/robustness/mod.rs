@@ -15,3 +15,10 @@ pub use faults::{Condition, FaultClass, FaultMagnitudes, SafeState};
 pub use injector::FaultInjector;
 pub mod fault_matrix;
 pub use fault_matrix::{FaultMatrix, FaultMatrixSettings, FaultMatrixSummary, run_fault_matrix};
+pub mod mismatch;
+pub mod monte_carlo;
+pub use mismatch::{Mismatch, SensorBias};
+pub use monte_carlo::{
+    LimitQuantiles, MonteCarlo, MonteCarloRun, MonteCarloSettings, Throughput, run_monte_carlo,
+    run_one, run_seed, wilson_interval_95,
+};

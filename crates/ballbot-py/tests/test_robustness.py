@@ -1,0 +1,48 @@
+"""The reliability campaign from Python (issue 15): typed results from the same record as
+``ballbot robustness``'s robustness.json, run without the GIL."""
+
+import json
+from pathlib import Path
+
+import ballbot
+from ballbot.studies import FaultCell, Robustness, robustness
+
+
+def test_quick_campaign_returns_typed_results_matching_the_json(tmp_path: Path) -> None:
+    result = robustness(tmp_path, quick=True, seed=3)
+    assert isinstance(result, Robustness)
+    assert result.quick and result.seed == 3
+    matrix = result.fault_matrix
+    assert len(matrix.cells) == 102
+    assert all(isinstance(c, FaultCell) for c in matrix.cells)
+    # Every faulted run wrote a log that reads back whole.
+    assert matrix.logs_read_back_whole == 102
+    assert all(c.log is not None and c.log.path.exists() for c in matrix.cells)
+    # A silent IMU ends in a protective stop at the 20 ms stale timeout, in every condition.
+    stale = [c for c in matrix.cells if c.fault == "imu_stale"]
+    assert stale and all(c.observed == "protective_stop" for c in stale)
+    assert all(c.time_to_detect_ms is not None and 20.0 <= c.time_to_detect_ms < 22.5 for c in stale)
+    assert all(c.seed == 3 for c in matrix.cells)
+    # The same record as the file written next to the logs.
+    written = json.loads((tmp_path / "robustness.json").read_text())
+    assert written["fault_matrix"]["summary"]["as_expected"] == matrix.as_expected
+    assert matrix.to_dict()["cells"][0]["fault"] == written["fault_matrix"]["cells"][0]["class"]
+    # Monte Carlo: both controllers, each run re-runnable from its printed seed.
+    assert set(result.monte_carlo) == {"design", "balance_point"}
+    mc = result.monte_carlo["design"]
+    assert mc.runs == 6 and 0.0 <= mc.recovery_rate <= 1.0
+    assert mc.recovery_rate == written["monte_carlo"]["recovery_rate"]
+    assert mc.recovery_rate_ci95[0] <= mc.recovery_rate <= mc.recovery_rate_ci95[1]
+    assert len({r.seed for r in mc.all_runs}) == 6
+    assert all(0.8 <= r.mismatch.com_height <= 1.2 for r in mc.all_runs)
+
+
+def test_bad_output_folder_is_a_file_error(tmp_path: Path) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    try:
+        robustness(blocker / "sub", quick=True)
+    except ballbot.FileError as e:
+        assert "sub" in str(e)
+    else:
+        raise AssertionError("expected a FileError")

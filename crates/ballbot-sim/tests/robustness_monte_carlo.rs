@@ -1,0 +1,93 @@
+//! Monte Carlo robustness (issue 15, section 3): the sampler's ranges, determinism and
+//! independence of the thread count, and that a sampled robot differs from the nominal one.
+
+use ballbot_sim::studies::robustness::{
+    Mismatch, MonteCarloSettings, run_monte_carlo, run_one, run_seed,
+};
+use ballbot_sim::world::WorldParams;
+
+#[test]
+fn the_sampler_stays_within_its_ranges_and_uses_them() {
+    let n = 400;
+    let samples: Vec<Mismatch> = (0..n)
+        .map(|i| Mismatch::sample(run_seed(9, i), 0.2))
+        .collect();
+    let factors = |m: &Mismatch| {
+        [
+            m.payload_mass,
+            m.com_height,
+            m.body_inertia,
+            m.ball_inertia,
+            m.roller_friction,
+            m.drive_friction,
+            m.imu_noise,
+        ]
+    };
+    for k in 0..7 {
+        let values: Vec<f64> = samples.iter().map(|m| factors(m)[k]).collect();
+        let (lo, hi) = values
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+        assert!(lo >= 0.8 && hi <= 1.2, "factor {k}: {lo} {hi}");
+        // Uniform over the range: 400 draws reach within 2 % of both ends.
+        assert!(
+            lo < 0.81 && hi > 1.19,
+            "factor {k} does not span its range: {lo} {hi}"
+        );
+    }
+    let gyro = 1f64.to_radians();
+    assert!(
+        samples
+            .iter()
+            .all(|m| m.gyro_bias_rad_per_s.iter().all(|b| b.abs() <= gyro))
+    );
+    assert!(
+        samples
+            .iter()
+            .all(|m| m.tilt_bias_rad.iter().all(|b| b.abs() <= 0.02))
+    );
+    assert!(
+        samples.iter().any(|m| m.heading_deg > 270.0)
+            && samples.iter().any(|m| m.heading_deg < 90.0)
+    );
+    // Independent parameters: the COM-height and payload factors do not move together.
+    let mean = |f: &dyn Fn(&Mismatch) -> f64| samples.iter().map(f).sum::<f64>() / n as f64;
+    let (ma, mb) = (mean(&|m| m.payload_mass), mean(&|m| m.com_height));
+    let cov = mean(&|m| (m.payload_mass - ma) * (m.com_height - mb));
+    assert!(cov.abs() < 0.002, "{cov}");
+}
+
+#[test]
+fn no_mismatch_is_the_nominal_world_and_a_sample_is_not() {
+    let nominal = WorldParams::miapure_60kg();
+    assert_eq!(Mismatch::none(0.0).apply(&nominal), nominal);
+    let m = Mismatch::sample(run_seed(1, 3), 0.2);
+    let w = m.apply(&nominal);
+    assert_ne!(
+        w.robot.sagittal.com_height_m,
+        nominal.robot.sagittal.com_height_m
+    );
+    assert!(
+        (w.robot.sagittal.com_height_m / nominal.robot.sagittal.com_height_m - m.com_height).abs()
+            < 1e-12
+    );
+    assert!(w.validate().is_ok());
+}
+
+#[test]
+fn runs_do_not_depend_on_the_thread_count_and_rerun_from_their_seed() {
+    let nominal = WorldParams::miapure_60kg();
+    let settings = MonteCarloSettings {
+        runs: 3,
+        limit_runs: 0,
+        single_thread_runs: 1,
+        ..MonteCarloSettings::quick()
+    };
+    let one = run_monte_carlo(&nominal, &settings, 1, &|_, _| {}).unwrap();
+    let two = run_monte_carlo(&nominal, &settings, 2, &|_, _| {}).unwrap();
+    assert_eq!(one.all_runs, two.all_runs);
+    assert_eq!(one.runs, 3);
+    assert_eq!(run_one(&nominal, &settings, 2).unwrap(), one.all_runs[2]);
+    // A 40 N s push at the COM: every one of these robots stays up.
+    assert_eq!(one.stayed_up, 3, "{:?}", one.all_runs);
+}
