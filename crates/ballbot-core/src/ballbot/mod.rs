@@ -83,6 +83,7 @@
 mod balance;
 mod design;
 mod feedforward;
+mod guard;
 mod mapping;
 mod motor;
 mod outer;
@@ -92,6 +93,7 @@ mod tests;
 
 pub use balance::{BalancePoint, BalancePointParams};
 pub use design::{BallbotControllerConfig, BallbotDesign, motor_speed_pi_gains};
+pub use guard::SpeedGuard;
 pub use mapping::WheelMapping;
 pub use motor::{InnerOutput, MotorSpeedLoop, MotorSpeedPi};
 pub use outer::{BallbotController, MotorReferences, OuterInput, OuterOutput};

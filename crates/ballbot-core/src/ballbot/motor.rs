@@ -1,7 +1,7 @@
 //! The inner loop (motor drivers, 8 kHz): [`MotorSpeedLoop`], one speed PI per omniwheel within
 //! the actuator's torque-speed limits.
 
-use super::{BallbotControllerConfig, MotorReferences};
+use super::{BallbotControllerConfig, MotorReferences, SpeedGuard};
 use crate::check::{lit, positive};
 use crate::control::{SpeedCommand, SpeedPi, SpeedPiGains};
 use crate::num::{max, min};
@@ -77,6 +77,7 @@ pub struct InnerOutput<T: nalgebra::Scalar> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MotorSpeedLoop<T: RealField + Copy> {
     motors: [MotorSpeedPi<T>; 3],
+    guards: [SpeedGuard<T>; 3],
     references: MotorReferences<T>,
     outer_dt_secs: T,
     /// Time since the references were set (s), capped just beyond the timeout.
@@ -91,6 +92,17 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
     /// assert_eq!(MotorSpeedLoop::<f64>::REFERENCE_TIMEOUT_PERIODS * 2.5, 20.0); // ms at 400 Hz
     /// ```
     pub const REFERENCE_TIMEOUT_PERIODS: f64 = 8.0;
+
+    /// The largest omniwheel acceleration the encoder guard believes (rad/s^2): about four
+    /// times what MiaPURE's can do (43.2 N m of motor and some 13 N m of traction on a
+    /// reflected 9.6e-3 kg m^2: 5,850 rad/s^2). See [`SpeedGuard`]; another robot sets its own
+    /// with [`Self::with_max_wheel_accel_rad_per_s2`].
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::MotorSpeedLoop;
+    /// assert_eq!(MotorSpeedLoop::<f64>::MAX_WHEEL_ACCEL_RAD_PER_S2, 20_000.0);
+    /// ```
+    pub const MAX_WHEEL_ACCEL_RAD_PER_S2: f64 = 20_000.0;
 
     /// Three PIs with `config.motor` gains and the robot's actuator limits; motors disabled
     /// until the first references.
@@ -108,8 +120,13 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
     pub fn new(config: &BallbotControllerConfig<T>) -> Result<Self, Error> {
         let motor = MotorSpeedPi::new(config.motor, &config.robot.drivetrain.actuator)?;
         positive(config.outer_dt_secs, "outer_dt_secs")?;
+        let guard = SpeedGuard::new(
+            lit(Self::MAX_WHEEL_ACCEL_RAD_PER_S2),
+            config.safety.encoder_range_rad_per_s,
+        );
         Ok(Self {
             motors: [motor; 3],
+            guards: [guard; 3],
             references: MotorReferences::disabled(),
             outer_dt_secs: config.outer_dt_secs,
             elapsed_secs: T::zero(),
@@ -143,6 +160,31 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
         for motor in &mut self.motors {
             motor.reset();
         }
+        for guard in &mut self.guards {
+            guard.reset();
+        }
+    }
+
+    /// This loop with the encoder guard believing wheel accelerations up to
+    /// `max_accel_rad_per_s2` (see [`SpeedGuard`]).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotControllerConfig, MotorSpeedLoop};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let inner = MotorSpeedLoop::new(&config)?.with_max_wheel_accel_rad_per_s2(50_000.0)?;
+    /// assert!(MotorSpeedLoop::new(&config)?.with_max_wheel_accel_rad_per_s2(-1.0).is_err());
+    /// # let _ = inner;
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn with_max_wheel_accel_rad_per_s2(
+        mut self,
+        max_accel_rad_per_s2: T,
+    ) -> Result<Self, Error> {
+        positive(max_accel_rad_per_s2, "max_accel_rad_per_s2")?;
+        let range = self.guards[0].range_rad_per_s();
+        self.guards = [SpeedGuard::new(max_accel_rad_per_s2, range); 3];
+        Ok(self)
     }
 
     /// Takes the outer loop's new references (the ramp restarts). References with a
@@ -212,7 +254,10 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             self.reset();
             return out;
         }
-        let step_ok = dt_secs.is_finite() && dt_secs > T::zero();
+        // A step longer than an outer period is not an 8 kHz step: integrating over it would
+        // wind the integrators up (the fuzzer found it). Such a step gives no torque.
+        let step_ok = dt_secs.is_finite() && dt_secs > T::zero() && dt_secs <= self.outer_dt_secs;
+        let dt_secs = if step_ok { dt_secs } else { T::zero() };
         // Reference at the middle of this step, ramping for one outer period at most.
         let t = if step_ok {
             min(self.elapsed_secs + dt_secs * lit(0.5), self.outer_dt_secs)
@@ -220,12 +265,22 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             min(self.elapsed_secs, self.outer_dt_secs)
         };
         let r = &self.references;
-        for (i, motor) in self.motors.iter_mut().enumerate() {
+        for (i, (motor, guard)) in self.motors.iter_mut().zip(&mut self.guards).enumerate() {
             let reference = r.speed_rad_per_s[i] + r.accel_rad_per_s2[i] * t;
-            let (torque, saturation) = motor.step(
+            let measured = wheel_speeds_rad_per_s[i];
+            let guarded = guard.filter(measured, dt_secs);
+            // The torque-speed line where the wheel is, if that is known; the error against
+            // the guarded speed.
+            let line = if measured.is_finite() {
+                measured
+            } else {
+                guarded
+            };
+            let (torque, saturation) = motor.step_split(
                 reference,
                 r.feedforward_torque_nm[i],
-                wheel_speeds_rad_per_s[i],
+                guarded,
+                line,
                 dt_secs,
             );
             out.torque_nm[i] = torque;
@@ -367,11 +422,45 @@ impl<T: RealField + Copy> MotorSpeedPi<T> {
         measured_speed_rad_per_s: T,
         dt_secs: T,
     ) -> (T, T) {
+        self.step_split(
+            reference_speed_rad_per_s,
+            feedforward_torque_nm,
+            measured_speed_rad_per_s,
+            measured_speed_rad_per_s,
+            dt_secs,
+        )
+    }
+
+    /// [`Self::step`] with the speed error taken at `pi_speed_rad_per_s` (the guarded
+    /// speed, [`super::SpeedGuard`]) and the torque-speed line at `line_speed_rad_per_s` (the
+    /// measured one, where finite).
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::ballbot::MotorSpeedPi;
+    /// use ballbot_core::control::SpeedPiGains;
+    /// let gains = SpeedPiGains::from_bandwidth(5.0, 30.0, 43.2)?;
+    /// let mut motor = MotorSpeedPi::new(gains, &ActuatorParams::miapure())?;
+    /// // On reference by the guarded speed, near the no-load speed by the measured one: the
+    /// // feedforward is cut to what the line allows there.
+    /// let (torque, _) = motor.step_split(3.0, 7.5, 3.0, 61.0, 1.25e-4);
+    /// assert!(torque < 1.0);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    #[inline]
+    pub fn step_split(
+        &mut self,
+        reference_speed_rad_per_s: T,
+        feedforward_torque_nm: T,
+        pi_speed_rad_per_s: T,
+        line_speed_rad_per_s: T,
+        dt_secs: T,
+    ) -> (T, T) {
         // The range `SpeedPi::step_within` would apply to `Self::torque_bounds_nm`, computed
         // directly against the prepared `limit_nm` (the motoring side never exceeds the peak)
         // with plain min/max, and the PI law without re-checking it. A non-finite speed makes
         // the speed error, and the request, non-finite: the PI rejects it (zero torque).
-        let speed = measured_speed_rad_per_s;
+        let speed = line_speed_rad_per_s;
         let limit = self.limit_nm;
         let line = self.peak_torque_nm - self.torque_drop_nm_s_per_rad * speed.abs();
         let motoring = max(T::zero(), min(limit, line));
@@ -381,7 +470,7 @@ impl<T: RealField + Copy> MotorSpeedPi<T> {
             (-motoring, limit)
         };
         let out = self.pi.step_in_range(
-            speed,
+            pi_speed_rad_per_s,
             &SpeedCommand {
                 speed_rad_per_s: reference_speed_rad_per_s,
                 feedforward_torque_nm,

@@ -486,7 +486,8 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
 }
 
 /// Whether the newest valid data at `last_us` is older than `timeout_us` at `now_us` (no data
-/// at all is stale; data stamped in the future is fresh).
+/// at all is stale). The kept sample times are never ahead of the clock (see `step`); a
+/// command timestamp ahead of it counts as fresh.
 fn is_stale(last_us: Option<u64>, now_us: u64, timeout_us: u64) -> bool {
     match last_us {
         Some(t) => now_us.saturating_sub(t) > timeout_us,
