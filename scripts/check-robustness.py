@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Checks a robustness.json written by `ballbot robustness` (the README's test command runs
 the --quick campaign and this check): the keys the issue asks for, and the invariants that
-must hold whatever the numbers (no panic, no bad command, every fault-matrix cell complete,
-every log read back whole).
+must hold whatever the numbers (at least 10^5 fuzz steps, no panic, no bad command, every
+fault-matrix cell complete, every log read back whole, a recovery rate).
 
 Usage: python3 scripts/check-robustness.py DIR/robustness.json
 """
@@ -18,6 +18,17 @@ def fail(message):
 def main(path):
     with open(path, encoding="utf-8") as f:
         data = json.load(f)
+    fuzz = data.get("fuzz") or fail("no fuzz")
+    if fuzz["outer_steps"] < 100_000:
+        fail(f"the fuzzer ran {fuzz['outer_steps']} outer steps, fewer than 10^5")
+    if fuzz["panics"] != 0 or fuzz["bad_commands"] != 0:
+        fail(f"fuzz: {fuzz['panics']} panics, {fuzz['bad_commands']} bad commands: {fuzz['violations']}")
+    if fuzz["parsers"]["panics"] != 0:
+        fail("a mutated TOML file made a parser panic")
+    mc = data.get("monte_carlo") or fail("no monte_carlo")
+    rate = mc.get("recovery_rate")
+    if not isinstance(rate, float) or not 0.0 <= rate <= 1.0:
+        fail(f"monte_carlo.recovery_rate is not a rate: {rate}")
     matrix = data.get("fault_matrix") or fail("no fault_matrix")
     cells = matrix.get("cells") or fail("fault_matrix has no cells")
     for cell in cells:
@@ -33,8 +44,9 @@ def main(path):
     conditions = {c["condition"] for c in cells}
     if len(classes) < 17 or conditions != {"standing", "cruising", "braking"}:
         fail(f"the matrix misses classes or conditions: {sorted(classes)} {sorted(conditions)}")
-    print(f"check-robustness: {path}: {len(cells)} fault cells, "
-          f"{matrix['summary']['as_expected']} in their expected safe state")
+    print(f"check-robustness: {path}: {fuzz['steps']} fuzz steps, 0 panics, 0 bad commands; "
+          f"{len(cells)} fault cells, {matrix['summary']['as_expected']} in their expected safe "
+          f"state; Monte Carlo recovery rate {rate:.3f}")
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ use ballbot_core::{ActuatorParams, DrivetrainParams, WipParams};
 use ballbot_sim::report::brake::{solution_json, trajectory_csv};
 use ballbot_sim::trajopt::{
     BrakingProblem, BrakingSolution, Drive, Limits, Method, MinTimeOptions, SolveOptions,
-    min_braking_time, solve,
+    SolveStatus, min_braking_time, solve,
 };
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -183,6 +183,11 @@ pub fn run(args: &BrakeArgs) -> anyhow::Result<()> {
         if let Some(t) = record.get("min_braking_time_secs") {
             println!("  minimum braking time under the limits: {t} s");
         }
+    }
+    // The record is printed either way (it says what went wrong); a failed solve still fails
+    // the command, so that scripts see it.
+    if sol.status != SolveStatus::Solved {
+        anyhow::bail!("the braking problem was not solved: {}", sol.status);
     }
     Ok(())
 }

@@ -56,11 +56,8 @@ fn brake_command_prints_the_result_as_json() {
         .args(["--max-torque", "7"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    // Not solved: the record still comes, and the exit status says it failed.
+    assert!(!out.status.success());
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["method"], "trapezoidal");
     assert_eq!(
@@ -75,4 +72,18 @@ fn brake_command_prints_the_result_as_json() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("duration_secs"));
+}
+
+#[test]
+fn a_failed_solve_prints_its_record_and_exits_non_zero() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ballbot"))
+        .args(["brake", "--v0", "1e300", "--json"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success(), "a failed solve must exit non-zero");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_ne!(v["status"], "solved");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("not solved"), "{stderr}");
+    assert!(stderr.contains(v["status"].as_str().unwrap()), "{stderr}");
 }

@@ -35,6 +35,10 @@ def test_quick_campaign_returns_typed_results_matching_the_json(tmp_path: Path) 
     assert mc.recovery_rate_ci95[0] <= mc.recovery_rate <= mc.recovery_rate_ci95[1]
     assert len({r.seed for r in mc.all_runs}) == 6
     assert all(0.8 <= r.mismatch.com_height <= 1.2 for r in mc.all_runs)
+    # Fuzzing: the CI size, no panic, no bad command.
+    assert result.fuzz.outer_steps >= 100_000
+    assert (result.fuzz.panics, result.fuzz.bad_commands) == (0, 0)
+    assert result.fuzz.parsers["panics"] == 0
 
 
 def test_bad_output_folder_is_a_file_error(tmp_path: Path) -> None:

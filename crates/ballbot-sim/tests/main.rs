@@ -12,6 +12,7 @@ mod planar_sim;
 mod plot;
 mod rig;
 mod robustness_faults;
+mod robustness_fuzz;
 mod robustness_monte_carlo;
 mod rollout;
 mod scenario;

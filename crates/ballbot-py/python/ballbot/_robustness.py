@@ -225,6 +225,43 @@ class MonteCarlo(_Result):
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
+class Fuzz(_Result):
+    """The fuzz campaign of the core and the parsers."""
+
+    seed: int
+    """Base seed of the episodes."""
+    steps: int
+    """Controller steps executed (outer plus motor-loop)."""
+    outer_steps: int
+    """Outer (400 Hz) steps."""
+    inner_steps: int
+    """Motor-loop (8 kHz) steps."""
+    simulated_hours: float
+    """Simulated time (h)."""
+    episodes: int
+    """Episodes run."""
+    panics: int
+    """Panics (must be 0)."""
+    bad_commands: int
+    """Motor commands that broke a hard invariant (must be 0)."""
+    findings: int
+    """Reported findings (see the docs)."""
+    violations: list[dict[str, Any]]
+    """The first bad commands and findings, each with its episode seed."""
+    faults_raised: dict[str, int]
+    """Steps on which each fault class was raised."""
+    single_sample_checks: int
+    """Single corrupted samples compared against a clean twin."""
+    parsers: dict[str, Any]
+    """The parsers' tally (files, rejected, panics, errors naming the key)."""
+
+    @classmethod
+    def _from_json(cls, d: dict[str, Any]) -> Fuzz:
+        fields = {k: v for k, v in d.items() if k != "settings"}
+        return cls(seed=d["settings"]["seed"], **fields)
+
+
+@dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class Robustness(_Result):
     """The reliability campaign (``ballbot.studies.robustness``, ``ballbot robustness``)."""
 
@@ -232,6 +269,8 @@ class Robustness(_Result):
     """Whether it was the CI-sized campaign."""
     seed: int
     """The base seed of every random input."""
+    fuzz: Fuzz
+    """The fuzz campaign."""
     fault_matrix: FaultMatrix
     """The fault-injection matrix in the 3D world."""
     monte_carlo: dict[str, MonteCarlo]
@@ -243,6 +282,7 @@ class Robustness(_Result):
         return cls(
             quick=d["quick"],
             seed=d["seed"],
+            fuzz=Fuzz._from_json(d["fuzz"]),
             fault_matrix=FaultMatrix._from_json(d["fault_matrix"]),
             monte_carlo={k: MonteCarlo._from_json(v) for k, v in mc.items()},
         )
@@ -252,6 +292,7 @@ __all__ = [
     "CellLog",
     "FaultCell",
     "FaultMatrix",
+    "Fuzz",
     "Mismatch",
     "MonteCarlo",
     "MonteCarloRun",

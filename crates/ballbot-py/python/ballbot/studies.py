@@ -39,6 +39,7 @@ from ballbot._robustness import (
     CellLog,
     FaultCell,
     FaultMatrix,
+    Fuzz,
     Mismatch,
     MonteCarlo,
     MonteCarloRun,
@@ -189,8 +190,9 @@ def robustness(
     seed: int = 1,
     threads: int = 0,
 ) -> Robustness:
-    """The reliability campaign of ``ballbot robustness`` (without its figures): the
-    fault-injection matrix in the 3D world and the Monte Carlo pushes on mismatched robots, on
+    """The reliability campaign of ``ballbot robustness`` (without its figures): fuzzing the
+    core and the parsers, the fault-injection matrix in the 3D world and the Monte Carlo pushes
+    on mismatched robots, on
     ``threads`` threads (0: every core) without the GIL. Writes ``out/robustness.json`` and each faulted run's MCAP log under
     ``out/logs/``; ``quick`` is the CI-sized campaign; ``seed`` seeds every random input."""
     text = _core.robustness_json(os.fspath(out), quick=quick, seed=seed, threads=threads)
@@ -208,6 +210,7 @@ __all__ = [
     "FaultCell",
     "FaultMatrix",
     "Feedforward",
+    "Fuzz",
     "MaxSpeedSettings",
     "MaxSpeedStudy",
     "Mismatch",

@@ -8,8 +8,8 @@
 use super::ReportError;
 use super::reproduce::{ReproduceObserver, write_json};
 use crate::studies::robustness::{
-    ControllerVariant, FaultMatrix, FaultMatrixSettings, MonteCarlo, MonteCarloSettings,
-    run_fault_matrix, run_monte_carlo,
+    ControllerVariant, FaultMatrix, FaultMatrixSettings, FuzzResult, FuzzSettings, MonteCarlo,
+    MonteCarloSettings, run_fault_matrix, run_fuzz, run_monte_carlo,
 };
 use crate::world::WorldParams;
 use serde_json::{Map, Value, json};
@@ -45,6 +45,7 @@ pub fn robustness(
     let mut summary = Map::new();
     summary.insert("quick".to_owned(), Value::Bool(options.quick));
     summary.insert("seed".to_owned(), json!(options.seed));
+    fuzz_section(options, observer, &mut summary)?;
     fault_matrix_section(options, observer, &mut summary)?;
     monte_carlo_section(options, observer, &mut summary)?;
     let summary = Value::Object(summary);
@@ -266,5 +267,73 @@ pub fn monte_carlo_table(mc: &MonteCarlo) -> String {
         "  throughput (this run's wall clock): {:.2} runs/s on one thread, {:.2} runs/s on {} threads",
         th.one_thread_runs_per_s, th.all_threads_runs_per_s, th.threads
     );
+    t
+}
+
+fn fuzz_section(
+    options: &RobustnessOptions,
+    observer: &dyn ReproduceObserver,
+    summary: &mut Map<String, Value>,
+) -> Result<(), ReportError> {
+    let settings = FuzzSettings {
+        seed: options.seed,
+        ..if options.quick {
+            FuzzSettings::quick()
+        } else {
+            FuzzSettings::full()
+        }
+    };
+    let episodes = settings.hostile_episodes + settings.accepted_episodes;
+    observer.start("fuzz", episodes as u64);
+    let robot = ballbot_core::BallbotParams::miapure_60kg();
+    let fuzz = run_fuzz(&robot, &settings, options.threads, &|_, _| {
+        observer.step("episode")
+    })?;
+    observer.finish();
+    observer.text(&fuzz_table(&fuzz));
+    summary.insert("fuzz".to_owned(), serde_json::to_value(&fuzz)?);
+    Ok(())
+}
+
+/// The fuzzer's counts as text.
+pub fn fuzz_table(f: &FuzzResult) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "Fuzzing the core (seed {}): {} controller steps ({} outer at 400 Hz, {} motor-loop at 8 kHz), {:.2} simulated hours, {} episodes",
+        f.settings.seed, f.steps, f.outer_steps, f.inner_steps, f.simulated_hours, f.episodes
+    );
+    let _ = writeln!(
+        t,
+        "  panics {}, bad commands {}, findings {}, single corrupted samples compared with a clean twin {}",
+        f.panics, f.bad_commands, f.findings, f.single_sample_checks
+    );
+    let p = &f.parsers;
+    let _ = writeln!(
+        t,
+        "  parsers: {} mutated TOML files, {} rejected, {} accepted, {} panics; {} made a value wrong, the error named the key in {} ({} accepted the token)",
+        p.files, p.rejected, p.accepted, p.panics, p.targeted, p.named_the_key, p.targeted_accepted
+    );
+    for u in &p.unnamed {
+        let first = u.lines().next().unwrap_or_default();
+        let _ = writeln!(t, "    error without the key: {first} ...");
+    }
+    for a in &p.accepted_wrong {
+        let _ = writeln!(t, "    accepted: {a}");
+    }
+    let raised: Vec<String> = f
+        .faults_raised
+        .iter()
+        .filter(|(_, n)| **n > 0)
+        .map(|(k, n)| format!("{k} {n}"))
+        .collect();
+    let _ = writeln!(t, "  steps with each fault raised: {}", raised.join(", "));
+    for v in &f.violations {
+        let _ = writeln!(
+            t,
+            "  {} (episode seed {}, step {}): {}",
+            v.kind, v.episode_seed, v.outer_step, v.what
+        );
+    }
     t
 }

@@ -280,6 +280,17 @@ impl WorldParams {
         positive(self.chassis_height_m, "chassis_height_m")?;
         positive(self.dt_secs, "dt_secs")?;
         positive(self.failure.max_tilt_rad, "failure.max_tilt_rad")?;
+        let f = &self.failure;
+        non_negative(
+            f.slip_speed_threshold_m_per_s,
+            "failure.slip_speed_threshold_m_per_s",
+        )?;
+        non_negative(f.max_slip_duration_secs, "failure.max_slip_duration_secs")?;
+        non_negative(f.lift_off_force_n, "failure.lift_off_force_n")?;
+        non_negative(
+            f.max_lift_off_duration_secs,
+            "failure.max_lift_off_duration_secs",
+        )?;
         self.driver.validate()?;
         non_negative(self.sensors.tilt_noise_rad, "sensors.tilt_noise_rad")?;
         non_negative(

@@ -22,3 +22,5 @@ pub use monte_carlo::{
     LimitQuantiles, MonteCarlo, MonteCarloRun, MonteCarloSettings, Throughput, run_monte_carlo,
     run_one, run_seed, wilson_interval_95,
 };
+pub mod fuzz;
+pub use fuzz::{FuzzResult, FuzzSettings, run_fuzz};

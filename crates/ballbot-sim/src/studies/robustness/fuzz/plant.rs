@@ -1,0 +1,75 @@
+//! The fuzzer's plant: the core's three planar models (frontal and sagittal WIP, spin)
+//! coupled through the omniwheel kinematics, integrated with RK4 at the inner rate. Cheap
+//! (no contacts), so that millions of controller steps run in seconds while the controller
+//! really balances and drives.
+
+use ballbot_core::estimation::{EncoderSample, ImuSample, PlanarStates, synthesize_sensors};
+use ballbot_core::kinematics::relative_rate_from_planar;
+use ballbot_core::wip::TILT;
+use ballbot_core::{BallbotParams, Error, OmniKinematics, Spin, Wip, rk4_step};
+use nalgebra::Vector3;
+
+/// The coupled planar plant (see the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct Plant {
+    kin: OmniKinematics<f64>,
+    frontal: Wip<f64>,
+    sagittal: Wip<f64>,
+    spin: Spin<f64>,
+    /// The states.
+    pub states: PlanarStates<f64>,
+}
+
+impl Plant {
+    /// `robot` upright and at rest.
+    pub fn new(robot: &BallbotParams<f64>) -> Result<Self, Error> {
+        Ok(Self {
+            kin: OmniKinematics::from_ballbot(robot)?,
+            frontal: Wip::new(robot.frontal)?,
+            sagittal: Wip::new(robot.sagittal)?,
+            spin: Spin::new(robot.spin)?,
+            states: PlanarStates::zeros(),
+        })
+    }
+
+    /// What the IMU and encoders would read now.
+    pub fn sensors(&self, now_us: u64) -> (ImuSample<f64>, EncoderSample<f64>) {
+        synthesize_sensors(&self.kin, &self.states, now_us)
+    }
+
+    /// The omniwheel speeds (rad/s) the motor drivers measure.
+    pub fn wheel_speeds(&self) -> Vector3<f64> {
+        let s = &self.states;
+        let rel = relative_rate_from_planar(
+            [s.frontal[3], s.sagittal[3]],
+            [s.frontal[2], s.sagittal[2]],
+            s.spin[1],
+        );
+        self.kin.wheel_speeds_rad_per_s(&rel)
+    }
+
+    /// One step of `dt_secs` under the omniwheel torques (N m).
+    pub fn step(&mut self, wheel_torques_nm: &Vector3<f64>, dt_secs: f64) {
+        let tau = self.kin.planar_torque_nm(wheel_torques_nm);
+        let s = &mut self.states;
+        s.frontal = rk4_step(|x| self.frontal.derivative(x, tau[0]), &s.frontal, dt_secs);
+        s.sagittal = rk4_step(
+            |x| self.sagittal.derivative(x, tau[1]),
+            &s.sagittal,
+            dt_secs,
+        );
+        s.spin = rk4_step(|x| self.spin.derivative(x, tau[2]), &s.spin, dt_secs);
+    }
+
+    /// Whether the body has fallen past `limit_rad` in either plane (or the state is no
+    /// longer finite).
+    pub fn fallen(&self, limit_rad: f64) -> bool {
+        let s = &self.states;
+        !(s.frontal[TILT].abs() < limit_rad && s.sagittal[TILT].abs() < limit_rad)
+    }
+
+    /// Back upright and at rest (after a fall: the fuzzer goes on with a standing robot).
+    pub fn reset(&mut self) {
+        self.states = PlanarStates::zeros();
+    }
+}
