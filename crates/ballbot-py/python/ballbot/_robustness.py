@@ -246,6 +246,8 @@ class Fuzz(_Result):
     """Motor commands that broke a hard invariant (must be 0)."""
     findings: int
     """Reported findings (see the docs)."""
+    findings_by_what: dict[str, int]
+    """Findings by what happened."""
     violations: list[dict[str, Any]]
     """The first bad commands and findings, each with its episode seed."""
     faults_raised: dict[str, int]

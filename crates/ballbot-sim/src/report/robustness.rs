@@ -308,6 +308,9 @@ pub fn fuzz_table(f: &FuzzResult) -> String {
         "  panics {}, bad commands {}, findings {}, single corrupted samples compared with a clean twin {}",
         f.panics, f.bad_commands, f.findings, f.single_sample_checks
     );
+    for (what, n) in &f.findings_by_what {
+        let _ = writeln!(t, "  finding x{n}: {what}");
+    }
     let p = &f.parsers;
     let _ = writeln!(
         t,

@@ -60,6 +60,8 @@ pub struct EpisodeCounts {
     pub bad_commands: u64,
     /// Findings counted.
     pub findings: u64,
+    /// Findings by what happened (the violation's text up to the details in brackets).
+    pub findings_by_what: std::collections::BTreeMap<String, u64>,
 }
 
 /// A motor command that broke a hard invariant.
@@ -285,6 +287,12 @@ pub fn run_episode_on(
                 counts.bad_commands += 1;
             } else {
                 counts.findings += 1;
+                let head = what.split(" (").next().unwrap_or_default().to_owned();
+                let head = match corrupted {
+                    Some(t) if head.starts_with("a single") => format!("{head}: {}", t.sensor()),
+                    _ => head,
+                };
+                *counts.findings_by_what.entry(head).or_insert(0) += 1;
             }
             let recorded = counts.violations.iter().filter(|v| v.kind == kind).count();
             if recorded < 10 {
@@ -430,6 +438,16 @@ enum Target {
 }
 
 impl Target {
+    /// Which sensor the target is, for the tallies.
+    fn sensor(self) -> &'static str {
+        match self {
+            Self::Imu(_) | Self::ImuStamp(_) => "IMU at the outer tick",
+            Self::Encoder(_) | Self::EncoderStamp(_) => "encoder at the outer tick",
+            Self::CommandStamp => "command link",
+            Self::InnerEncoder(_) | Self::InnerDt => "the 8 kHz loop",
+        }
+    }
+
     fn random(rng: &mut ChaCha8Rng) -> Self {
         match index(rng, 8) {
             0 | 1 => Self::Imu(index(rng, 6)),

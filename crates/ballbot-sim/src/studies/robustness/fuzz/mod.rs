@@ -126,6 +126,8 @@ pub struct FuzzResult {
     /// Findings: a single wrong in-range IMU sample reaching the torque limit, an accepted
     /// trajectory the robot cannot follow (see [`Violation::kind`]).
     pub findings: u64,
+    /// Findings by what happened.
+    pub findings_by_what: BTreeMap<String, u64>,
     /// The first ten bad commands and the first ten findings, each with its episode seed.
     pub violations: Vec<Violation>,
     /// Steps on which each fault class was raised.
@@ -186,6 +188,7 @@ pub fn run_fuzz(
         panics: 0,
         bad_commands: 0,
         findings: 0,
+        findings_by_what: BTreeMap::new(),
         violations: Vec::new(),
         faults_raised: Fault::ALL.iter().map(|f| (f.as_str(), 0)).collect(),
         single_sample_checks: 0,
@@ -207,6 +210,9 @@ pub fn run_fuzz(
         result.single_sample_checks += c.single_sample_checks;
         result.bad_commands += c.bad_commands;
         result.findings += c.findings;
+        for (what, n) in c.findings_by_what {
+            *result.findings_by_what.entry(what).or_insert(0) += n;
+        }
         for v in c.violations {
             let recorded = result
                 .violations
