@@ -106,7 +106,7 @@ pub fn monte_carlo_figure(mc: &MonteCarlo) -> PolarFigure {
     let failed: Vec<&MonteCarloRun> = mc.all_runs.iter().filter(|r| !r.stayed_up).collect();
     let mut figure = PolarFigure::new(
         &format!(
-            "Monte Carlo, `{}` controller, ±{:.0} % mismatch: largest recovered push",
+            "Monte Carlo, `{}`, ±{:.0} % mismatch: pushes stayed up after",
             s.controller.as_str(),
             s.fraction * 100.0
         ),
@@ -114,7 +114,7 @@ pub fn monte_carlo_figure(mc: &MonteCarlo) -> PolarFigure {
     )
     .with(
         PolarSeries::new(
-            &format!("largest recovered ({} bisected runs)", h.len()),
+            &format!("largest push stayed up after ({} bisected runs)", h.len()),
             &h,
             &r,
         )
@@ -134,7 +134,11 @@ pub fn monte_carlo_figure(mc: &MonteCarlo) -> PolarFigure {
         let fh: Vec<f64> = failed.iter().map(|r| r.mismatch.heading_deg).collect();
         figure = figure.with(
             PolarSeries::new(
-                &format!("fell at {} N·s ({} runs)", s.impulse_ns, failed.len()),
+                &format!(
+                    "slip or lift-off at {} N·s ({} runs)",
+                    s.impulse_ns,
+                    failed.len()
+                ),
                 &fh,
                 &vec![s.impulse_ns; fh.len()],
             )
