@@ -219,31 +219,6 @@ fn tilt_beyond_the_limit_disables_the_motors() {
 }
 
 #[test]
-fn a_fall_between_the_axes_is_caught_by_the_tilt_from_the_vertical() {
-    // 15 deg in both planes: each below the 20 deg limit, 21.1 deg from the vertical.
-    let mut rig = cruising(0.5);
-    rig.plant.states.sagittal[TILT] = 15f64.to_radians();
-    rig.plant.states.frontal[TILT] = 15f64.to_radians();
-    let out = rig.step(velocity(0.5, 0.0, 0.0), ModeRequest::None);
-    assert!(
-        out.safety.faults.contains(Fault::TiltLimit),
-        "{:?}",
-        out.safety
-    );
-    assert_eq!(out.safety.mode, Mode::Fault);
-    // 13 deg in both (18.3 deg from the vertical) is within the limit.
-    let mut rig = cruising(0.5);
-    rig.plant.states.sagittal[TILT] = 13f64.to_radians();
-    rig.plant.states.frontal[TILT] = 13f64.to_radians();
-    let out = rig.step(velocity(0.5, 0.0, 0.0), ModeRequest::None);
-    assert!(
-        !out.safety.faults.contains(Fault::TiltLimit),
-        "{:?}",
-        out.safety
-    );
-}
-
-#[test]
 fn command_jumps_are_shaped_and_the_robot_stays_balanced() {
     let mut rig = Rig::new();
     rig.arm();

@@ -38,7 +38,7 @@
 //! | `ImuFrozen` | bit-identical IMU readings for `frozen_imu_timeout_us` | unrecoverable |
 //! | `EncoderNonFinite`, `EncoderOutOfRange` | as for the IMU | recoverable (sample rejected) |
 //! | `EncoderStale` | no valid encoder sample newer than `encoder_timeout_us` | unrecoverable |
-//! | `TiltLimit` | tilt from the vertical, `sqrt(roll^2 + pitch^2)`, beyond `tilt_limit_rad` | unrecoverable |
+//! | `TiltLimit` | roll or pitch beyond `tilt_limit_rad` | unrecoverable |
 //! | `WheelSpeedLimit` | an omniwheel faster than `wheel_speed_limit_rad_per_s` | recoverable |
 //! | `LoopOverrun` | more than `max_loop_period_us` since the previous step, or reported | recoverable |
 //! | `ClockFault` | the clock went backwards | recoverable |
