@@ -361,7 +361,7 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
             self.last_valid_imu_us = Some(self.last_valid_imu_us.map_or(stamp, |t| t.max(stamp)));
             // Roll and pitch each against the limit. (A body falling between the axes passes
             // 25 deg from the vertical with 18 deg in each: the fault-injection matrix saw it
-            // with a stuck motor. Checking the tilt from the vertical instead moves 264
+            // with a stuck motor. Checking the tilt from the vertical instead moves more than 260
             // figures of the full `reproduce`, which would have to be measured again: left.)
             if imu.roll_rad.abs() > p.tilt_limit_rad || imu.pitch_rad.abs() > p.tilt_limit_rad {
                 faults.insert(Fault::TiltLimit);
