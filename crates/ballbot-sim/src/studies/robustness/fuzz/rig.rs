@@ -163,9 +163,6 @@ fn check_torque(
         if w.is_finite() {
             let (lo, hi) = a.torque_bounds_nm(*w);
             if *t < lo - 1e-9 || *t > hi + 1e-9 {
-                if std::env::var("FUZZ_DEBUG").is_ok() {
-                    eprintln!("t {t} w {w} lo {lo} hi {hi}");
-                }
                 return Some("a motor torque is outside the torque-speed line");
             }
         }
