@@ -10,6 +10,7 @@
 //!
 //! The `ballbot` command line is the `ballbot-cli` crate.
 
+pub mod gym;
 pub mod log;
 pub mod planar;
 pub mod report;

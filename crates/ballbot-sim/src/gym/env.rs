@@ -1,0 +1,375 @@
+//! [`BallbotEnv`]: one environment, with the Gymnasium protocol's `reset` and `step`.
+
+use super::config::{EnvConfig, GymError, Task};
+use super::observe::{observation_high, observation_len, observe};
+use super::plant::{DelayLine, Plant};
+use super::randomize::{EpisodeDraw, Randomization};
+use crate::world::{Failure, StepTelemetry, WorldParams};
+use ballbot_core::ballbot::BallbotControllerConfig;
+use nalgebra::Vector3;
+use rand_chacha::ChaCha8Rng;
+use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_distr::{Distribution, Uniform};
+
+/// Per-reset choices (Gymnasium's `reset(options=...)`): they hold for this episode only.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ResetOptions {
+    /// Ranges replacing the environment's for this episode.
+    pub randomization: Option<Randomization>,
+    /// The initial tilt `[about x, about y]` (rad), instead of a drawn one.
+    pub initial_tilt_rad: Option<[f64; 2]>,
+    /// A fixed velocity command for the whole episode (`Velocity` task).
+    pub command: Option<[f64; 3]>,
+}
+
+/// What a reset reports.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResetInfo {
+    /// The episode's drawn values, its seed among them.
+    pub draw: EpisodeDraw,
+    /// The world the episode runs (the nominal one with the draw applied).
+    pub params: WorldParams,
+}
+
+/// What a step reports besides observation and reward.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepInfo {
+    /// Simulated time at the end of the step (s).
+    pub time_secs: f64,
+    /// The world's failure that ended the episode, if any.
+    pub failure: Option<Failure>,
+    /// `true` when the controller (`Velocity` task with the residual) switched the motors off.
+    pub controller_off: bool,
+    /// The push applied at the start of this step (N s, world x and y), if any.
+    pub push_ns: Option<[f64; 2]>,
+    /// The velocity command of this step.
+    pub command: [f64; 3],
+}
+
+/// One step's outcome.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepOutcome {
+    /// The reward ([`super::RewardWeights`]).
+    pub reward: f64,
+    /// The robot fell (a world failure: tilt, chassis on the floor, slip, lift-off, driver
+    /// trip) or its controller switched the motors off.
+    pub terminated: bool,
+    /// The time limit was reached.
+    pub truncated: bool,
+    /// Details.
+    pub info: StepInfo,
+}
+
+struct Episode {
+    plant: Plant,
+    rng: ChaCha8Rng,
+    command: [f64; 3],
+    fixed_command: bool,
+    next_command_step: u64,
+    next_push_step: Option<u64>,
+    steps: u64,
+    max_steps: u64,
+    last_action: [f64; 3],
+    delay: DelayLine,
+    done: bool,
+    ranges: Randomization,
+}
+
+/// A ballbot environment: the Gymnasium protocol on the rapier3d world, in Rust.
+///
+/// Seeding: `reset(Some(s))` starts the episode seeded `s`; `reset(None)` draws the next
+/// episode's seed from the stream the last explicit seed started (seed 0 if there was none).
+/// An episode's seed (in [`ResetInfo`]) replays it: `reset(Some(seed))` with the same options.
+///
+/// ```
+/// use ballbot_sim::gym::{BallbotEnv, EnvConfig, Task};
+/// let mut env = BallbotEnv::new(EnvConfig::new(Task::Velocity))?;
+/// let mut obs = vec![0.0_f32; env.observation_len()];
+/// let info = env.reset(Some(3), None, &mut obs)?;
+/// assert_eq!(info.draw.seed, 3);
+/// let mut steps = 0;
+/// loop {
+///     // No residual: the core's LQR-PI tracks the commands alone.
+///     let out = env.step([0.0; 3], &mut obs)?;
+///     steps += 1;
+///     if out.terminated || out.truncated || steps == 400 {
+///         assert!(!out.terminated, "the LQR-PI keeps the robot up");
+///         break;
+///     }
+/// }
+/// # Ok::<(), ballbot_sim::gym::GymError>(())
+/// ```
+pub struct BallbotEnv {
+    config: EnvConfig,
+    steps_per_action: u32,
+    high: Vec<f32>,
+    controller: BallbotControllerConfig<f64>,
+    stream: ChaCha8Rng,
+    episode: Option<Episode>,
+}
+
+impl BallbotEnv {
+    /// The environment, its configuration validated (an error names the field and the bound).
+    pub fn new(config: EnvConfig) -> Result<Self, GymError> {
+        config.validate()?;
+        let controller = BallbotControllerConfig::design(&config.world.robot)
+            .map_err(|e| GymError::World(e.into()))?;
+        Ok(Self {
+            steps_per_action: config.steps_per_action()?,
+            high: observation_high(&config),
+            controller,
+            config,
+            stream: ChaCha8Rng::seed_from_u64(0),
+            episode: None,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &EnvConfig {
+        &self.config
+    }
+
+    /// Length of an observation.
+    pub fn observation_len(&self) -> usize {
+        observation_len(&self.config)
+    }
+
+    /// The observation box's upper bounds (the lower ones are their negatives).
+    pub fn observation_high(&self) -> &[f32] {
+        &self.high
+    }
+
+    /// Physics steps per agent step.
+    pub fn steps_per_action(&self) -> u32 {
+        self.steps_per_action
+    }
+
+    /// The world's last step record, once reset.
+    pub fn telemetry(&self) -> Option<&StepTelemetry> {
+        self.episode.as_ref().map(|e| e.plant.world().telemetry())
+    }
+
+    /// Simulated time of the episode (s), once reset.
+    pub fn time_secs(&self) -> Option<f64> {
+        self.episode.as_ref().map(|e| e.plant.world().time_secs())
+    }
+
+    /// Starts an episode (see the type's docs for the seeding) and writes its first
+    /// observation into `obs` (length [`Self::observation_len`]).
+    pub fn reset(
+        &mut self,
+        seed: Option<u64>,
+        options: Option<&ResetOptions>,
+        obs: &mut [f32],
+    ) -> Result<ResetInfo, GymError> {
+        let options = options.copied().unwrap_or_default();
+        let ranges = match options.randomization {
+            Some(o) => {
+                let merged = self.config.randomization.merged(&o);
+                merged.validate(&self.config.world)?;
+                merged
+            }
+            None => self.config.randomization,
+        };
+        if let Some(t) = options.initial_tilt_rad {
+            let max = self.config.world.failure.max_tilt_rad;
+            if !(t.iter().all(|x| x.is_finite()) && t[0].hypot(t[1]) < max) {
+                return Err(GymError::invalid(
+                    "initial_tilt_rad",
+                    "must be finite and below world.failure.max_tilt_rad",
+                    format!("{t:?}"),
+                ));
+            }
+        }
+        if let Some(c) = options.command
+            && !c.iter().all(|x| x.is_finite())
+        {
+            return Err(GymError::invalid(
+                "command",
+                "must be finite",
+                format!("{c:?}"),
+            ));
+        }
+        let seed = match seed {
+            Some(s) => {
+                self.stream = ChaCha8Rng::seed_from_u64(s);
+                s
+            }
+            None => self.stream.next_u64(),
+        };
+        let mut draw = EpisodeDraw::sample(seed, &ranges);
+        if let Some(t) = options.initial_tilt_rad {
+            draw.initial_tilt_rad = t;
+        }
+        let params = draw.apply(&self.config.world);
+        let dt = params.dt_secs;
+        let delay_steps = (draw.sensor_delay_secs / dt).round() as usize;
+        let mut plant = match (self.config.task, self.config.residual) {
+            (Task::Velocity, true) => {
+                let delay_us = (delay_steps as f64 * dt * 1e6).round() as u64;
+                Plant::controlled(params, self.controller, delay_us)?
+            }
+            _ => Plant::torque(params)?,
+        };
+        if draw.initial_tilt_rad != [0.0; 2] {
+            plant.world_mut().tilt_body(draw.initial_tilt_rad);
+        }
+        // Its own stream for commands and pushes, apart from the draws and the sensors.
+        let rng = ChaCha8Rng::seed_from_u64(seed ^ 0x9e37_79b9_7f4a_7c15);
+        let m = plant.world_mut().measure();
+        let max_steps = (self.config.max_episode_secs * self.config.control_hz).ceil() as u64;
+        let mut episode = Episode {
+            plant,
+            rng,
+            command: options.command.unwrap_or([0.0; 3]),
+            fixed_command: options.command.is_some() || self.config.task == Task::Balance,
+            next_command_step: 0,
+            next_push_step: None,
+            steps: 0,
+            max_steps: max_steps.max(1),
+            last_action: [0.0; 3],
+            delay: DelayLine::new(delay_steps, m),
+            done: false,
+            ranges,
+        };
+        self.update_command(&mut episode);
+        episode.next_push_step = self.next_push(&mut episode);
+        observe(obs, &self.high, &m, episode.command, episode.last_action);
+        self.episode = Some(episode);
+        Ok(ResetInfo { draw, params })
+    }
+
+    /// One agent step with `action` (three numbers, clipped to [-1, 1]): the action is held
+    /// for [`Self::steps_per_action`] physics steps (fewer if the robot falls). Writes the
+    /// next observation into `obs`.
+    pub fn step(&mut self, action: [f64; 3], obs: &mut [f32]) -> Result<StepOutcome, GymError> {
+        if !action.iter().all(|a| a.is_finite()) {
+            return Err(GymError::NonFiniteAction(action));
+        }
+        let mut episode = self
+            .episode
+            .take()
+            .ok_or(GymError::NeedsReset("before the first reset"))?;
+        let result = self.step_episode(&mut episode, action, obs);
+        self.episode = Some(episode);
+        result
+    }
+
+    fn step_episode(
+        &self,
+        ep: &mut Episode,
+        action: [f64; 3],
+        obs: &mut [f32],
+    ) -> Result<StepOutcome, GymError> {
+        if ep.done {
+            return Err(GymError::NeedsReset("after the episode ended"));
+        }
+        let a = action.map(|x| x.clamp(-1.0, 1.0));
+        self.update_command(ep);
+        let mut push_ns = None;
+        if ep.next_push_step == Some(ep.steps) {
+            let range = ep.ranges.push_impulse_ns.unwrap_or((0.0, 0.0).into());
+            let magnitude = range.sample(&mut ep.rng);
+            let heading =
+                Uniform::new(0.0, core::f64::consts::TAU).map_or(0.0, |u| u.sample(&mut ep.rng));
+            let j = [magnitude * heading.cos(), magnitude * heading.sin()];
+            ep.plant
+                .world_mut()
+                .push_body(Vector3::new(j[0], j[1], 0.0));
+            push_ns = Some(j);
+            ep.next_push_step = self.next_push(ep);
+        }
+        let peak = self.config.world.robot.drivetrain.actuator.peak_torque_nm;
+        let scale = match ep.plant {
+            Plant::Controlled(..) => peak * self.config.residual_fraction,
+            Plant::Torque(_) => peak,
+        };
+        let torque = a.map(|x| x * scale);
+        for _ in 0..self.steps_per_action {
+            ep.plant.step(torque, ep.command);
+            if ep.delay.delays() {
+                let m = ep.plant.world_mut().measure();
+                ep.delay.push(m);
+            }
+            if ep.plant.world().failure().is_some() {
+                break;
+            }
+        }
+        ep.steps += 1;
+        ep.last_action = a;
+        let m = match ep.delay.oldest() {
+            Some(m) if ep.delay.delays() => *m,
+            _ => ep.plant.world_mut().measure(),
+        };
+        observe(obs, &self.high, &m, ep.command, a);
+        let world = ep.plant.world();
+        let failure = world.failure();
+        let controller_off = ep.plant.mode().is_some_and(|m| !m.motors_enabled());
+        let terminated = failure.is_some() || controller_off;
+        let truncated = !terminated && ep.steps >= ep.max_steps;
+        ep.done = terminated || truncated;
+        let reward = self.reward(world.telemetry(), ep.command, a, terminated);
+        Ok(StepOutcome {
+            reward,
+            terminated,
+            truncated,
+            info: StepInfo {
+                time_secs: world.time_secs(),
+                failure,
+                controller_off,
+                push_ns,
+                command: ep.command,
+            },
+        })
+    }
+
+    /// A new velocity command when one is due (`Velocity` task, no fixed command).
+    fn update_command(&self, ep: &mut Episode) {
+        if ep.fixed_command || ep.steps != ep.next_command_step {
+            return;
+        }
+        let c = &self.config.commands;
+        let mut uniform =
+            |lo: f64, hi: f64| Uniform::new_inclusive(lo, hi).map_or(lo, |u| u.sample(&mut ep.rng));
+        let speed = uniform(0.0, c.max_speed_m_per_s);
+        let heading = uniform(0.0, core::f64::consts::TAU);
+        let yaw = uniform(-c.max_yaw_rate_rad_per_s, c.max_yaw_rate_rad_per_s);
+        ep.command = [speed * heading.cos(), speed * heading.sin(), yaw];
+        let period = (c.period_secs * self.config.control_hz).round().max(1.0) as u64;
+        ep.next_command_step = ep.steps + period;
+    }
+
+    /// The step of the next push, if pushes are on.
+    fn next_push(&self, ep: &mut Episode) -> Option<u64> {
+        let (Some(_), Some(interval)) = (ep.ranges.push_impulse_ns, ep.ranges.push_interval_secs)
+        else {
+            return None;
+        };
+        let secs = interval.sample(&mut ep.rng);
+        let steps = (secs * self.config.control_hz).round().max(1.0) as u64;
+        Some(ep.steps + steps)
+    }
+
+    /// The reward of [`super::RewardWeights`] at the state `t`.
+    fn reward(&self, t: &StepTelemetry, command: [f64; 3], a: [f64; 3], fell: bool) -> f64 {
+        let w = &self.config.reward;
+        let tilt2 = t.tilt_rad[0].powi(2) + t.tilt_rad[1].powi(2);
+        let rate2 = t.body_rate_rad_per_s.x.powi(2) + t.body_rate_rad_per_s.y.powi(2);
+        let (_, _, yaw) = t.body_orientation.euler_angles();
+        let (s, c) = yaw.sin_cos();
+        let v = &t.ball_velocity_m_per_s;
+        let v_heading = [c * v.x + s * v.y, -s * v.x + c * v.y];
+        let verr2 = (v_heading[0] - command[0]).powi(2) + (v_heading[1] - command[1]).powi(2);
+        // The yaw rate in the world frame: the body's rate about the vertical.
+        let yaw_rate = (t.body_orientation * t.body_rate_rad_per_s).z;
+        let yerr2 = (yaw_rate - command[2]).powi(2);
+        let action2 = a.iter().map(|x| x * x).sum::<f64>() / 3.0;
+        let alive = if fell { 0.0 } else { w.alive };
+        alive
+            - w.tilt * tilt2 / 0.1_f64.powi(2)
+            - w.body_rate * rate2
+            - w.velocity_error * verr2 / 0.5_f64.powi(2)
+            - w.yaw_rate_error * yerr2 / 0.5_f64.powi(2)
+            - w.action * action2
+    }
+}

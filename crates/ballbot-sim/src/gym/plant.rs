@@ -1,0 +1,214 @@
+//! What an environment steps: the world driven by the agent's torques, or the world with the
+//! core's controller in the loop and the agent's residual torque added to the drivers'; and
+//! the sensor delay between the world and whoever reads it.
+
+use crate::rig::{Injector, WorldRobot};
+use crate::world::{BallbotWorld, Measurement, StepTelemetry, WorldError, WorldParams};
+use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_core::command::{Command, VelocityCommand};
+use ballbot_core::estimation::{EncoderSample, ImuSample};
+use ballbot_core::safety::Mode;
+use nalgebra::Vector3;
+use std::collections::VecDeque;
+
+/// The world an episode steps.
+pub(crate) enum Plant {
+    /// The agent's torques drive the wheels.
+    Torque(Box<BallbotWorld>),
+    /// The core's robot loop drives the wheels; the agent's torque adds to it.
+    Controlled(Box<WorldRobot>, Box<DelayedLink>),
+}
+
+impl Plant {
+    pub(crate) fn torque(params: WorldParams) -> Result<Self, WorldError> {
+        Ok(Self::Torque(Box::new(BallbotWorld::new(params)?)))
+    }
+
+    pub(crate) fn controlled(
+        params: WorldParams,
+        config: BallbotControllerConfig<f64>,
+        delay_us: u64,
+    ) -> Result<Self, WorldError> {
+        let robot = WorldRobot::with_config(params, config)?;
+        Ok(Self::Controlled(
+            Box::new(robot),
+            Box::new(DelayedLink::new(delay_us)),
+        ))
+    }
+
+    pub(crate) fn world(&self) -> &BallbotWorld {
+        match self {
+            Self::Torque(w) => w,
+            Self::Controlled(r, _) => r.world(),
+        }
+    }
+
+    pub(crate) fn world_mut(&mut self) -> &mut BallbotWorld {
+        match self {
+            Self::Torque(w) => w,
+            Self::Controlled(r, _) => r.world_mut(),
+        }
+    }
+
+    /// One physics step: `torque_nm` is the wheel torque (torque plant) or the residual added
+    /// to the controller's (controlled plant, which follows `command`).
+    pub(crate) fn step(&mut self, torque_nm: [f64; 3], command: [f64; 3]) -> &StepTelemetry {
+        match self {
+            Self::Torque(w) => w.step(torque_nm),
+            Self::Controlled(r, link) => {
+                link.residual_nm = Vector3::from(torque_nm);
+                let command = VelocityCommand {
+                    vx_m_per_s: command[0],
+                    vy_m_per_s: command[1],
+                    yaw_rate_rad_per_s: command[2],
+                };
+                r.step_injected(Command::Velocity(command), link.as_mut())
+            }
+        }
+    }
+
+    /// The controller's mode (`None` for the torque plant).
+    pub(crate) fn mode(&self) -> Option<Mode> {
+        match self {
+            Self::Torque(_) => None,
+            Self::Controlled(r, _) => Some(r.mode()),
+        }
+    }
+}
+
+/// Delays the controller's IMU and outer-loop encoder samples by `delay_us` and adds the
+/// agent's residual to the drivers' torque. (The drivers' own 8 kHz encoder samples are not
+/// delayed: they never leave the motor driver.)
+pub(crate) struct DelayedLink {
+    delay_us: u64,
+    pub(crate) residual_nm: Vector3<f64>,
+    imu: VecDeque<ImuSample<f64>>,
+    encoders: VecDeque<EncoderSample<f64>>,
+}
+
+impl DelayedLink {
+    fn new(delay_us: u64) -> Self {
+        Self {
+            delay_us,
+            residual_nm: Vector3::zeros(),
+            imu: VecDeque::new(),
+            encoders: VecDeque::new(),
+        }
+    }
+}
+
+/// Queues `sample` and hands over the newest one at least `delay_us` old, if any.
+fn delayed<S: Copy>(
+    queue: &mut VecDeque<S>,
+    sample: S,
+    now_us: u64,
+    delay_us: u64,
+    stamp: impl Fn(&S) -> u64,
+) -> Option<S> {
+    if delay_us == 0 {
+        return Some(sample);
+    }
+    queue.push_back(sample);
+    let due = now_us.saturating_sub(delay_us);
+    while queue.len() > 1 && queue.get(1).is_some_and(|s| stamp(s) <= due) {
+        queue.pop_front();
+    }
+    queue.front().filter(|s| stamp(s) <= due).copied()
+}
+
+impl Injector for DelayedLink {
+    fn imu(&mut self, now_us: u64, sample: ImuSample<f64>) -> Option<ImuSample<f64>> {
+        delayed(&mut self.imu, sample, now_us, self.delay_us, |s| {
+            s.timestamp_us
+        })
+    }
+
+    fn encoders(
+        &mut self,
+        now_us: u64,
+        sample: EncoderSample<f64>,
+        outer: bool,
+    ) -> Option<EncoderSample<f64>> {
+        if !outer {
+            return Some(sample);
+        }
+        delayed(&mut self.encoders, sample, now_us, self.delay_us, |s| {
+            s.timestamp_us
+        })
+    }
+
+    fn torques(
+        &mut self,
+        _now_us: u64,
+        torque_nm: Vector3<f64>,
+        _wheel_speeds_rad_per_s: Vector3<f64>,
+    ) -> Vector3<f64> {
+        torque_nm + self.residual_nm
+    }
+}
+
+/// The measurements of the last `steps + 1` physics steps: the oldest is what a sensor
+/// `steps` physics steps late reports.
+pub(crate) struct DelayLine {
+    steps: usize,
+    samples: VecDeque<Measurement>,
+}
+
+impl DelayLine {
+    /// A delay of `steps` physics steps, filled with `initial`.
+    pub(crate) fn new(steps: usize, initial: Measurement) -> Self {
+        Self {
+            steps,
+            samples: std::iter::repeat_n(initial, steps + 1).collect(),
+        }
+    }
+
+    /// Whether the line delays at all (a zero delay samples only when read).
+    pub(crate) fn delays(&self) -> bool {
+        self.steps > 0
+    }
+
+    pub(crate) fn push(&mut self, m: Measurement) {
+        self.samples.push_back(m);
+        while self.samples.len() > self.steps + 1 {
+            self.samples.pop_front();
+        }
+    }
+
+    pub(crate) fn oldest(&self) -> Option<&Measurement> {
+        self.samples.front()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_delay_hands_over_the_newest_sample_old_enough() {
+        let mut q = VecDeque::new();
+        let mut out = Vec::new();
+        for t in (0..=10_000).step_by(2_500) {
+            out.push(delayed(&mut q, t, t, 5_000, |s| *s));
+        }
+        assert_eq!(
+            out,
+            vec![None, None, Some(0), Some(2_500), Some(5_000)],
+            "a 5 ms delay at a 2.5 ms period hands over the sample two periods old"
+        );
+        assert_eq!(delayed(&mut VecDeque::new(), 7, 7, 0, |s| *s), Some(7));
+    }
+
+    #[test]
+    fn the_delay_line_reports_the_sample_steps_old() {
+        let at = |t: f64| Measurement {
+            time_secs: t,
+            ..Measurement::default()
+        };
+        let mut line = DelayLine::new(3, at(0.0));
+        for k in 1..=10 {
+            line.push(at(f64::from(k)));
+        }
+        assert_eq!(line.oldest().map(|m| m.time_secs), Some(7.0));
+    }
+}

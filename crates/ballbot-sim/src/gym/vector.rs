@@ -1,0 +1,183 @@
+//! [`VecEnv`]: N environments stepped in one call, spread over a thread pool, with
+//! Gymnasium 1.x's next-step autoreset.
+
+use super::config::{EnvConfig, GymError};
+use super::env::{BallbotEnv, ResetInfo, ResetOptions, StepInfo};
+use rayon::prelude::*;
+
+/// What one environment of a vector step reports.
+#[derive(Clone, Debug, PartialEq)]
+pub enum VecInfo {
+    /// The environment stepped.
+    Step(StepInfo),
+    /// The environment had ended at the previous step and was reset instead (its action was
+    /// ignored; reward 0, neither terminated nor truncated).
+    Reset(Box<ResetInfo>),
+}
+
+/// The outputs of a vector step, one row per environment.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VecStep {
+    /// Observations, row-major `(n, observation_len)`.
+    pub obs: Vec<f32>,
+    /// Rewards.
+    pub rewards: Vec<f64>,
+    /// Terminated flags.
+    pub terminated: Vec<bool>,
+    /// Truncated flags.
+    pub truncated: Vec<bool>,
+    /// Per environment: its step's or its reset's report.
+    pub infos: Vec<VecInfo>,
+}
+
+/// N independent environments of one configuration, stepped together on a thread pool.
+///
+/// Autoreset is Gymnasium 1.x's default, `AutoresetMode.NEXT_STEP`: an environment that
+/// ended (terminated or truncated) is reset at its next step, which ignores its action and
+/// returns the first observation of the new episode. Environment `i` then behaves exactly like
+/// a single [`BallbotEnv`] stepped and reset in that order: the results do not depend on the
+/// number of threads.
+///
+/// ```
+/// use ballbot_sim::gym::{EnvConfig, Task, VecEnv, VecStep};
+/// let mut envs = VecEnv::new(EnvConfig::new(Task::Balance), 4, 2)?;
+/// let mut obs = vec![0.0_f32; 4 * envs.observation_len()];
+/// envs.reset(&[Some(0), Some(1), Some(2), Some(3)], None, &mut obs)?;
+/// let mut out = VecStep::default();
+/// envs.step(&[[0.0; 3]; 4], &mut out)?;
+/// assert_eq!(out.rewards.len(), 4);
+/// # Ok::<(), ballbot_sim::gym::GymError>(())
+/// ```
+pub struct VecEnv {
+    envs: Vec<BallbotEnv>,
+    ended: Vec<bool>,
+    pool: rayon::ThreadPool,
+    obs_len: usize,
+}
+
+impl VecEnv {
+    /// `n` environments (n >= 1) on `threads` worker threads (0: one per core).
+    pub fn new(config: EnvConfig, n: usize, threads: usize) -> Result<Self, GymError> {
+        if n == 0 {
+            return Err(GymError::invalid("num_envs", "must be >= 1", n));
+        }
+        let envs = (0..n)
+            .map(|_| BallbotEnv::new(config))
+            .collect::<Result<Vec<_>, _>>()?;
+        let threads = crate::studies::runner::thread_count(threads, n);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("ballbot-vec-env-{i}"))
+            .build()
+            .map_err(|e| GymError::invalid("threads", "could not start the pool", e))?;
+        Ok(Self {
+            obs_len: envs[0].observation_len(),
+            envs,
+            ended: vec![false; n],
+            pool,
+        })
+    }
+
+    /// Number of environments.
+    pub fn len(&self) -> usize {
+        self.envs.len()
+    }
+
+    /// Always false (a vector env has at least one environment).
+    pub fn is_empty(&self) -> bool {
+        self.envs.is_empty()
+    }
+
+    /// Worker threads.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    /// Length of one observation.
+    pub fn observation_len(&self) -> usize {
+        self.obs_len
+    }
+
+    /// The environments (e.g. to draw environment `i`).
+    pub fn envs(&self) -> &[BallbotEnv] {
+        &self.envs
+    }
+
+    /// Resets every environment, environment `i` with `seeds[i]` (see [`BallbotEnv::reset`]),
+    /// writing the observations row-major into `obs`.
+    pub fn reset(
+        &mut self,
+        seeds: &[Option<u64>],
+        options: Option<&ResetOptions>,
+        obs: &mut [f32],
+    ) -> Result<Vec<ResetInfo>, GymError> {
+        let n = self.envs.len();
+        if seeds.len() != n || obs.len() != n * self.obs_len {
+            return Err(GymError::invalid(
+                "seeds",
+                "must have one entry per environment",
+                seeds.len(),
+            ));
+        }
+        let obs_len = self.obs_len;
+        let results: Vec<Result<ResetInfo, GymError>> = self.pool.install(|| {
+            self.envs
+                .par_iter_mut()
+                .zip(obs.par_chunks_mut(obs_len))
+                .zip(seeds.par_iter())
+                .map(|((env, row), seed)| env.reset(*seed, options, row))
+                .collect()
+        });
+        self.ended.fill(false);
+        results.into_iter().collect()
+    }
+
+    /// Steps every environment with its action (one row per environment), autoresetting the
+    /// ones that ended at the previous step; `out` is resized and overwritten.
+    pub fn step(&mut self, actions: &[[f64; 3]], out: &mut VecStep) -> Result<(), GymError> {
+        let n = self.envs.len();
+        if actions.len() != n {
+            return Err(GymError::invalid(
+                "actions",
+                "must have one row per environment",
+                actions.len(),
+            ));
+        }
+        if let Some(a) = actions.iter().find(|a| !a.iter().all(|x| x.is_finite())) {
+            return Err(GymError::NonFiniteAction(*a));
+        }
+        let obs_len = self.obs_len;
+        out.obs.resize(n * obs_len, 0.0);
+        type Row = (f64, bool, bool, VecInfo);
+        let results: Vec<Result<Row, GymError>> = self.pool.install(|| {
+            self.envs
+                .par_iter_mut()
+                .zip(self.ended.par_iter_mut())
+                .zip(out.obs.par_chunks_mut(obs_len))
+                .zip(actions.par_iter())
+                .map(|(((env, ended), row), action)| {
+                    if *ended {
+                        *ended = false;
+                        let info = env.reset(None, None, row)?;
+                        return Ok((0.0, false, false, VecInfo::Reset(Box::new(info))));
+                    }
+                    let o = env.step(*action, row)?;
+                    *ended = o.terminated || o.truncated;
+                    Ok((o.reward, o.terminated, o.truncated, VecInfo::Step(o.info)))
+                })
+                .collect()
+        });
+        out.rewards.clear();
+        out.terminated.clear();
+        out.truncated.clear();
+        out.infos.clear();
+        for r in results {
+            let (reward, terminated, truncated, info) = r?;
+            out.rewards.push(reward);
+            out.terminated.push(terminated);
+            out.truncated.push(truncated);
+            out.infos.push(info);
+        }
+        Ok(())
+    }
+}

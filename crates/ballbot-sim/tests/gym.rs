@@ -1,0 +1,330 @@
+//! The reinforcement-learning environments: seeding, termination and truncation, the
+//! observation against the world, sensor delay, pushes, the LQR-PI underneath, and the vector
+//! env against single environments.
+
+use ballbot_sim::gym::{
+    BallbotEnv, EnvConfig, GymError, Randomization, ResetOptions, Task, VecEnv, VecInfo, VecStep,
+};
+
+fn quiet(mut config: EnvConfig) -> EnvConfig {
+    config.world.sensors.tilt_noise_rad = 0.0;
+    config.world.sensors.gyro_noise_rad_per_s = 0.0;
+    config
+}
+
+/// Observations and rewards of `steps` steps with a fixed policy `action(obs)`.
+fn rollout(
+    env: &mut BallbotEnv,
+    seed: u64,
+    steps: usize,
+    action: impl Fn(&[f32]) -> [f64; 3],
+) -> (Vec<Vec<f32>>, Vec<f64>, bool) {
+    let mut obs = vec![0.0_f32; env.observation_len()];
+    env.reset(Some(seed), None, &mut obs).unwrap();
+    let (mut all, mut rewards) = (vec![obs.clone()], Vec::new());
+    for _ in 0..steps {
+        let out = env.step(action(&obs), &mut obs).unwrap();
+        all.push(obs.clone());
+        rewards.push(out.reward);
+        if out.terminated || out.truncated {
+            return (all, rewards, out.terminated);
+        }
+    }
+    (all, rewards, false)
+}
+
+/// A hand-tuned tilt feedback on the wheel torques: not a good controller, a scripted policy
+/// that reacts to the observation.
+fn lean_back(obs: &[f32]) -> [f64; 3] {
+    let (roll, pitch) = (f64::from(obs[0]), f64::from(obs[1]));
+    [0.3 * pitch, -0.2 * roll, 0.1 * roll]
+}
+
+#[test]
+fn a_seed_replays_an_episode_bit_for_bit_and_another_seed_differs() {
+    let mut config = EnvConfig::new(Task::Balance);
+    config.randomization = Randomization::recommended();
+    let mut env = BallbotEnv::new(config).unwrap();
+    let a = rollout(&mut env, 11, 200, lean_back);
+    let b = rollout(&mut env, 11, 200, lean_back);
+    let c = rollout(&mut env, 12, 200, lean_back);
+    assert_eq!(a, b);
+    assert_ne!(a.0[0], c.0[0]);
+}
+
+#[test]
+fn without_torque_a_tilted_robot_falls_terminated_and_must_be_reset() {
+    let mut env = BallbotEnv::new(quiet(EnvConfig::new(Task::Balance))).unwrap();
+    let mut obs = vec![0.0_f32; env.observation_len()];
+    let options = ResetOptions {
+        initial_tilt_rad: Some([0.0, 0.1]),
+        ..ResetOptions::default()
+    };
+    env.reset(Some(0), Some(&options), &mut obs).unwrap();
+    let mut steps = 0;
+    let out = loop {
+        let out = env.step([0.0; 3], &mut obs).unwrap();
+        steps += 1;
+        if out.terminated || out.truncated {
+            break out;
+        }
+    };
+    assert!(out.terminated && !out.truncated);
+    let failure = out.info.failure.expect("a world failure ends the episode");
+    assert_eq!(failure.kind.as_str(), "tilt");
+    // A 0.1 rad tilt of a 0.5 m pendulum takes some 0.4 s to reach 25 deg.
+    assert!((100..400).contains(&steps), "fell after {steps} steps");
+    assert!(
+        out.reward < 0.0,
+        "no alive reward for the fall: {}",
+        out.reward
+    );
+    assert!(matches!(
+        env.step([0.0; 3], &mut obs),
+        Err(GymError::NeedsReset(_))
+    ));
+}
+
+#[test]
+fn the_observation_is_the_imu_and_lies_in_its_box() {
+    let mut env = BallbotEnv::new(quiet(EnvConfig::new(Task::Balance))).unwrap();
+    let mut obs = vec![0.0_f32; env.observation_len()];
+    // Tilt about world x by 0.05 rad: the IMU's roll, not its pitch.
+    let options = ResetOptions {
+        initial_tilt_rad: Some([0.05, 0.0]),
+        ..ResetOptions::default()
+    };
+    env.reset(Some(0), Some(&options), &mut obs).unwrap();
+    assert!((obs[0] - 0.05).abs() < 1e-3, "roll {}", obs[0]);
+    assert!(obs[1].abs() < 1e-3, "pitch {}", obs[1]);
+    let high = env.observation_high().to_vec();
+    for _ in 0..300 {
+        let out = env.step([1.0, -1.0, 1.0], &mut obs).unwrap();
+        for (o, h) in obs.iter().zip(&high) {
+            assert!(o.abs() <= *h, "{o} outside +-{h}");
+        }
+        if out.terminated {
+            break;
+        }
+    }
+}
+
+#[test]
+fn a_sensor_delay_shows_the_observation_of_earlier_steps() {
+    let tilt = ResetOptions {
+        initial_tilt_rad: Some([0.0, 0.08]),
+        ..ResetOptions::default()
+    };
+    let run = |delay_secs: f64| {
+        let mut config = quiet(EnvConfig::new(Task::Balance));
+        config.randomization.sensor_delay_secs = Some(delay_secs.into());
+        let mut env = BallbotEnv::new(config).unwrap();
+        let mut obs = vec![0.0_f32; env.observation_len()];
+        env.reset(Some(0), Some(&tilt), &mut obs).unwrap();
+        let mut pitch = vec![obs[1]];
+        for _ in 0..60 {
+            env.step([0.0; 3], &mut obs).unwrap();
+            pitch.push(obs[1]);
+        }
+        pitch
+    };
+    let (now, late) = (run(0.0), run(0.010));
+    // 10 ms is four agent steps at 400 Hz.
+    assert_eq!(&late[4..], &now[..now.len() - 4]);
+    assert_ne!(late, now);
+}
+
+#[test]
+fn pushes_come_at_the_drawn_interval_and_move_the_body() {
+    let run = |impulse_ns: f64| {
+        let mut config = quiet(EnvConfig::new(Task::Velocity));
+        config.randomization.push_impulse_ns = Some(impulse_ns.into());
+        config.randomization.push_interval_secs = Some(0.5.into());
+        let mut env = BallbotEnv::new(config).unwrap();
+        let mut obs = vec![0.0_f32; env.observation_len()];
+        let options = ResetOptions {
+            command: Some([0.0; 3]),
+            ..ResetOptions::default()
+        };
+        env.reset(Some(5), Some(&options), &mut obs).unwrap();
+        let (mut pushed_at, mut body_x) = (Vec::new(), Vec::new());
+        for k in 0..450 {
+            let out = env.step([0.0; 3], &mut obs).unwrap();
+            if let Some(j) = out.info.push_ns {
+                assert!((j[0].hypot(j[1]) - impulse_ns).abs() < 1e-9);
+                pushed_at.push(k);
+            }
+            body_x.push(env.telemetry().unwrap().body_position_m);
+            assert!(!out.terminated, "the LQR-PI rides out 15 N s pushes");
+        }
+        (pushed_at, body_x)
+    };
+    let ((pushed_at, pushed), (_, still)) = (run(15.0), run(0.0));
+    assert_eq!(pushed_at, vec![200, 400]);
+    assert_eq!(
+        pushed[199], still[199],
+        "nothing differs before the first push"
+    );
+    let moved = (pushed[240] - still[240]).norm();
+    assert!(moved > 0.01, "the push moved the body by {moved} m");
+}
+
+#[test]
+fn the_lqr_pi_underneath_tracks_a_command_and_earns_the_alive_reward() {
+    let mut config = quiet(EnvConfig::new(Task::Velocity));
+    config.max_episode_secs = 6.0;
+    let mut env = BallbotEnv::new(config).unwrap();
+    let mut obs = vec![0.0_f32; env.observation_len()];
+    let options = ResetOptions {
+        command: Some([0.5, 0.0, 0.0]),
+        ..ResetOptions::default()
+    };
+    env.reset(Some(0), Some(&options), &mut obs).unwrap();
+    let mut steps = 0;
+    let out = loop {
+        let out = env.step([0.0; 3], &mut obs).unwrap();
+        steps += 1;
+        if out.terminated || out.truncated {
+            break out;
+        }
+    };
+    assert!(out.truncated && !out.terminated, "6 s: the time limit");
+    assert_eq!(steps, 2400);
+    let v = env.telemetry().unwrap().ball_velocity_m_per_s;
+    assert!(
+        (v.x - 0.5).abs() < 0.05 && v.y.abs() < 0.05,
+        "ball at {v:?}"
+    );
+    assert!(
+        out.reward > 0.9,
+        "tracking earns nearly 1 per step: {}",
+        out.reward
+    );
+    assert_eq!(&obs[9..12], &[0.5, 0.0, 0.0]);
+}
+
+#[test]
+fn a_full_residual_changes_what_the_drivers_apply() {
+    let mut config = quiet(EnvConfig::new(Task::Velocity));
+    config.residual_fraction = 0.1;
+    let fixed = ResetOptions {
+        command: Some([0.0; 3]),
+        ..ResetOptions::default()
+    };
+    let torque_after = |action: [f64; 3]| {
+        let mut env = BallbotEnv::new(config).unwrap();
+        let mut obs = vec![0.0_f32; env.observation_len()];
+        env.reset(Some(0), Some(&fixed), &mut obs).unwrap();
+        env.step(action, &mut obs).unwrap();
+        env.telemetry().unwrap().wheels.map(|w| w.motor_torque_nm)
+    };
+    let (base, pushed) = (torque_after([0.0; 3]), torque_after([1.0, 0.0, -1.0]));
+    let peak = config.world.robot.drivetrain.actuator.peak_torque_nm;
+    // The controller reacts within the step too, so only the sign and the order are checked.
+    assert!(
+        pushed[0] - base[0] > 0.5 * 0.1 * peak,
+        "{base:?} {pushed:?}"
+    );
+    assert!(
+        pushed[2] - base[2] < -0.5 * 0.1 * peak,
+        "{base:?} {pushed:?}"
+    );
+}
+
+#[test]
+fn bad_configuration_and_options_are_rejected_naming_the_field() {
+    let mut config = EnvConfig::new(Task::Balance);
+    config.control_hz = 300.0;
+    let e = BallbotEnv::new(config).err().unwrap().to_string();
+    assert!(e.contains("control_hz"), "{e}");
+    let mut config = EnvConfig::new(Task::Balance);
+    config.residual_fraction = 0.0;
+    let e = BallbotEnv::new(config).err().unwrap().to_string();
+    assert!(e.contains("residual_fraction"), "{e}");
+    let mut env = BallbotEnv::new(EnvConfig::new(Task::Balance)).unwrap();
+    let mut obs = vec![0.0_f32; env.observation_len()];
+    assert!(matches!(
+        env.step([0.0; 3], &mut obs),
+        Err(GymError::NeedsReset(_))
+    ));
+    let options = ResetOptions {
+        initial_tilt_rad: Some([0.0, 1.0]),
+        ..ResetOptions::default()
+    };
+    let e = env.reset(None, Some(&options), &mut obs).unwrap_err();
+    assert!(e.to_string().contains("initial_tilt_rad"), "{e}");
+    env.reset(None, None, &mut obs).unwrap();
+    let e = env.step([f64::NAN, 0.0, 0.0], &mut obs).unwrap_err();
+    assert!(matches!(e, GymError::NonFiniteAction(_)));
+}
+
+/// The vector env against single environments stepped and reset in the same order.
+#[test]
+fn the_vector_env_equals_single_envs_with_next_step_autoreset_on_any_thread_count() {
+    let mut config = quiet(EnvConfig::new(Task::Balance));
+    config.max_episode_secs = 0.2;
+    config.randomization = Randomization::recommended();
+    let n = 3;
+    let seeds = [Some(7), Some(8), Some(9)];
+    let actions = |k: usize| -> Vec<[f64; 3]> {
+        (0..n)
+            .map(|i| {
+                let x = ((k * 7 + i * 3) % 11) as f64 / 5.0 - 1.0;
+                [x, -x, 0.5 * x]
+            })
+            .collect()
+    };
+    let mut runs = Vec::new();
+    for threads in [1, 2] {
+        let mut envs = VecEnv::new(config, n, threads).unwrap();
+        let mut obs = vec![0.0_f32; n * envs.observation_len()];
+        envs.reset(&seeds, None, &mut obs).unwrap();
+        let mut out = VecStep::default();
+        let mut trace = vec![(obs.clone(), vec![], vec![], vec![])];
+        let mut resets = 0;
+        for k in 0..250 {
+            envs.step(&actions(k), &mut out).unwrap();
+            resets += out
+                .infos
+                .iter()
+                .filter(|i| matches!(i, VecInfo::Reset(_)))
+                .count();
+            trace.push((
+                out.obs.clone(),
+                out.rewards.clone(),
+                out.terminated.clone(),
+                out.truncated.clone(),
+            ));
+        }
+        assert!(resets >= 3, "every env ended and was reset: {resets}");
+        runs.push(trace);
+    }
+    assert_eq!(runs[0], runs[1], "1 and 2 threads agree bit for bit");
+    // Environment i alone.
+    for i in 0..n {
+        let mut env = BallbotEnv::new(config).unwrap();
+        let len = env.observation_len();
+        let mut obs = vec![0.0_f32; len];
+        env.reset(seeds[i], None, &mut obs).unwrap();
+        assert_eq!(&runs[0][0].0[i * len..(i + 1) * len], &obs[..]);
+        let mut ended = false;
+        for k in 0..250 {
+            let (v_obs, v_rew, v_term, v_trunc) = &runs[0][k + 1];
+            let (reward, term, trunc) = if ended {
+                env.reset(None, None, &mut obs).unwrap();
+                ended = false;
+                (0.0, false, false)
+            } else {
+                let o = env.step(actions(k)[i], &mut obs).unwrap();
+                ended = o.terminated || o.truncated;
+                (o.reward, o.terminated, o.truncated)
+            };
+            assert_eq!(&v_obs[i * len..(i + 1) * len], &obs[..], "env {i} step {k}");
+            assert_eq!(
+                (v_rew[i], v_term[i], v_trunc[i]),
+                (reward, term, trunc),
+                "env {i} step {k}"
+            );
+        }
+    }
+}
