@@ -10,6 +10,7 @@ mod arrays;
 mod control;
 mod enums;
 mod errors;
+mod gym;
 mod kinematics;
 mod log;
 mod lqr;
@@ -42,6 +43,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     trajopt::register(m)?;
     sim::register(m)?;
     world::register(m)?;
+    gym::register(m)?;
     studies::register(m)?;
     Ok(())
 }

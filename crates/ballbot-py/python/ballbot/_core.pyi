@@ -116,6 +116,8 @@ __all__ = [
     "SensorParams",
     "StepTelemetry",
     "WheelTelemetry",
+    "GymEnv",
+    "GymVecEnv",
     "World",
     "WorldLoop",
     "WorldParams",
@@ -1422,6 +1424,88 @@ class Failure:
     @property
     def tilt_rad(self) -> Optional[float]: ...
 
+
+@final
+class GymEnv:
+    """One ballbot environment in Rust, the engine of ``ballbot.gym.BallbotEnv``."""
+
+    def __new__(
+        cls,
+        task: str,
+        params: Optional[WorldParams] = None,
+        *,
+        control_hz: float = 400.0,
+        max_episode_secs: Optional[float] = None,
+        last_action_in_observation: bool = False,
+        residual: bool = True,
+        residual_fraction: float = 0.2,
+        randomization: Union[str, dict[str, Any], None] = None,
+        commands: Optional[dict[str, float]] = None,
+        reward: Optional[dict[str, float]] = None,
+    ) -> GymEnv: ...
+    @property
+    def observation_high(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def steps_per_action(self) -> int: ...
+    @property
+    def control_hz(self) -> float: ...
+    @property
+    def max_episode_secs(self) -> float: ...
+    @property
+    def params(self) -> WorldParams: ...
+    @property
+    def telemetry(self) -> Optional[StepTelemetry]: ...
+    def reset(
+        self, seed: Optional[int] = None, options: Optional[dict[str, Any]] = None
+    ) -> tuple[npt.NDArray[np.float32], dict[str, Any]]: ...
+    def step(
+        self, action: Any
+    ) -> tuple[npt.NDArray[np.float32], float, bool, bool, dict[str, Any]]: ...
+
+@final
+class GymVecEnv:
+    """N ballbot environments stepped in Rust in one call, the engine of
+    ``ballbot.gym.BallbotVectorEnv``."""
+
+    def __new__(
+        cls,
+        task: str,
+        num_envs: int,
+        params: Optional[WorldParams] = None,
+        *,
+        threads: int = 0,
+        control_hz: float = 400.0,
+        max_episode_secs: Optional[float] = None,
+        last_action_in_observation: bool = False,
+        residual: bool = True,
+        residual_fraction: float = 0.2,
+        randomization: Union[str, dict[str, Any], None] = None,
+        commands: Optional[dict[str, float]] = None,
+        reward: Optional[dict[str, float]] = None,
+    ) -> GymVecEnv: ...
+    @property
+    def num_envs(self) -> int: ...
+    @property
+    def threads(self) -> int: ...
+    @property
+    def observation_high(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def params(self) -> WorldParams: ...
+    @property
+    def control_hz(self) -> float: ...
+    def telemetry(self, index: int) -> Optional[StepTelemetry]: ...
+    def reset(
+        self, seeds: list[Optional[int]], options: Optional[dict[str, Any]] = None
+    ) -> tuple[npt.NDArray[np.float32], list[dict[str, Any]]]: ...
+    def step(
+        self, actions: npt.NDArray[np.float64]
+    ) -> tuple[
+        npt.NDArray[np.float32],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+        dict[str, Any],
+    ]: ...
 
 @final
 class World:

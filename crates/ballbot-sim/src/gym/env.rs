@@ -114,6 +114,7 @@ impl BallbotEnv {
         config.validate()?;
         let controller = BallbotControllerConfig::design(&config.world.robot)
             .map_err(|e| GymError::World(e.into()))?;
+        check_arming(&config, &controller, &config.randomization)?;
         Ok(Self {
             steps_per_action: config.steps_per_action()?,
             high: observation_high(&config),
@@ -167,16 +168,21 @@ impl BallbotEnv {
             Some(o) => {
                 let merged = self.config.randomization.merged(&o);
                 merged.validate(&self.config.world)?;
+                check_arming(&self.config, &self.controller, &merged)?;
                 merged
             }
             None => self.config.randomization,
         };
         if let Some(t) = options.initial_tilt_rad {
-            let max = self.config.world.failure.max_tilt_rad;
+            let max = match self.config.task {
+                Task::Velocity if self.config.residual => arm_tilt_limit_rad(&self.controller),
+                _ => self.config.world.failure.max_tilt_rad,
+            };
             if !(t.iter().all(|x| x.is_finite()) && t[0].hypot(t[1]) < max) {
                 return Err(GymError::invalid(
                     "initial_tilt_rad",
-                    "must be finite and below world.failure.max_tilt_rad",
+                    "must be finite and below the failure tilt (with the controller \
+                     underneath: below its arming tilt)",
                     format!("{t:?}"),
                 ));
             }
@@ -371,5 +377,31 @@ impl BallbotEnv {
             - w.velocity_error * verr2 / 0.5_f64.powi(2)
             - w.yaw_rate_error * yerr2 / 0.5_f64.powi(2)
             - w.action * action2
+    }
+}
+
+/// The largest initial tilt allowed with the controller underneath: 90 % of its supervisor's
+/// arming limit, so that the IMU's noise cannot keep it from arming.
+fn arm_tilt_limit_rad(controller: &BallbotControllerConfig<f64>) -> f64 {
+    0.9 * controller.safety.arm_tilt_limit_rad
+}
+
+/// With the controller underneath, the initial tilt must let it arm.
+fn check_arming(
+    config: &EnvConfig,
+    controller: &BallbotControllerConfig<f64>,
+    ranges: &Randomization,
+) -> Result<(), GymError> {
+    let limit = arm_tilt_limit_rad(controller);
+    match ranges.initial_tilt_rad {
+        Some(r) if config.task == Task::Velocity && config.residual && r.hi >= limit => {
+            Err(GymError::invalid(
+                "randomization.initial_tilt_rad",
+                "must stay below 90 % of the controller's arming tilt \
+                 (safety.arm_tilt_limit_rad, 3 deg) with the LQR-PI underneath",
+                r.hi,
+            ))
+        }
+        _ => Ok(()),
     }
 }

@@ -1,0 +1,121 @@
+"""``BallbotEnv``: one environment, a Gymnasium ``Env`` over the Rust ``GymEnv``."""
+
+from __future__ import annotations
+
+from typing import Any, Optional, Union
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+from numpy.typing import NDArray
+
+from ballbot._core import GymEnv, WorldParams
+from ballbot.gym._render import draw
+
+Obs = NDArray[np.float32]
+Act = NDArray[np.float32]
+Randomization = Union[str, dict[str, Any], None]
+
+
+class BallbotEnv(gymnasium.Env[Obs, Act]):
+    """A ballbot on the rapier3d world (see ``ballbot.gym`` for the tasks, the observation and
+    the randomisation).
+
+    Args:
+        task: ``"balance"`` (wheel torques) or ``"velocity"`` (track velocity commands).
+        params: the nominal world (default MiaPURE with 60 kg).
+        control_hz: agent steps per second (400); the physics runs at ``1 / params.dt_secs``.
+        max_episode_secs: the time limit (s, default 10): ``truncated`` when reached.
+        last_action_in_observation: append the last action to the observation.
+        residual: Velocity task: act on top of the core's LQR-PI (default) or drive the
+            torques alone.
+        residual_fraction: the residual's full scale, a fraction of peak torque (0.2).
+        randomization: ``"recommended"``, ``"none"`` or a dict of ranges.
+        commands: Velocity task: ``max_speed_m_per_s`` (1.0), ``max_yaw_rate_rad_per_s``
+            (0.5), ``period_secs`` (2.5).
+        reward: weights ``alive``, ``tilt``, ``body_rate``, ``velocity_error``,
+            ``yaw_rate_error``, ``action``.
+        render_mode: ``"rgb_array"`` (two side views) or ``"ansi"`` (a line of text).
+
+    Seeding: ``reset(seed=s)`` starts the episode seeded ``s``; ``reset()`` continues with the
+    next seed of that stream. The first reset without any seed draws one from Gymnasium's
+    ``np_random``. Each episode's seed is ``info["episode_seed"]``: ``reset(seed=...)`` with it
+    replays the episode.
+    """
+
+    metadata = {"render_modes": ["rgb_array", "ansi"], "render_fps": 50}
+
+    def __init__(
+        self,
+        task: str = "balance",
+        params: Optional[WorldParams] = None,
+        *,
+        control_hz: float = 400.0,
+        max_episode_secs: Optional[float] = None,
+        last_action_in_observation: bool = False,
+        residual: bool = True,
+        residual_fraction: float = 0.2,
+        randomization: Randomization = None,
+        commands: Optional[dict[str, float]] = None,
+        reward: Optional[dict[str, float]] = None,
+        render_mode: Optional[str] = None,
+    ) -> None:
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self._core = GymEnv(
+            task,
+            params,
+            control_hz=control_hz,
+            max_episode_secs=max_episode_secs,
+            last_action_in_observation=last_action_in_observation,
+            residual=residual,
+            residual_fraction=residual_fraction,
+            randomization=randomization,
+            commands=commands,
+            reward=reward,
+        )
+        self.task = task
+        high = self._core.observation_high
+        self.observation_space = spaces.Box(-high, high, dtype=np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(3,), dtype=np.float32)
+        self.render_mode = render_mode
+        self.metadata = {**self.metadata, "render_fps": min(50, int(control_hz))}
+        self._seeded = False
+
+    @property
+    def core(self) -> GymEnv:
+        """The Rust environment (its ``telemetry``, ``params``, ``steps_per_action``)."""
+        return self._core
+
+    def reset(
+        self,
+        *,
+        seed: Optional[int] = None,
+        options: Optional[dict[str, Any]] = None,
+    ) -> tuple[Obs, dict[str, Any]]:
+        super().reset(seed=seed)
+        if seed is None and not self._seeded:
+            seed = int(self.np_random.integers(2**63))
+        self._seeded = True
+        return self._core.reset(seed, options)
+
+    def step(self, action: Act) -> tuple[Obs, float, bool, bool, dict[str, Any]]:
+        a = np.asarray(action, dtype=np.float64).reshape(3).tolist()
+        return self._core.step(a)
+
+    def render(self) -> Any:
+        t = self._core.telemetry
+        if self.render_mode is None or t is None:
+            return None
+        if self.render_mode == "ansi":
+            v = t.ball_velocity_m_per_s
+            tilt = np.degrees(t.tilt_rad)
+            return (
+                f"t={t.time_secs:7.3f} s  tilt=({tilt[0]:+6.2f}, {tilt[1]:+6.2f}) deg  "
+                f"ball v=({v[0]:+5.2f}, {v[1]:+5.2f}) m/s\n"
+            )
+        params = self._core.params
+        radius = params.robot.ball_radius_m
+        return draw(t, radius, params.chassis_height_m)
