@@ -16,6 +16,7 @@ mod log;
 mod lqr;
 mod models;
 mod params;
+mod pickle;
 mod results;
 mod sim;
 mod studies;

@@ -409,6 +409,12 @@ macro_rules! py_params {
                 self.repr()
             }
 
+            /// Pickling: re-created from `to_dict` by the constructor (validated again).
+            fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+                let d = to_dict(slf.py(), &slf.get().inner)?;
+                crate::pickle::by_constructor(slf.as_any(), d)
+            }
+
             $(
                 #[getter]
                 fn $field(&self) -> f64 {

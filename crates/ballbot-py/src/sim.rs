@@ -82,6 +82,19 @@ pub struct PyScenario {
 
 #[pymethods]
 impl PyScenario {
+    /// Pickling: through the record's JSON (exact).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::by_json(slf.as_any(), &slf.get().inner)
+    }
+
+    /// Unpickling (see `__reduce__`).
+    #[staticmethod]
+    fn _from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let inner = crate::pickle::from_json(py, text)?;
+
+        Ok(Self { inner })
+    }
+
     /// Parses a scenario from TOML text (unknown keys are errors naming the key).
     #[staticmethod]
     fn from_toml(py: Python<'_>, text: &str) -> PyResult<Self> {

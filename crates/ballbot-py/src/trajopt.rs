@@ -52,6 +52,19 @@ pub struct PyBrakingLimits {
 
 #[pymethods]
 impl PyBrakingLimits {
+    /// Pickling: through the record's JSON (exact).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::by_json(slf.as_any(), &slf.get().inner)
+    }
+
+    /// Unpickling (see `__reduce__`).
+    #[staticmethod]
+    fn _from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let inner = crate::pickle::from_json(py, text)?;
+
+        Ok(Self { inner })
+    }
+
     /// `actuator`: one actuator driving the wheel directly (the PIPTB). `drivetrain` with
     /// `heading_rad`: three omniwheels (MiaPURE), travel at `heading_rad` in the body frame.
     /// `traction`: every omniwheel inside its friction cone (needs `drivetrain`).
@@ -182,6 +195,19 @@ pub struct PyBrakingProblem {
 
 #[pymethods]
 impl PyBrakingProblem {
+    /// Pickling: through the record's JSON (exact).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::by_json(slf.as_any(), &slf.get().inner)
+    }
+
+    /// Unpickling (see `__reduce__`).
+    #[staticmethod]
+    fn _from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let inner: BrakingProblem = crate::pickle::from_json(py, text)?;
+        inner.validate().map_err(|e| trajopt_error(py, e))?;
+        Ok(Self { inner })
+    }
+
     /// From cruise at `initial_speed_m_per_s` upright to rest upright in exactly
     /// `duration_secs`, minimising `integral tau^2 dt`; `intervals` collocation intervals
     /// (`method` `"hermite_simpson"` or `"trapezoidal"`). Defaults: the paper's MiaPURE problem.

@@ -91,6 +91,12 @@ macro_rules! py_gains {
                 self.repr()
             }
 
+            /// Pickling: re-created from `to_dict` by the constructor (validated again).
+            fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+                let d = slf.get().to_dict(slf.py())?;
+                crate::pickle::by_constructor(slf.as_any(), d)
+            }
+
             $(
                 #[getter]
                 fn $field(&self) -> f64 {
@@ -287,6 +293,18 @@ impl PyLqrPiOuterConfig {
     #[getter]
     fn max_speed_error_rad_per_s(&self) -> f64 {
         self.inner.max_speed_error_rad_per_s
+    }
+
+    /// Pickling: re-created by the constructor (validated again).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let py = slf.py();
+        let d = PyDict::new(py);
+        d.set_item("lqr", slf.get().lqr())?;
+        d.set_item(
+            "max_speed_error_rad_per_s",
+            slf.get().inner.max_speed_error_rad_per_s,
+        )?;
+        crate::pickle::by_constructor(slf.as_any(), d)
     }
 
     fn __repr__(&self) -> String {

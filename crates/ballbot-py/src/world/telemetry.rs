@@ -2,7 +2,7 @@
 //! `Failure`.
 
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
-use ballbot_sim::world::{Failure, Measurement, StepTelemetry, WheelTelemetry};
+use ballbot_sim::world::{Failure, FailureKind, Measurement, StepTelemetry, WheelTelemetry};
 use nalgebra::Vector3;
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -20,6 +20,19 @@ macro_rules! wheel_getters {
     ($($field:ident: $ty:ty),* $(,)?) => {
         #[pymethods]
         impl PyWheelTelemetry {
+    /// Pickling: through the record's JSON (exact).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::by_json(slf.as_any(), &slf.get().inner)
+    }
+
+    /// Unpickling (see `__reduce__`).
+    #[staticmethod]
+    fn _from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let inner = crate::pickle::from_json(py, text)?;
+
+        Ok(Self { inner })
+    }
+
             $(
                 #[getter]
                 fn $field(&self) -> $ty {
@@ -89,6 +102,19 @@ pub struct PyStepTelemetry {
 
 #[pymethods]
 impl PyStepTelemetry {
+    /// Pickling: through the record's JSON (exact).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::by_json(slf.as_any(), &slf.get().inner)
+    }
+
+    /// Unpickling (see `__reduce__`).
+    #[staticmethod]
+    fn _from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let inner = crate::pickle::from_json(py, text)?;
+
+        Ok(Self { inner })
+    }
+
     /// Simulated time at the end of the step (s).
     #[getter]
     fn time_secs(&self) -> f64 {
@@ -191,6 +217,19 @@ pub struct PyMeasurement {
 
 #[pymethods]
 impl PyMeasurement {
+    /// Pickling: through the record's JSON (exact).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        crate::pickle::by_json(slf.as_any(), &slf.get().inner)
+    }
+
+    /// Unpickling (see `__reduce__`).
+    #[staticmethod]
+    fn _from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let inner = crate::pickle::from_json(py, text)?;
+
+        Ok(Self { inner })
+    }
+
     /// Time of the sample (s).
     #[getter]
     fn time_secs(&self) -> f64 {
@@ -254,6 +293,52 @@ impl From<Failure> for PyFailure {
 
 #[pymethods]
 impl PyFailure {
+    /// Pickling: by its parts (kind name, wheel index, tilt, time).
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, (String, Option<usize>, Option<f64>, f64))> {
+        let f = &slf.get().inner;
+        let rebuild = slf.get_type().getattr("_from_parts")?;
+        Ok((
+            rebuild,
+            (
+                f.kind.as_str().to_owned(),
+                f.kind.wheel(),
+                f.kind.tilt_rad(),
+                f.time_secs,
+            ),
+        ))
+    }
+
+    /// Unpickling (see `__reduce__`).
+    #[staticmethod]
+    fn _from_parts(
+        py: Python<'_>,
+        kind: &str,
+        wheel: Option<usize>,
+        tilt_rad: Option<f64>,
+        time_secs: f64,
+    ) -> PyResult<Self> {
+        let kind = match (kind, wheel, tilt_rad) {
+            ("tilt", _, Some(tilt_rad)) => FailureKind::Tilt { tilt_rad },
+            ("body_touched_floor", _, _) => FailureKind::BodyTouchedFloor,
+            ("sustained_slip", Some(wheel), _) => FailureKind::SustainedSlip { wheel },
+            ("lift_off", Some(wheel), _) => FailureKind::LiftOff { wheel },
+            ("driver_trip", Some(wheel), _) => FailureKind::DriverTrip { wheel },
+            _ => {
+                return Err(crate::errors::error(
+                    py,
+                    crate::errors::Kind::Parameter,
+                    format!("unpickling Failure: bad parts {kind:?} {wheel:?} {tilt_rad:?}"),
+                ));
+            }
+        };
+        Ok(Self {
+            inner: Failure { kind, time_secs },
+        })
+    }
+
     /// What failed: `FailureKind.TILT`, `BODY_TOUCHED_FLOOR`, `SUSTAINED_SLIP`, `LIFT_OFF` or
     /// `DRIVER_TRIP`.
     #[getter]

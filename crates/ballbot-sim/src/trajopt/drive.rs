@@ -28,7 +28,7 @@ use ballbot_core::{ActuatorParams, DrivetrainParams, OmniKinematics, Wip, WipSta
 use nalgebra::{Matrix3, Vector3};
 
 /// How the actuators drive the plane, for the motor-side and traction limits.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Drive {
     /// One actuator drives the wheel directly (the PIPTB): motor torque = planar torque,
     /// motor speed = relative rate `phi_dot - theta_dot`.

@@ -8,7 +8,7 @@ use ballbot_core::{ActuatorParams, DrivetrainParams, Wip, WipParams};
 
 /// Path limits, each applied at every knot (torque bounds also at Hermite-Simpson midpoints).
 /// `None` leaves a quantity free.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Limits {
     /// `|theta| <=` this (rad).
     pub tilt_rad: Option<f64>,
@@ -108,7 +108,7 @@ impl Limits {
 /// Minimum-effort braking of one WIP plane: `min integral tau^2 dt` from cruise at
 /// `initial_speed_m_per_s` upright (`theta = phi = theta_dot = 0`, `phi_dot = v0 / r`) to rest
 /// upright (`theta = theta_dot = phi_dot = 0`, `phi` free) in exactly `duration_secs`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BrakingProblem {
     /// The plant.
     pub plane: WipParams<f64>,
