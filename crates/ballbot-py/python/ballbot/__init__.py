@@ -8,6 +8,8 @@ Submodules by layer: ``ballbot.models`` (parameters, ``Wip``, ``Spin``, kinemati
 ``ballbot.control`` (LQR design, controllers, rollouts), ``ballbot.world`` (the 3D world),
 ``ballbot.studies`` (the paper's experiments and their settings), ``ballbot.trajopt``
 (optimal braking) and ``ballbot.log`` (MCAP logs); every name of theirs is also here.
+``ballbot.sweep`` runs a study over a grid or random samples on any executor (threads, Dask,
+Ray); ``ballbot.gym`` (the ``gym`` extra) has the Gymnasium environments.
 Results are frozen classes with typed attributes and ``to_dict()``; statuses, modes, outcomes
 and failure kinds are ``enum.Enum`` members whose values are the canonical snake_case names.
 
@@ -17,6 +19,7 @@ and failure kinds are ``enum.Enum`` members whose values are the canonical snake
 8.04
 """
 
+from ballbot import sweep
 from ballbot._core import __version__
 from ballbot._errors import BallbotError, FileError, ParameterError, ShapeError, SolverError
 from ballbot.control import (

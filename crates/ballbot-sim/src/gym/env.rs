@@ -78,7 +78,8 @@ struct Episode {
 /// A ballbot environment: the Gymnasium protocol on the rapier3d world, in Rust.
 ///
 /// Seeding: `reset(Some(s))` starts the episode seeded `s`; `reset(None)` draws the next
-/// episode's seed from the stream the last explicit seed started (seed 0 if there was none).
+/// episode's seed (63 bits) from the stream the last explicit seed started (seed 0 if there
+/// was none).
 /// An episode's seed (in [`ResetInfo`]) replays it: `reset(Some(seed))` with the same options.
 ///
 /// ```
@@ -201,7 +202,8 @@ impl BallbotEnv {
                 self.stream = ChaCha8Rng::seed_from_u64(s);
                 s
             }
-            None => self.stream.next_u64(),
+            // 63 bits: a seed fits a signed 64-bit integer (numpy's int64 info arrays).
+            None => self.stream.next_u64() >> 1,
         };
         let mut draw = EpisodeDraw::sample(seed, &ranges);
         if let Some(t) = options.initial_tilt_rad {

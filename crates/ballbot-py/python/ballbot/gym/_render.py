@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 from ballbot._core import StepTelemetry
 
 _HEIGHT, _WIDTH = 240, 240
-_METRES_PER_PIXEL = 1.6 / _HEIGHT
+_METRES_PER_PIXEL = 1.0 / _HEIGHT
 
 
 def _rotate(q: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -86,7 +86,7 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
             raise ValueError(f"seed: a list of {n} seeds is needed, got {len(seeds)}")
         self._seeded = True
         obs, infos = self._core.reset(seeds, options)
-        episode_seed = np.array([i["episode_seed"] for i in infos], dtype=np.uint64)
+        episode_seed = np.array([i["episode_seed"] for i in infos], dtype=np.int64)
         return obs, {"episode_seed": episode_seed, "_episode_seed": np.ones(n, dtype=bool)}
 
     def step(
@@ -100,7 +100,7 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
         infos = {
             "time_secs": raw["time_secs"],
             "_time_secs": ~reset,
-            "episode_seed": raw["episode_seed"],
+            "episode_seed": raw["episode_seed"].astype(np.int64),
             "_episode_seed": reset,
             "failure": failure,
             "_failure": np.array([f is not None for f in raw["failure"]], dtype=bool),
