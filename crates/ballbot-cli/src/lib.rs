@@ -8,6 +8,8 @@
 //!   prints a comparison table and writes plots, MCAP logs and `DIR/summary.json`.
 //! - `ballbot robustness --out DIR [--quick]`: the reliability campaign (fuzzing, fault
 //!   injection in the 3D world, Monte Carlo); writes `DIR/robustness.json`, figures and logs.
+//! - `ballbot sweep GRID.toml [--out DIR]`: a study over a grid of world parameters and
+//!   headings on every core; writes `DIR/sweep.csv` and `DIR/sweep.json`.
 //! - `ballbot brake [--preset miapure|piptb] [--json]`: a minimum-effort braking trajectory.
 //! - `ballbot world [--heading-deg D --accel-m-per-s2 A ...] --out FILE.mcap`: one 3D world run
 //!   with the core's controller; prints the outcome and writes an MCAP log for Foxglove.
@@ -16,6 +18,7 @@ pub mod brake;
 pub mod reproduce;
 pub mod robustness;
 pub mod simulate;
+pub mod sweep;
 pub mod world;
 
 use clap::{Parser, Subcommand};
@@ -41,6 +44,10 @@ pub enum Command {
     /// pushes on mismatched robots; print the tables and write DIR/robustness.json, figures
     /// and logs.
     Robustness(robustness::RobustnessArgs),
+    /// Run a study (failing acceleration, push recovery) over a grid of world parameters and
+    /// headings from a TOML file, on every core; write DIR/sweep.csv and DIR/sweep.json.
+    #[command(after_help = sweep::AFTER_HELP)]
+    Sweep(sweep::SweepArgs),
     /// Compute a minimum-effort braking trajectory (direct collocation, SQP with clarabel).
     Brake(brake::BrakeArgs),
     /// Run the 3D world (rapier3d) with the core's controller: a velocity ramp and an optional
@@ -55,6 +62,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(args) => simulate::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Robustness(args) => robustness::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
         Command::Brake(args) => brake::run(&args),
         Command::World(args) => world::run(&args),
     }

@@ -5,4 +5,5 @@
 
 mod brake;
 mod simulate;
+mod sweep;
 mod world_log;

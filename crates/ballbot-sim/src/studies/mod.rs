@@ -28,6 +28,7 @@ pub mod replay;
 pub mod robustness;
 pub mod runner;
 pub mod scenario_run;
+pub mod sweep;
 pub mod traction;
 pub mod world_braking;
 pub mod world_run;
