@@ -17,6 +17,7 @@ EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "python"
         ("heading_sweep.py", ["--step-deg", "90"], "steepest ramp"),
         ("piptb_comparison.py", ["--quick"], "LQR-PI"),
         ("world_heading_sweep.py", ["--step-deg", "120", "--top", "1.0"], "3 headings in"),
+        ("sweep_capability_map.py", ["--quick"], "Dask, 2 workers:"),
         (
             "mechanism_failing_accel.py",
             ["--headings", "0", "--resolution", "0.25"],
@@ -25,7 +26,7 @@ EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "python"
     ],
 )
 def test_example_runs(script: str, args: list[str], expect: str, tmp_path: Path) -> None:
-    if script == "piptb_comparison.py":
+    if script in ("piptb_comparison.py", "sweep_capability_map.py"):
         args = [*args, "--out", str(tmp_path)]
     done = subprocess.run(
         [sys.executable, str(EXAMPLES / script), *args],

@@ -1,43 +1,10 @@
 //! [`EnvConfig`]: what an environment is (task, world, rates, observation, reward), and its
 //! validation. Every field is checked at construction; an error names the field and the bound.
 
+pub use super::error::GymError;
 use super::randomize::Randomization;
-use crate::world::{WorldError, WorldParams};
+use crate::world::WorldParams;
 use serde::{Deserialize, Serialize};
-
-/// An environment's configuration was rejected, or it was used out of order.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum GymError {
-    /// A configuration field is out of range.
-    #[error("invalid parameter `{field}`: {requirement}, got {value}")]
-    InvalidParameter {
-        /// The field's name (dotted for nested fields, e.g. `randomization.com_height_m`).
-        field: String,
-        /// The bound it violates.
-        requirement: &'static str,
-        /// The rejected value, as text.
-        value: String,
-    },
-    /// The world rejected the parameters of an episode.
-    #[error("world: {0}")]
-    World(#[from] WorldError),
-    /// `step` before the first `reset`, or after the episode ended.
-    #[error("step called {0}: call reset first")]
-    NeedsReset(&'static str),
-    /// An action component is NaN or infinite.
-    #[error("invalid action: every component must be finite, got {0:?}")]
-    NonFiniteAction([f64; 3]),
-}
-
-impl GymError {
-    pub(crate) fn invalid(field: &str, requirement: &'static str, value: impl ToString) -> Self {
-        Self::InvalidParameter {
-            field: field.to_owned(),
-            requirement,
-            value: value.to_string(),
-        }
-    }
-}
 
 /// What the agent does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -1,6 +1,7 @@
 //! [`BallbotEnv`]: one environment, with the Gymnasium protocol's `reset` and `step`.
 
-use super::config::{EnvConfig, GymError, Task};
+use super::config::{EnvConfig, Task};
+use super::error::GymError;
 use super::observe::{observation_high, observation_len, observe};
 use super::plant::{DelayLine, Plant};
 use super::randomize::{EpisodeDraw, Randomization};

@@ -11,13 +11,15 @@
 
 pub mod config;
 pub mod env;
+pub mod error;
 pub mod observe;
 mod plant;
 pub mod randomize;
 pub mod vector;
 
-pub use config::{CommandRanges, EnvConfig, GymError, RewardWeights, Task};
+pub use config::{CommandRanges, EnvConfig, RewardWeights, Task};
 pub use env::{BallbotEnv, ResetInfo, ResetOptions, StepInfo, StepOutcome};
+pub use error::GymError;
 pub use observe::{GYRO_RANGE_RAD_PER_S, observation_high, observation_len};
 pub use randomize::{EpisodeDraw, MAX_SENSOR_DELAY_SECS, Randomization, Range};
 pub use vector::{VecEnv, VecInfo, VecStep};

@@ -6,7 +6,7 @@
 //! +-20 % around MiaPURE's payload, COM height, roller friction, drive friction and IMU noise,
 //! chosen before any training.
 
-use super::config::GymError;
+use super::error::GymError;
 use crate::world::WorldParams;
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::SeedableRng;

@@ -1,9 +1,9 @@
 //! [`VecEnv`]: N environments stepped in one call, spread over a thread pool, with
 //! Gymnasium 1.x's next-step autoreset.
 
-use super::config::{EnvConfig, GymError};
+use super::config::EnvConfig;
 use super::env::{BallbotEnv, ResetInfo, ResetOptions, StepInfo};
-use rayon::prelude::*;
+use super::error::GymError;
 
 /// What one environment of a vector step reports.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,8 +51,45 @@ pub struct VecStep {
 pub struct VecEnv {
     envs: Vec<BallbotEnv>,
     ended: Vec<bool>,
-    pool: rayon::ThreadPool,
+    /// `threads - 1` workers (the calling thread steps the first share itself); `None` with
+    /// one thread.
+    pool: Option<rayon::ThreadPool>,
+    threads: usize,
     obs_len: usize,
+}
+
+/// One environment's share of a vector call.
+struct Job<'a, R> {
+    index: usize,
+    env: &'a mut BallbotEnv,
+    ended: &'a mut bool,
+    row: &'a mut [f32],
+    action: [f64; 3],
+    out: Option<Result<R, GymError>>,
+}
+
+/// Runs `work` on every job: the first share on the calling thread, the others on the pool
+/// (so a call wakes `threads - 1` workers, and none with one thread).
+fn run_split<R: Send>(
+    pool: Option<&rayon::ThreadPool>,
+    threads: usize,
+    jobs: &mut [Job<'_, R>],
+    work: &(dyn Fn(&mut Job<'_, R>) + Sync),
+) {
+    let share = jobs.len().div_ceil(threads.max(1)).max(1);
+    match pool {
+        Some(pool) if jobs.len() > share => pool.in_place_scope(|scope| {
+            let mut chunks = jobs.chunks_mut(share);
+            let first = chunks.next();
+            for chunk in chunks {
+                scope.spawn(move |_| chunk.iter_mut().for_each(work));
+            }
+            if let Some(first) = first {
+                first.iter_mut().for_each(work);
+            }
+        }),
+        _ => jobs.iter_mut().for_each(work),
+    }
 }
 
 impl VecEnv {
@@ -65,16 +102,22 @@ impl VecEnv {
             .map(|_| BallbotEnv::new(config))
             .collect::<Result<Vec<_>, _>>()?;
         let threads = crate::studies::runner::thread_count(threads, n);
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .thread_name(|i| format!("ballbot-vec-env-{i}"))
-            .build()
-            .map_err(|e| GymError::invalid("threads", "could not start the pool", e))?;
+        let pool = if threads > 1 {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads - 1)
+                .thread_name(|i| format!("ballbot-vec-env-{i}"))
+                .build()
+                .map_err(|e| GymError::invalid("threads", "could not start the pool", e))?;
+            Some(pool)
+        } else {
+            None
+        };
         Ok(Self {
             obs_len: envs[0].observation_len(),
             envs,
             ended: vec![false; n],
             pool,
+            threads,
         })
     }
 
@@ -88,9 +131,9 @@ impl VecEnv {
         self.envs.is_empty()
     }
 
-    /// Worker threads.
+    /// Threads stepping the environments (the caller's included).
     pub fn threads(&self) -> usize {
-        self.pool.current_num_threads()
+        self.threads
     }
 
     /// Length of one observation.
@@ -119,15 +162,22 @@ impl VecEnv {
                 seeds.len(),
             ));
         }
-        let obs_len = self.obs_len;
-        let results: Vec<Result<ResetInfo, GymError>> = self.pool.install(|| {
-            self.envs
-                .par_iter_mut()
-                .zip(obs.par_chunks_mut(obs_len))
-                .zip(seeds.par_iter())
-                .map(|((env, row), seed)| env.reset(*seed, options, row))
-                .collect()
-        });
+        let no_actions = vec![[0.0; 3]; n];
+        let mut jobs = jobs(
+            &mut self.envs,
+            &mut self.ended,
+            obs,
+            self.obs_len,
+            &no_actions,
+        );
+        let work = |job: &mut Job<'_, ResetInfo>| {
+            job.out = Some(job.env.reset(seeds[job.index], options, job.row));
+        };
+        run_split(self.pool.as_ref(), self.threads, &mut jobs, &work);
+        let results: Vec<Result<ResetInfo, GymError>> = jobs
+            .into_iter()
+            .map(|j| j.out.unwrap_or(Err(GymError::NeedsReset("not reset"))))
+            .collect();
         self.ended.fill(false);
         results.into_iter().collect()
     }
@@ -146,27 +196,33 @@ impl VecEnv {
         if let Some(a) = actions.iter().find(|a| !a.iter().all(|x| x.is_finite())) {
             return Err(GymError::NonFiniteAction(*a));
         }
-        let obs_len = self.obs_len;
-        out.obs.resize(n * obs_len, 0.0);
+        out.obs.resize(n * self.obs_len, 0.0);
         type Row = (f64, bool, bool, VecInfo);
-        let results: Vec<Result<Row, GymError>> = self.pool.install(|| {
-            self.envs
-                .par_iter_mut()
-                .zip(self.ended.par_iter_mut())
-                .zip(out.obs.par_chunks_mut(obs_len))
-                .zip(actions.par_iter())
-                .map(|(((env, ended), row), action)| {
-                    if *ended {
-                        *ended = false;
-                        let info = env.reset(None, None, row)?;
-                        return Ok((0.0, false, false, VecInfo::Reset(Box::new(info))));
-                    }
-                    let o = env.step(*action, row)?;
-                    *ended = o.terminated || o.truncated;
-                    Ok((o.reward, o.terminated, o.truncated, VecInfo::Step(o.info)))
+        let work = |job: &mut Job<'_, Row>| {
+            job.out = Some(if *job.ended {
+                *job.ended = false;
+                job.env
+                    .reset(None, None, job.row)
+                    .map(|info| (0.0, false, false, VecInfo::Reset(Box::new(info))))
+            } else {
+                job.env.step(job.action, job.row).map(|o| {
+                    *job.ended = o.terminated || o.truncated;
+                    (o.reward, o.terminated, o.truncated, VecInfo::Step(o.info))
                 })
-                .collect()
-        });
+            });
+        };
+        let mut jobs = jobs(
+            &mut self.envs,
+            &mut self.ended,
+            &mut out.obs,
+            self.obs_len,
+            actions,
+        );
+        run_split(self.pool.as_ref(), self.threads, &mut jobs, &work);
+        let results: Vec<Result<Row, GymError>> = jobs
+            .into_iter()
+            .map(|j| j.out.unwrap_or(Err(GymError::NeedsReset("not stepped"))))
+            .collect();
         out.rewards.clear();
         out.terminated.clear();
         out.truncated.clear();
@@ -180,4 +236,28 @@ impl VecEnv {
         }
         Ok(())
     }
+}
+
+/// One job per environment over `obs`'s rows (`obs_len` each) and `actions`.
+fn jobs<'a, R>(
+    envs: &'a mut [BallbotEnv],
+    ended: &'a mut [bool],
+    obs: &'a mut [f32],
+    obs_len: usize,
+    actions: &[[f64; 3]],
+) -> Vec<Job<'a, R>> {
+    envs.iter_mut()
+        .zip(ended.iter_mut())
+        .zip(obs.chunks_mut(obs_len))
+        .zip(actions)
+        .enumerate()
+        .map(|(index, (((env, ended), row), action))| Job {
+            index,
+            env,
+            ended,
+            row,
+            action: *action,
+            out: None,
+        })
+        .collect()
 }

@@ -1,0 +1,134 @@
+"""Learn to balance MiaPURE from random tilts with PPO (stable-baselines3) on
+``ballbot/Balance-v0``: the policy commands the three wheel torques at 400 Hz in the rapier3d
+world, from the IMU and encoders only.
+
+Saves the learning curve (episode return and length against environment steps, with the wall
+time) as ``train_balance.png`` / ``.svg`` and its data as ``train_balance.json``, then evaluates
+the policy on 20 seeded episodes: how many reach the 10 s time limit standing, and the mean tilt.
+
+Not part of the test command (stable-baselines3 pulls in torch). Install its own extra:
+    pip install "./crates/ballbot-py[train]"
+Usage: python examples/python/train_balance_sb3.py [--steps 1000000] [--envs 8] [--seed 0]
+       [--out DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from stable_baselines3 import PPO
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.env_util import make_vec_env
+
+import ballbot.gym  # noqa: F401  (registers the environments)
+from ballbot.gym import BallbotEnv
+
+
+class Curve(BaseCallback):
+    """Records every finished episode's return and length (from SB3's Monitor wrapper)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.start = time.perf_counter()
+        self.points: list[tuple[int, float, int, float]] = []
+
+    def _on_step(self) -> bool:
+        for info in self.locals["infos"]:
+            ep = info.get("episode")
+            if ep is not None:
+                wall = time.perf_counter() - self.start
+                self.points.append((self.num_timesteps, float(ep["r"]), int(ep["l"]), wall))
+        return True
+
+
+def evaluate(model: PPO, episodes: int, seed: int) -> dict[str, Any]:
+    env = BallbotEnv("balance")
+    standing, tilts, lengths = 0, [], []
+    for k in range(episodes):
+        obs, _ = env.reset(seed=seed + 10_000 + k)
+        done, steps = False, 0
+        while not done:
+            action, _ = model.predict(obs, deterministic=True)
+            obs, _, term, trunc, _ = env.step(action)
+            tilts.append(float(np.hypot(obs[0], obs[1])))
+            steps += 1
+            done = term or trunc
+        standing += int(trunc and not term)
+        lengths.append(steps / 400.0)
+    return {
+        "episodes": episodes,
+        "reached_time_limit": standing,
+        "mean_episode_secs": float(np.mean(lengths)),
+        "mean_tilt_deg": float(np.degrees(np.mean(tilts))),
+    }
+
+
+def figure(points: list[tuple[int, float, int, float]], wall: float, out: Path, steps: int) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = np.array([p[0] for p in points])
+    ret = np.array([p[1] for p in points])
+    length = np.array([p[2] for p in points]) / 400.0
+    window = max(1, len(points) // 50)
+    smooth = np.convolve(ret, np.ones(window) / window, mode="valid")
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.6))
+    a.plot(t, ret, ".", ms=2, alpha=0.3, color="tab:blue")
+    a.plot(t[window - 1 :], smooth, color="tab:blue")
+    a.set_xlabel("environment steps")
+    a.set_ylabel("episode return")
+    a.grid(alpha=0.3)
+    b.plot(t, length, ".", ms=2, alpha=0.3, color="tab:green")
+    b.axhline(10.0, color="k", lw=0.8, ls="--", label="time limit (10 s)")
+    b.set_xlabel("environment steps")
+    b.set_ylabel("episode length (s)")
+    b.legend(fontsize=8)
+    b.grid(alpha=0.3)
+    fig.suptitle(
+        f"PPO on ballbot/Balance-v0: {steps:,} steps in {wall / 60:.1f} min wall (2 cores)"
+    )
+    fig.tight_layout()
+    for ext in ("png", "svg"):
+        fig.savefig(out / f"train_balance.{ext}", dpi=120)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser.add_argument("--steps", type=int, default=1_000_000, help="environment steps")
+    parser.add_argument("--envs", type=int, default=8, help="parallel environments")
+    parser.add_argument("--seed", type=int, default=0, help="seed of everything")
+    parser.add_argument("--out", default=".", help="output folder")
+    args = parser.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"PPO on ballbot/Balance-v0: {args.steps:,} steps, {args.envs} envs, seed {args.seed}")
+    envs = make_vec_env("ballbot/Balance-v0", n_envs=args.envs, seed=args.seed)
+    model = PPO("MlpPolicy", envs, seed=args.seed, verbose=0, device="cpu")
+    curve = Curve()
+    start = time.perf_counter()
+    model.learn(total_timesteps=args.steps, callback=curve, progress_bar=False)
+    wall = time.perf_counter() - start
+    model.save(out / "train_balance_ppo")
+    result = evaluate(model, 20, args.seed)
+    print(f"trained in {wall / 60:.1f} min ({args.steps / wall:,.0f} steps/s with learning)")
+    print(
+        f"evaluation: {result['reached_time_limit']}/{result['episodes']} episodes standing at "
+        f"the 10 s limit, mean episode {result['mean_episode_secs']:.2f} s, "
+        f"mean tilt {result['mean_tilt_deg']:.2f} deg"
+    )
+    data = {"seed": args.seed, "steps": args.steps, "envs": args.envs, "wall_secs": wall,
+            "evaluation": result, "curve": curve.points}
+    (out / "train_balance.json").write_text(json.dumps(data))
+    figure(curve.points, wall, out, args.steps)
+    print(f"wrote {out}/train_balance.png, .svg, .json")
+
+
+if __name__ == "__main__":
+    main()
