@@ -9,7 +9,10 @@ Measures, as medians over repeats (one agent step = 20 physics steps at 400 Hz o
     the Python layer;
 (c) the native vector env (``BallbotVectorEnv``, Rust threads without the GIL) with 1, 2 and
     8 environments;
-(d) Gymnasium's ``SyncVectorEnv`` over 8 single environments (a Python loop).
+(d) Gymnasium's ``SyncVectorEnv`` over 8 single environments (a Python loop);
+(e) where ``mujoco`` imports: the simple virtual-wheel MuJoCo ballbot of ``mujoco_ballbot.py``
+    (no omniwheels: a cheaper, less faithful model) as one environment, its bare
+    ``mj_step`` pair per action, and ``SyncVectorEnv`` over 8, in the same run.
 
 Every run is seeded; actions are a fixed seeded sequence in [-0.05, 0.05] (small enough that
 Balance episodes rarely end in the timed window; episodes that end are reset as the vector
@@ -114,6 +117,34 @@ def main() -> None:
         keys = ["bare_world", "env", "env_via_make", "native_vector_1", "native_vector_2",
                 "native_vector_8", "sync_vector_8"]
         print("  ".join([f"{task:>10}"] + [f"{r[k]:>10,.0f}" for k in keys]))
+    try:
+        import mujoco
+
+        from mujoco_ballbot import MujocoBallbotEnv
+    except ImportError:
+        mujoco = None
+    if mujoco is not None:
+        m: dict[str, float] = {}
+        env = MujocoBallbotEnv()
+
+        def bare_mujoco() -> int:
+            env.reset(seed=0)
+            mujoco.mj_step(env.model, env.data, nstep=2 * steps)
+            return steps
+
+        m["bare_mj_step"] = median_rate(bare_mujoco, repeats)
+        m["env"] = median_rate(single(MujocoBallbotEnv(), steps), repeats)
+        sync = gym.vector.SyncVectorEnv([MujocoBallbotEnv for _ in range(8)])
+        m["sync_vector_8"] = median_rate(vector(sync, steps // 4), repeats)
+        results["mujoco_virtual_wheel"] = m
+        results["mujoco_version"] = mujoco.__version__
+        print(
+            f"MuJoCo {mujoco.__version__} virtual-wheel ballbot (no omniwheels, 1.25 ms steps): "
+            f"bare {m['bare_mj_step']:,.0f}, env {m['env']:,.0f}, sync 8 {m['sync_vector_8']:,.0f}"
+            f" agent steps/s; ballbot env / MuJoCo env = {results['balance']['env'] / m['env']:.2f},"
+            f" ballbot native 8 / MuJoCo sync 8 = "
+            f"{results['balance']['native_vector_8'] / m['sync_vector_8']:.2f}"
+        )
     for task in ("balance", "velocity"):
         r = results[task]
         print(

@@ -15,6 +15,7 @@ import ballbot.gym
 from ballbot.gym import ENV_IDS, BallbotEnv, BallbotVectorEnv
 
 
+@pytest.mark.filterwarnings("error")  # the checker's warnings count as failures
 @pytest.mark.parametrize("env_id", sorted(ENV_IDS))
 def test_gymnasium_check_env_passes(env_id: str) -> None:
     for mode in (None, "rgb_array", "ansi"):

@@ -256,6 +256,8 @@ fn bad_configuration_and_options_are_rejected_naming_the_field() {
     env.reset(None, None, &mut obs).unwrap();
     let e = env.step([f64::NAN, 0.0, 0.0], &mut obs).unwrap_err();
     assert!(matches!(e, GymError::NonFiniteAction(_)));
+    let e = env.step([0.0; 3], &mut obs[..5]).unwrap_err();
+    assert!(e.to_string().contains("`obs`"), "{e}");
 }
 
 /// The vector env against single environments stepped and reset in the same order.

@@ -165,6 +165,7 @@ impl BallbotEnv {
         options: Option<&ResetOptions>,
         obs: &mut [f32],
     ) -> Result<ResetInfo, GymError> {
+        self.check_len(obs)?;
         let options = options.copied().unwrap_or_default();
         let ranges = match options.randomization {
             Some(o) => {
@@ -255,6 +256,7 @@ impl BallbotEnv {
         if !action.iter().all(|a| a.is_finite()) {
             return Err(GymError::NonFiniteAction(action));
         }
+        self.check_len(obs)?;
         let mut episode = self
             .episode
             .take()
@@ -330,6 +332,19 @@ impl BallbotEnv {
                 command: ep.command,
             },
         })
+    }
+
+    /// The observation buffer must fit one observation exactly.
+    fn check_len(&self, obs: &[f32]) -> Result<(), GymError> {
+        if obs.len() == self.high.len() {
+            Ok(())
+        } else {
+            Err(GymError::invalid(
+                "obs",
+                "the buffer must have observation_len() entries",
+                obs.len(),
+            ))
+        }
     }
 
     /// A new velocity command when one is due (`Velocity` task, no fixed command).
