@@ -9,8 +9,10 @@ within 25 to 170 ms), 512 steps per environment per update, minibatches of 256, 
 0.995 (a horizon of about 0.5 s at 400 Hz). ``--defaults`` uses SB3's defaults instead.
 
 Saves the learning curve (episode return and length against environment steps, with the wall
-time) as ``train_balance.png`` / ``.svg`` and its data as ``train_balance.json``, then evaluates
-the policy on 20 seeded episodes: how many reach the 10 s time limit standing, and the mean tilt.
+time) as ``train_balance.png`` / ``.svg`` and its data as ``train_balance.json``, keeps the best
+policy of the periodic evaluations (``best_model.zip``), then evaluates the final and the best
+policy on 20 seeded episodes: how many reach the 10 s time limit standing, the mean tilt, and
+what ended the others.
 
 Not part of the test command (stable-baselines3 pulls in torch). Install its own extra:
     pip install "./crates/ballbot-py[train]"
@@ -29,7 +31,7 @@ from typing import Any, Optional
 
 import numpy as np
 from stable_baselines3 import PPO
-from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.callbacks import BaseCallback, EvalCallback
 from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import VecNormalize
 
@@ -54,28 +56,46 @@ class Curve(BaseCallback):
         return True
 
 
+class SaveNormalization(BaseCallback):
+    """Called by ``EvalCallback`` on a new best policy: keeps the observation statistics that
+    policy was evaluated with."""
+
+    def __init__(self, norm: VecNormalize, path: Path) -> None:
+        super().__init__()
+        self.norm, self.path = norm, path
+
+    def _on_step(self) -> bool:
+        self.norm.save(str(self.path))
+        return True
+
+
 def evaluate(
     model: PPO, norm: Optional[VecNormalize], episodes: int, seed: int
 ) -> dict[str, Any]:
     env = BallbotEnv("balance")
     standing, tilts, lengths = 0, [], []
+    failures: dict[str, int] = {}
     for k in range(episodes):
         obs, _ = env.reset(seed=seed + 10_000 + k)
         done, steps = False, 0
         while not done:
             seen = norm.normalize_obs(obs) if norm is not None else obs
             action, _ = model.predict(seen, deterministic=True)
-            obs, _, term, trunc, _ = env.step(action)
+            obs, _, term, trunc, info = env.step(action)
             tilts.append(float(np.hypot(obs[0], obs[1])))
             steps += 1
             done = term or trunc
         standing += int(trunc and not term)
+        if info["failure"] is not None:
+            kind = info["failure"].kind.value
+            failures[kind] = failures.get(kind, 0) + 1
         lengths.append(steps / 400.0)
     return {
         "episodes": episodes,
         "reached_time_limit": standing,
         "mean_episode_secs": float(np.mean(lengths)),
         "mean_tilt_deg": float(np.degrees(np.mean(tilts))),
+        "failures": failures,
     }
 
 
@@ -143,22 +163,51 @@ def main() -> None:
             policy_kwargs={"log_std_init": -1.5, "net_arch": [64, 64]},
         )
     curve = Curve()
+    callbacks: list[BaseCallback] = [curve]
+    best_stats = out / "best_vecnormalize.pkl"
+    if norm is not None:
+        # Every 200,000 steps, 5 deterministic episodes on their own seeds; the best policy is
+        # kept (best_model.zip), with the observation statistics it was evaluated with.
+        eval_env = VecNormalize(
+            make_vec_env("ballbot/Balance-v0", n_envs=1, seed=args.seed + 1000),
+            training=False,
+            norm_reward=False,
+        )
+        callbacks.append(
+            EvalCallback(
+                eval_env,
+                n_eval_episodes=5,
+                eval_freq=max(1, 200_000 // args.envs),
+                best_model_save_path=str(out),
+                callback_on_new_best=SaveNormalization(norm, best_stats),
+                verbose=0,
+            )
+        )
     start = time.perf_counter()
-    model.learn(total_timesteps=args.steps, callback=curve, progress_bar=False)
+    model.learn(total_timesteps=args.steps, callback=callbacks, progress_bar=False)
     wall = time.perf_counter() - start
     model.save(out / "train_balance_ppo")
     if norm is not None:
         norm.training = False
         norm.save(str(out / "train_balance_vecnormalize.pkl"))
     result = evaluate(model, norm, 20, args.seed)
+    best: Optional[dict[str, Any]] = None
+    if norm is not None and (out / "best_model.zip").exists():
+        best_model = PPO.load(out / "best_model", device="cpu")
+        best_norm = VecNormalize.load(str(best_stats), make_vec_env("ballbot/Balance-v0", n_envs=1))
+        best_norm.training = False
+        best = evaluate(best_model, best_norm, 20, args.seed)
     print(f"trained in {wall / 60:.1f} min ({args.steps / wall:,.0f} steps/s with learning)")
-    print(
-        f"evaluation: {result['reached_time_limit']}/{result['episodes']} episodes standing at "
-        f"the 10 s limit, mean episode {result['mean_episode_secs']:.2f} s, "
-        f"mean tilt {result['mean_tilt_deg']:.2f} deg"
-    )
+    for name, r in [("final policy", result), ("best evaluated policy", best)]:
+        if r is not None:
+            print(
+                f"{name}: {r['reached_time_limit']}/{r['episodes']} episodes standing at the "
+                f"10 s limit, mean episode {r['mean_episode_secs']:.2f} s, mean tilt "
+                f"{r['mean_tilt_deg']:.2f} deg, failures {r['failures']}"
+            )
     data = {"seed": args.seed, "steps": args.steps, "envs": args.envs, "wall_secs": wall,
-            "defaults": args.defaults, "evaluation": result, "curve": curve.points}
+            "defaults": args.defaults, "evaluation": result, "best_evaluation": best,
+            "curve": curve.points}
     (out / "train_balance.json").write_text(json.dumps(data))
     figure(curve.points, wall, out, args.steps, "SB3 defaults" if args.defaults else "zoo-style")
     print(f"wrote {out}/train_balance.png, .svg, .json")
