@@ -97,7 +97,9 @@ impl DelayedLink {
     }
 }
 
-/// Queues `sample` and hands over the newest one at least `delay_us` old, if any.
+/// Queues `sample` and hands over the newest one at least `delay_us` old, if any (at the start,
+/// while `now_us < delay_us`, the first sample counts as old enough: the robot was at rest
+/// before it).
 fn delayed<S: Copy>(
     queue: &mut VecDeque<S>,
     sample: S,
@@ -191,11 +193,18 @@ mod tests {
         for t in (0..=10_000).step_by(2_500) {
             out.push(delayed(&mut q, t, t, 5_000, |s| *s));
         }
+        // Before the delay has passed, the first sample stands in (the robot was at rest before
+        // the episode started); then the sample two periods old.
         assert_eq!(
             out,
-            vec![None, None, Some(0), Some(2_500), Some(5_000)],
+            vec![Some(0), Some(0), Some(0), Some(2_500), Some(5_000)],
             "a 5 ms delay at a 2.5 ms period hands over the sample two periods old"
         );
+        // Later in time, a sample younger than the delay is never handed over.
+        let mut q = VecDeque::new();
+        assert_eq!(delayed(&mut q, 10_000, 10_000, 5_000, |s| *s), None);
+        assert_eq!(delayed(&mut q, 12_500, 12_500, 5_000, |s| *s), None);
+        assert_eq!(delayed(&mut q, 15_000, 15_000, 5_000, |s| *s), Some(10_000));
         assert_eq!(delayed(&mut VecDeque::new(), 7, 7, 0, |s| *s), Some(7));
     }
 
