@@ -24,8 +24,10 @@ strings, arrays of differing shape) an object column.
 [1.0, 1.5, 2.0, 3.0]
 
 Resume: with ``cache_dir`` every finished point is written there at once (one pickle file per
-point, named by a hash of the study's name, the parameters and the point); a later call with
-the same arguments skips the points found on disk.
+point, named by a hash of the study's module and qualified name, the parameters and the
+point); a later call with the same arguments skips the points found on disk. The name is what
+identifies the study: give each study its own named function (two lambdas of one module share
+the name ``<lambda>``), and a new directory after changing what a study computes.
 
 The Rust studies release the GIL, so the default thread pool runs them on every core. For a
 process pool, Dask or Ray the study, the parameters and the results must pickle: every
