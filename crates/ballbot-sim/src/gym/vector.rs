@@ -155,11 +155,18 @@ impl VecEnv {
         obs: &mut [f32],
     ) -> Result<Vec<ResetInfo>, GymError> {
         let n = self.envs.len();
-        if seeds.len() != n || obs.len() != n * self.obs_len {
+        if seeds.len() != n {
             return Err(GymError::invalid(
                 "seeds",
                 "must have one entry per environment",
                 seeds.len(),
+            ));
+        }
+        if obs.len() != n * self.obs_len {
+            return Err(GymError::invalid(
+                "obs",
+                "the buffer must have len() * observation_len() entries",
+                obs.len(),
             ));
         }
         let no_actions = vec![[0.0; 3]; n];
