@@ -98,8 +98,9 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
         super().reset(seed=seed)
         if seed is None and not self._seeded:
             seed = int(self.np_random.integers(2**63))
-        self._seeded = True
-        return self._core.reset(seed, options)
+        out = self._core.reset(seed, options)
+        self._seeded = True  # only once a reset succeeded
+        return out
 
     def step(self, action: Act) -> tuple[Obs, float, bool, bool, dict[str, Any]]:
         a = np.asarray(action, dtype=np.float64).reshape(3).tolist()

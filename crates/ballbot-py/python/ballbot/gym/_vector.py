@@ -84,8 +84,8 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
             seeds = [None if s is None else int(s) for s in seed]
         if len(seeds) != n:
             raise ValueError(f"seed: a list of {n} seeds is needed, got {len(seeds)}")
-        self._seeded = True
         obs, infos = self._core.reset(seeds, options)
+        self._seeded = True  # only once a reset succeeded
         episode_seed = np.array([i["episode_seed"] for i in infos], dtype=np.int64)
         return obs, {"episode_seed": episode_seed, "_episode_seed": np.ones(n, dtype=bool)}
 
