@@ -80,11 +80,14 @@ fn csv(rows: &[SweepRow]) -> String {
         return String::new();
     };
     let mut out = String::new();
-    let header: Vec<&str> = first
+    // Quoted as RFC 4180 asks: a brace key (`robot.{sagittal,frontal}.com_height_m`) holds a
+    // comma.
+    let header: Vec<String> = first
         .point
         .keys()
         .map(String::as_str)
         .chain(first.values.keys().copied())
+        .map(csv_cell)
         .collect();
     let _ = writeln!(out, "{}", header.join(","));
     for r in rows {
@@ -101,6 +104,15 @@ fn csv(rows: &[SweepRow]) -> String {
         let _ = writeln!(out, "{}", cells.join(","));
     }
     out
+}
+
+/// A CSV cell: quoted (quotes doubled) when it holds a comma, a quote or a line break.
+fn csv_cell(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
 }
 
 /// The points and each one's result text, aligned.

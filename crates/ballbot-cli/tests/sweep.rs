@@ -44,7 +44,25 @@ fn a_grid_runs_every_point_and_the_thread_count_changes_nothing() {
     assert_eq!(csv1, csv2);
     let lines: Vec<&str> = csv1.lines().collect();
     assert_eq!(lines.len(), 3, "header and two points:\n{csv1}");
-    assert!(lines[0].starts_with("heading_deg,robot.{sagittal,frontal}.com_height_m,"));
+    // The brace key holds a comma, so it is quoted: every line has the header's column count.
+    assert!(lines[0].starts_with("heading_deg,\"robot.{sagittal,frontal}.com_height_m\","));
+    let columns = |line: &str| {
+        let mut quoted = false;
+        1 + line
+            .chars()
+            .filter(|c| {
+                if *c == '"' {
+                    quoted = !quoted;
+                }
+                *c == ',' && !quoted
+            })
+            .count()
+    };
+    assert!(
+        lines.iter().all(|l| columns(l) == columns(lines[0])),
+        "{csv1}"
+    );
+    assert_eq!(columns(lines[0]), 5, "{}", lines[0]);
     let json: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(dir.path().join("out-1/sweep.json")).unwrap(),
     )
