@@ -152,6 +152,11 @@ impl BallbotEnv {
         self.episode.as_ref().map(|e| e.plant.world().telemetry())
     }
 
+    /// Whether the episode has ended (terminated or truncated): `None` before the first reset.
+    pub fn episode_ended(&self) -> Option<bool> {
+        self.episode.as_ref().map(|e| e.done)
+    }
+
     /// Simulated time of the episode (s), once reset.
     pub fn time_secs(&self) -> Option<f64> {
         self.episode.as_ref().map(|e| e.plant.world().time_secs())

@@ -50,7 +50,6 @@ pub struct VecStep {
 /// ```
 pub struct VecEnv {
     envs: Vec<BallbotEnv>,
-    ended: Vec<bool>,
     /// `threads - 1` workers (the calling thread steps the first share itself); `None` with
     /// one thread.
     pool: Option<rayon::ThreadPool>,
@@ -62,7 +61,6 @@ pub struct VecEnv {
 struct Job<'a, R> {
     index: usize,
     env: &'a mut BallbotEnv,
-    ended: &'a mut bool,
     row: &'a mut [f32],
     action: [f64; 3],
     out: Option<Result<R, GymError>>,
@@ -115,7 +113,6 @@ impl VecEnv {
         Ok(Self {
             obs_len: envs[0].observation_len(),
             envs,
-            ended: vec![false; n],
             pool,
             threads,
         })
@@ -170,13 +167,7 @@ impl VecEnv {
             ));
         }
         let no_actions = vec![[0.0; 3]; n];
-        let mut jobs = jobs(
-            &mut self.envs,
-            &mut self.ended,
-            obs,
-            self.obs_len,
-            &no_actions,
-        );
+        let mut jobs = jobs(&mut self.envs, obs, self.obs_len, &no_actions);
         let work = |job: &mut Job<'_, ResetInfo>| {
             job.out = Some(job.env.reset(seeds[job.index], options, job.row));
         };
@@ -185,7 +176,6 @@ impl VecEnv {
             .into_iter()
             .map(|j| j.out.unwrap_or(Err(GymError::NeedsReset("not reset"))))
             .collect();
-        self.ended.fill(false);
         results.into_iter().collect()
     }
 
@@ -206,25 +196,18 @@ impl VecEnv {
         out.obs.resize(n * self.obs_len, 0.0);
         type Row = (f64, bool, bool, VecInfo);
         let work = |job: &mut Job<'_, Row>| {
-            job.out = Some(if *job.ended {
-                *job.ended = false;
+            // The environment's own record says whether its episode ended at the last step.
+            job.out = Some(if job.env.episode_ended() == Some(true) {
                 job.env
                     .reset(None, None, job.row)
                     .map(|info| (0.0, false, false, VecInfo::Reset(Box::new(info))))
             } else {
-                job.env.step(job.action, job.row).map(|o| {
-                    *job.ended = o.terminated || o.truncated;
-                    (o.reward, o.terminated, o.truncated, VecInfo::Step(o.info))
-                })
+                job.env
+                    .step(job.action, job.row)
+                    .map(|o| (o.reward, o.terminated, o.truncated, VecInfo::Step(o.info)))
             });
         };
-        let mut jobs = jobs(
-            &mut self.envs,
-            &mut self.ended,
-            &mut out.obs,
-            self.obs_len,
-            actions,
-        );
+        let mut jobs = jobs(&mut self.envs, &mut out.obs, self.obs_len, actions);
         run_split(self.pool.as_ref(), self.threads, &mut jobs, &work);
         let results: Vec<Result<Row, GymError>> = jobs
             .into_iter()
@@ -248,20 +231,17 @@ impl VecEnv {
 /// One job per environment over `obs`'s rows (`obs_len` each) and `actions`.
 fn jobs<'a, R>(
     envs: &'a mut [BallbotEnv],
-    ended: &'a mut [bool],
     obs: &'a mut [f32],
     obs_len: usize,
     actions: &[[f64; 3]],
 ) -> Vec<Job<'a, R>> {
     envs.iter_mut()
-        .zip(ended.iter_mut())
         .zip(obs.chunks_mut(obs_len))
         .zip(actions)
         .enumerate()
-        .map(|(index, (((env, ended), row), action))| Job {
+        .map(|(index, ((env, row), action))| Job {
             index,
             env,
-            ended,
             row,
             action: *action,
             out: None,

@@ -124,6 +124,8 @@ pub struct Sweep {
     pub quick: bool,
     /// The points, in order.
     pub points: Vec<Point>,
+    /// Each point's world, validated when the sweep was built.
+    pub worlds: Vec<WorldParams>,
 }
 
 /// The study arguments a grid may set (every other key is a world field).
@@ -207,27 +209,25 @@ impl Sweep {
                 })
                 .collect();
         }
-        let sweep = Self {
+        let worlds = points
+            .iter()
+            .map(|p| {
+                let fields: Vec<(String, f64)> = p
+                    .iter()
+                    .filter(|(k, _)| !STUDY_KEYS.contains(&k.as_str()))
+                    .cloned()
+                    .collect();
+                with_fields(&base, &fields)
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
             study,
             base,
             seed,
             quick,
             points,
-        };
-        for p in &sweep.points {
-            sweep.world(p)?;
-        }
-        Ok(sweep)
-    }
-
-    /// The world of point `p`.
-    pub fn world(&self, p: &Point) -> Result<WorldParams, SweepError> {
-        let fields: Vec<(String, f64)> = p
-            .iter()
-            .filter(|(k, _)| !STUDY_KEYS.contains(&k.as_str()))
-            .cloned()
-            .collect();
-        with_fields(&self.base, &fields)
+            worlds,
+        })
     }
 
     /// Runs every point on `threads` threads (0: every core); `done(i)` after point `i`.
@@ -236,11 +236,11 @@ impl Sweep {
         threads: usize,
         done: &(dyn Fn(usize) + Sync),
     ) -> Result<Vec<SweepRow>, SweepError> {
-        run_jobs(&self.points, threads, |p| self.run_point(p), done)
+        let jobs: Vec<(&Point, &WorldParams)> = self.points.iter().zip(&self.worlds).collect();
+        run_jobs(&jobs, threads, |(p, w)| self.run_point(p, **w), done)
     }
 
-    fn run_point(&self, p: &Point) -> Result<SweepRow, SweepError> {
-        let world = self.world(p)?;
+    fn run_point(&self, p: &Point, world: WorldParams) -> Result<SweepRow, SweepError> {
         let heading = p
             .iter()
             .find(|(k, _)| k == "heading_deg")
