@@ -13,13 +13,21 @@ use std::process::ExitCode;
 use world_drive::WorldDrive;
 
 /// One world step at 8 kHz in the default world (the realistic contact: rubber coating, roller
-/// gaps, axle losses; the ODrive driver) with the core's controller in the loop (outer loop
-/// every 20th step), the robot balancing while driving (the criterion bench `world_step`'s
-/// scenario), after a warm-up of 1 s. The counted steps (up to 4000 after the warm-up) end
+/// gaps, axle losses; the ODrive driver; rapier at every 10th step, `rigid_step_ratio` 10) with
+/// the core's controller in the loop (outer loop every 20th step), the robot balancing while
+/// driving (the criterion bench `world_step`'s scenario), after a warm-up of 1 s. The counted steps (up to 4000 after the warm-up) end
 /// before the drive cycle's reversal at 2 s, where OW1 slips for longer than 0.1 s in this
 /// world (a failure this harness would report).
 fn world_step_with_controller(n: u64) -> Result<(), String> {
     run_drive(WorldDrive::new(), n)
+}
+
+/// [`world_step_with_controller`] in the single-rate default world (`rigid_step_ratio` 1: rapier
+/// at every step), the default before issue 17.
+fn world_step_single_rate(n: u64) -> Result<(), String> {
+    let mut params = WorldParams::miapure_60kg();
+    params.rigid_step_ratio = 1;
+    run_drive(WorldDrive::with_params(params), n)
 }
 
 /// [`world_step_with_controller`] in the ideal world (stiff continuous-rim contacts, no axle
@@ -46,6 +54,7 @@ type Run = fn(u64) -> Result<(), String>;
 
 const OPERATIONS: &[(&str, Run)] = &[
     ("world_step_with_controller", world_step_with_controller),
+    ("world_step_single_rate", world_step_single_rate),
     ("world_step_ideal", world_step_ideal),
 ];
 

@@ -26,6 +26,7 @@ mod world_driver;
 mod world_load_transfer;
 mod world_max_speed;
 mod world_mechanisms;
+mod world_multirate;
 mod world_paper_ablation;
 mod world_setters;
 mod world_traction;

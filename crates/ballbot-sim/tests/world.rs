@@ -150,9 +150,11 @@ fn balanced_robot_keeps_static_load_and_lean_shifts_it() {
 
 /// Free flight (no gravity, robot 1 m up), motors off, frictionless wheels, no contact
 /// damping: ball and body interact only through the three normal springs. Returns the changes
-/// of linear momentum, angular momentum (relative) and energy (relative) after 1 s.
-fn free_flight(dt_divisor: f64) -> (f64, f64, f64) {
+/// of linear momentum, angular momentum (relative) and energy (relative) after 1 s, with
+/// rapier stepping once every `rigid_step_ratio` world steps.
+pub(crate) fn free_flight(dt_divisor: f64, rigid_step_ratio: u32) -> (f64, f64, f64) {
     let mut p = miapure();
+    p.rigid_step_ratio = rigid_step_ratio;
     p.contact.normal_damping_n_s_per_m = 0.0;
     p.wheel_damping_nm_s_per_rad = 0.0;
     p.rolling_resistance = 0.0;
@@ -192,11 +194,11 @@ fn free_flight_conserves_momentum_and_energy() {
     // error, since every contact force acts equal and opposite at the same point. Energy:
     // the collision (springs engaging and releasing inside a step) costs an O(dt) error, so it
     // must be small at 8 kHz and halve with the step.
-    let (dp, dl, de) = free_flight(1.0);
+    let (dp, dl, de) = free_flight(1.0, 1);
     assert!(dp < 1e-9, "linear momentum changed by {dp}");
     assert!(dl < 1e-3, "angular momentum changed by {dl}");
     assert!(de < 0.015, "energy changed by {de}");
-    let (_, _, de_half) = free_flight(2.0);
+    let (_, _, de_half) = free_flight(2.0, 1);
     assert!(
         de_half < 0.6 * de && de_half > 0.4 * de,
         "first order: {de} -> {de_half}"

@@ -1283,6 +1283,7 @@ class WorldParams:
         chassis_half_width_m: float = ...,
         chassis_height_m: float = ...,
         dt_secs: float = ...,
+        rigid_step_ratio: int = ...,
         sensors: Union[SensorParams, dict[str, Any]] = ...,
         failure: Union[FailureParams, dict[str, Any]] = ...,
         driver: Union[DriverParams, dict[str, Any]] = ...,
@@ -1323,6 +1324,14 @@ class WorldParams:
     def chassis_height_m(self) -> float: ...
     @property
     def dt_secs(self) -> float: ...
+    @property
+    def rigid_step_ratio(self) -> int:
+        """World steps per rapier step: the rigid bodies and the floor step at
+        ``rigid_step_ratio * dt_secs``, contacts, wheels, drivers and sensors at ``dt_secs``
+        (10 in the default world, 1 in the ideal one; docs/world.md, "Multi-rate world")."""
+    def max_rigid_step_ratio(self) -> int:
+        """The largest ``rigid_step_ratio`` these parameters allow (the rigid step's phase on
+        the ball's contact mode at most 1.2 rad, and at most 40)."""
     @property
     def sensors(self) -> SensorParams: ...
     @property

@@ -209,6 +209,7 @@ py_params! {
             wheel_inertia_kg_m2, rotor_inertia_kg_m2, wheel_damping_nm_s_per_rad,
             rolling_resistance, spin_friction_m, chassis_half_width_m, chassis_height_m, dt_secs,
         }
+        ints { rigid_step_ratio: u32 }
         arrays {}
         nested {
             robot: PyBallbotParams,
@@ -245,6 +246,12 @@ py_params! {
         /// Reflected inertia of one wheel: wheel plus rotor times gear ratio squared (kg m^2).
         fn reflected_wheel_inertia_kg_m2(&self) -> f64 {
             self.inner.reflected_wheel_inertia_kg_m2()
+        }
+
+        /// The largest `rigid_step_ratio` these parameters allow (the rigid step's phase on the
+        /// ball's contact mode at most 1.2 rad, and at most 40).
+        fn max_rigid_step_ratio(&self) -> u32 {
+            self.inner.max_rigid_step_ratio()
         }
     }
 }

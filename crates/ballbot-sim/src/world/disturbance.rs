@@ -98,9 +98,11 @@ impl BallbotWorld {
                 robot.spin.inertia_kg_m2,
             ),
         );
+        self.sync_rigid();
         let body = &mut self.physics.bodies[self.body];
         body.set_additional_mass_properties(props, true);
         body.recompute_mass_properties_from_colliders(&self.physics.colliders);
+        self.restart_rigid();
         Ok(())
     }
 

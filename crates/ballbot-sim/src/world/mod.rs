@@ -32,6 +32,7 @@ pub mod disturbance;
 pub mod driver;
 pub mod failure;
 pub mod params;
+mod rigid;
 pub mod rollers;
 pub mod rubber;
 pub mod sensors;
@@ -42,7 +43,10 @@ pub use axle_loss::AxleLossParams;
 pub use disturbance::FloorBump;
 pub use driver::{DriverLimit, DriverModel, DriverParams};
 pub use failure::{Failure, FailureKind, wheel_name};
-pub use params::{ContactParams, FailureParams, SensorParams, WorldParams};
+pub use params::{
+    ContactParams, DEFAULT_RIGID_STEP_RATIO, FailureParams, MAX_BALL_CONTACT_PHASE_RAD,
+    MAX_RIGID_STEP_RATIO, SensorParams, WorldParams,
+};
 pub use rollers::{RollerParams, RollerProfile};
 pub use rubber::RubberLayer;
 pub use sensors::Measurement;

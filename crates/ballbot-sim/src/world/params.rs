@@ -12,6 +12,28 @@ use super::rubber::RubberLayer;
 use ballbot_core::BallbotParams;
 use ballbot_core::rates::INNER_LOOP_DT_SECS;
 
+/// The largest [`WorldParams::rigid_step_ratio`]: 40 world steps, a 5 ms rigid step at 8 kHz.
+pub const MAX_RIGID_STEP_RATIO: u32 = 40;
+
+/// The default world's [`WorldParams::rigid_step_ratio`] ([`WorldParams::realistic`]): the
+/// rigid bodies at 800 Hz, twice per 400 Hz control period, while contacts, wheels and drivers
+/// run at 8 kHz (docs/world.md, "Multi-rate world": within the trajectory spread of a changed
+/// sensor-noise seed, five times faster). Capped by [`WorldParams::max_rigid_step_ratio`].
+pub const DEFAULT_RIGID_STEP_RATIO: u32 = 10;
+
+/// The largest `omega_B T` allowed for the rigid step `T`, with `omega_B` the ball's vertical
+/// frequency on its three omniwheel contacts ([`WorldParams::ball_contact_frequency_rad_per_s`]).
+/// Between rigid steps the floor's force on the ball is held at the last step's average
+/// ([`crate::world::rigid`]), a lag of one rigid step on that mode. Measured on the 10 s drive
+/// cycle of `benches/world_step` (docs/world.md, "Multi-rate world"): stable at 1.14 (ideal
+/// world, 1.25 ms) and 0.94 (default world, 2.5 ms), diverging at 1.83 (ideal, 2 ms) and 1.87
+/// (default, 5 ms).
+pub const MAX_BALL_CONTACT_PHASE_RAD: f64 = 1.2;
+
+fn default_rigid_step_ratio() -> u32 {
+    1
+}
+
 /// The compliant omniwheel-ball contact (see [`crate::world::contact`] for the model).
 ///
 /// The default is the ideal contact ([`ContactParams::ideal`]): a stiff normal spring, a
@@ -174,6 +196,14 @@ pub struct WorldParams {
     pub chassis_height_m: f64,
     /// Physics step (s). Default 1/8000: the motor loop rate.
     pub dt_secs: f64,
+    /// World steps per rapier step (dimensionless, in `1..=`[`MAX_RIGID_STEP_RATIO`]): the
+    /// rigid bodies and the floor contact step at `rigid_step_ratio * dt_secs`, the omniwheel
+    /// contacts, wheels, motor drivers and sensors at `dt_secs`, with the ball's and body's
+    /// motion predicted in between ([`crate::world::rigid`]). Default 1 (one rate, when missing
+    /// from a file too); docs/world.md, "Multi-rate world", measures the accuracy and speed of
+    /// larger ratios.
+    #[serde(default = "default_rigid_step_ratio")]
+    pub rigid_step_ratio: u32,
     /// Sensors.
     pub sensors: SensorParams,
     /// Failure limits.
@@ -206,6 +236,7 @@ impl WorldParams {
             chassis_half_width_m: 0.18,
             chassis_height_m: 0.45,
             dt_secs: INNER_LOOP_DT_SECS,
+            rigid_step_ratio: 1,
             sensors: SensorParams::default(),
             failure: FailureParams::default(),
             driver: DriverParams::ideal(),
@@ -226,12 +257,47 @@ impl WorldParams {
             axle_loss: AxleLossParams::miapure(),
             ..ContactParams::rubber_coated(&robot, &RubberLayer::miapure())
         };
+        p.rigid_step_ratio = DEFAULT_RIGID_STEP_RATIO.min(p.max_rigid_step_ratio());
         p
     }
 
     /// The given robot in the default world: [`WorldParams::realistic`].
     pub fn with_robot(robot: BallbotParams<f64>) -> Self {
         Self::realistic(robot)
+    }
+
+    /// The ball's vertical frequency on its three omniwheel contacts,
+    /// `sqrt(3 k cos^2(alpha) / m_B)` (rad/s), with `k` the contact's normal stiffness and
+    /// `alpha` the contact angle: about 910 rad/s in the ideal world, 375 in the default one.
+    pub fn ball_contact_frequency_rad_per_s(&self) -> f64 {
+        let cos_a = self.robot.drivetrain.contact_angle_rad.cos();
+        let k = self.contact.normal_stiffness_n_per_m;
+        (3.0 * k * cos_a * cos_a / self.robot.sagittal.ball_mass_kg).sqrt()
+    }
+
+    /// The largest [`WorldParams::rigid_step_ratio`] these parameters allow: at most
+    /// [`MAX_RIGID_STEP_RATIO`], and the rigid step's phase on the ball's contact mode at most
+    /// [`MAX_BALL_CONTACT_PHASE_RAD`]; at least 1.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_sim::world::WorldParams;
+    /// assert_eq!(WorldParams::ideal(BallbotParams::miapure_60kg()).max_rigid_step_ratio(), 10);
+    /// assert_eq!(WorldParams::miapure_60kg().max_rigid_step_ratio(), 25);
+    /// ```
+    pub fn max_rigid_step_ratio(&self) -> u32 {
+        let phase_per_step = self.ball_contact_frequency_rad_per_s() * self.dt_secs;
+        let ratio = (MAX_BALL_CONTACT_PHASE_RAD / phase_per_step).floor();
+        if ratio.is_finite() {
+            (ratio as u32).clamp(1, MAX_RIGID_STEP_RATIO)
+        } else {
+            1
+        }
+    }
+
+    /// The rigid bodies' step, `rigid_step_ratio * dt_secs` (s).
+    pub fn rigid_step_secs(&self) -> f64 {
+        self.dt_secs * f64::from(self.rigid_step_ratio)
     }
 
     /// Reflected inertia of one wheel: wheel plus rotor times gear ratio squared (kg m^2).
@@ -279,6 +345,20 @@ impl WorldParams {
         positive(self.chassis_half_width_m, "chassis_half_width_m")?;
         positive(self.chassis_height_m, "chassis_height_m")?;
         positive(self.dt_secs, "dt_secs")?;
+        if !(1..=MAX_RIGID_STEP_RATIO).contains(&self.rigid_step_ratio) {
+            return Err(WorldError::InvalidParameter {
+                field: "rigid_step_ratio",
+                requirement: "must be in 1..=40",
+            });
+        }
+        if self.rigid_step_ratio > self.max_rigid_step_ratio() {
+            return Err(WorldError::InvalidParameter {
+                field: "rigid_step_ratio",
+                requirement: "must keep ball_contact_frequency_rad_per_s * rigid_step_ratio * \
+                              dt_secs <= 1.2 (MAX_BALL_CONTACT_PHASE_RAD; \
+                              WorldParams::max_rigid_step_ratio gives the largest)",
+            });
+        }
         positive(self.failure.max_tilt_rad, "failure.max_tilt_rad")?;
         let f = &self.failure;
         non_negative(

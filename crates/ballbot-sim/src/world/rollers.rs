@@ -180,7 +180,11 @@ impl RollerProfile {
                 rim_radius_m: r_w,
             };
         }
-        let u = psi_rad.rem_euclid(self.pitch_rad) - 0.5 * self.pitch_rad;
+        // psi mod pitch, by floor rather than rem_euclid: libm's fmod was a tenth of the world
+        // step's own instructions. The remainder can round to the pitch itself, which only
+        // moves u to the other end of the same gap-free zone.
+        let turns = (psi_rad / self.pitch_rad).floor();
+        let u = (psi_rad - turns * self.pitch_rad) - 0.5 * self.pitch_rad;
         let theta_e = self.half_gap_rad - u.abs();
         if theta_e <= 0.0 {
             return RimContact {

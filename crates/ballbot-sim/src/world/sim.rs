@@ -6,6 +6,7 @@ use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
 use super::driver::{DriverFault, MotorDriver};
 use super::failure::{Failure, FailureMonitor};
 use super::params::WorldParams;
+use super::rigid::{RigidState, RigidStepper, Wrench};
 use super::rollers::{RimContact, RollerProfile};
 use super::sensors::{Measurement, Sensors};
 use super::telemetry::{StepTelemetry, WheelTelemetry};
@@ -15,6 +16,8 @@ use rapier3d_f64::prelude::{
     ColliderBuilder, ColliderHandle, MassProperties, PhysicsWorld, RigidBodyBuilder,
     RigidBodyHandle, RigidBodyType,
 };
+
+mod energy;
 
 /// Solver iterations (substeps) of rapier's step. The only rapier contact is the ball on the
 /// floor; at the 8 kHz step one substep gives the same trajectories as rapier's default four
@@ -92,6 +95,8 @@ pub struct BallbotWorld {
     monitor: FailureMonitor,
     sensors: Sensors,
     spin_friction_gain_nm_s: f64,
+    /// Multi-rate bookkeeping between rapier steps ([`crate::world::rigid`]).
+    rigid: RigidStepper,
 }
 
 fn to_glam(v: Vector3<f64>) -> DVec3 {
@@ -117,7 +122,7 @@ impl BallbotWorld {
         let g = robot.sagittal.gravity_m_per_s2;
         let mut physics = PhysicsWorld::new();
         physics.gravity = DVec3::new(0.0, 0.0, -g);
-        physics.integration_parameters.dt = params.dt_secs;
+        physics.integration_parameters.dt = params.rigid_step_secs();
         // One contact (ball on floor) needs one solver substep at 8 kHz, and nothing moves far
         // enough in 125 us to tunnel: see RAPIER_SOLVER_ITERATIONS.
         physics.integration_parameters.num_solver_iterations = RAPIER_SOLVER_ITERATIONS;
@@ -190,6 +195,14 @@ impl BallbotWorld {
             axle_regularisation_speed_m_per_s: c.axle_loss.regularisation_speed_m_per_s,
         };
         let rollers = RollerProfile::new(&c.rollers, r_w, r);
+        let state = RigidState::read(
+            &physics,
+            ball,
+            body,
+            geometry.map(|g| g.centre_local),
+            geometry.map(|g| g.axle_local),
+        );
+        let rigid = RigidStepper::new(params.rigid_step_ratio, &physics, ball, body, state);
         let mut world = Self {
             physics,
             ball,
@@ -221,12 +234,18 @@ impl BallbotWorld {
             // Half the gain that would stop the ball's spin in one step: a stiff, stable
             // regularisation of the Coulomb spin friction.
             spin_friction_gain_nm_s: 0.5 * robot.sagittal.ball_inertia_kg_m2 / params.dt_secs,
+            rigid,
             params,
         };
         for h in [world.ball, world.body] {
             let colliders = &world.physics.colliders;
             world.physics.bodies[h].recompute_mass_properties_from_colliders(colliders);
         }
+        world.restart_rigid();
+        // The robot starts at rest on the floor, which carries its whole weight.
+        world
+            .rigid
+            .set_static_floor((robot.sagittal.ball_mass_kg + m_u) * g);
         world.refresh_poses();
         Ok(world)
     }
@@ -269,8 +288,10 @@ impl BallbotWorld {
 
     /// Applies a horizontal (or any) impulse (N s) at the body's centre of mass, e.g. a push.
     pub fn push_body(&mut self, impulse_ns: Vector3<f64>) {
+        self.sync_rigid();
         let body = &mut self.physics.bodies[self.body];
         body.apply_impulse(to_glam(impulse_ns), true);
+        self.restart_rigid();
     }
 
     /// Sets the body's linear velocity of its centre of mass (m/s) and angular velocity
@@ -280,9 +301,11 @@ impl BallbotWorld {
         linear_m_per_s: Vector3<f64>,
         angular_rad_per_s: Vector3<f64>,
     ) {
+        self.sync_rigid();
         let body = &mut self.physics.bodies[self.body];
         body.set_linvel(to_glam(linear_m_per_s), true);
         body.set_angvel(to_glam(angular_rad_per_s), true);
+        self.restart_rigid();
     }
 
     /// Sets the ball's linear (m/s) and angular (rad/s) velocity.
@@ -291,14 +314,17 @@ impl BallbotWorld {
         linear_m_per_s: Vector3<f64>,
         angular_rad_per_s: Vector3<f64>,
     ) {
+        self.sync_rigid();
         let ball = &mut self.physics.bodies[self.ball];
         ball.set_linvel(to_glam(linear_m_per_s), true);
         ball.set_angvel(to_glam(angular_rad_per_s), true);
+        self.restart_rigid();
     }
 
     /// Rotates the body about the ball centre by `tilt_rad = [theta_x, theta_y]` (rotation
     /// about world x, then y), keeping the contacts' penetration.
     pub fn tilt_body(&mut self, tilt_rad: [f64; 2]) {
+        self.sync_rigid();
         let c = self.physics.bodies[self.ball].translation();
         let body = &mut self.physics.bodies[self.body];
         let rot = DQuat::from_rotation_y(tilt_rad[1]) * DQuat::from_rotation_x(tilt_rad[0]);
@@ -306,17 +332,21 @@ impl BallbotWorld {
         let offset = pose.translation - c;
         body.set_translation(c + rot * offset, true);
         body.set_rotation(rot * pose.rotation, true);
+        self.restart_rigid();
         self.refresh_poses();
     }
 
     /// Moves the whole robot (ball and body) by `offset_m`, e.g. into the air.
     pub fn translate_robot(&mut self, offset_m: Vector3<f64>) {
+        self.sync_rigid();
         let off = to_glam(offset_m);
         for h in [self.ball, self.body] {
             let rb = &mut self.physics.bodies[h];
             let t = rb.translation();
             rb.set_translation(t + off, true);
         }
+        self.restart_rigid();
+        self.rigid.forget_floor();
         self.refresh_poses();
     }
 
@@ -331,7 +361,9 @@ impl BallbotWorld {
         non_negative(gravity_m_per_s2, "robot.sagittal.gravity_m_per_s2")?;
         self.params.robot.sagittal.gravity_m_per_s2 = gravity_m_per_s2;
         self.params.robot.frontal.gravity_m_per_s2 = gravity_m_per_s2;
+        self.sync_rigid();
         self.physics.gravity = DVec3::new(0.0, 0.0, -gravity_m_per_s2);
+        self.restart_rigid();
         Ok(())
     }
 
@@ -370,82 +402,26 @@ impl BallbotWorld {
 
     /// Test rig: clamps the ball (`true`) in place, or releases it.
     pub fn set_ball_fixed(&mut self, fixed: bool) {
+        self.sync_rigid();
         let kind = if fixed {
             RigidBodyType::Fixed
         } else {
             RigidBodyType::Dynamic
         };
         self.physics.bodies[self.ball].set_body_type(kind, true);
+        self.restart_rigid();
     }
 
     /// Test rig: clamps the body (`true`) in place, or releases it.
     pub fn set_body_fixed(&mut self, fixed: bool) {
+        self.sync_rigid();
         let kind = if fixed {
             RigidBodyType::Fixed
         } else {
             RigidBodyType::Dynamic
         };
         self.physics.bodies[self.body].set_body_type(kind, true);
-    }
-
-    /// Total kinetic energy of ball, body and wheels (J).
-    pub fn kinetic_energy_j(&self) -> f64 {
-        let i_w = self.params.reflected_wheel_inertia_kg_m2();
-        let wheels: f64 = self
-            .wheels
-            .iter()
-            .map(|w| 0.5 * i_w * w.speed_rad_per_s * w.speed_rad_per_s)
-            .sum();
-        self.physics.bodies[self.ball].kinetic_energy()
-            + self.physics.bodies[self.body].kinetic_energy()
-            + wheels
-    }
-
-    /// Gravitational potential energy of ball and body above the floor (J).
-    pub fn potential_energy_j(&self) -> f64 {
-        let g = -self.physics.gravity.z;
-        let ball = &self.physics.bodies[self.ball];
-        let body = &self.physics.bodies[self.body];
-        g * (ball.mass() * ball.center_of_mass().z + body.mass() * body.center_of_mass().z)
-    }
-
-    /// Elastic energy stored in the three omniwheel contacts' normal springs (J).
-    pub fn contact_energy_j(&self) -> f64 {
-        let k = self.law.normal_stiffness_n_per_m;
-        self.contact_geometry()
-            .iter()
-            .map(|g| 0.5 * k * g.penetration_m.max(0.0).powi(2))
-            .sum()
-    }
-
-    /// Total linear momentum of ball and body (N s).
-    pub fn linear_momentum_ns(&self) -> Vector3<f64> {
-        let ball = &self.physics.bodies[self.ball];
-        let body = &self.physics.bodies[self.body];
-        to_na(ball.linvel() * ball.mass() + body.linvel() * body.mass())
-    }
-
-    /// Total angular momentum of ball, body and wheel spins about the world origin (N m s).
-    pub fn angular_momentum_nms(&self) -> Vector3<f64> {
-        let mut total = DVec3::ZERO;
-        for h in [self.ball, self.body] {
-            let rb = &self.physics.bodies[h];
-            let com = rb.center_of_mass();
-            let rot = rb.position().rotation;
-            let inertia = rb.mass_properties().local_mprops.principal_inertia();
-            let frame = rot
-                * rb.mass_properties()
-                    .local_mprops
-                    .principal_inertia_local_frame;
-            let w_local = frame.inverse() * rb.angvel();
-            total += frame * (inertia * w_local) + com.cross(rb.linvel() * rb.mass());
-        }
-        let i_w = self.params.reflected_wheel_inertia_kg_m2();
-        let rot = self.physics.bodies[self.body].position().rotation;
-        for (g, w) in self.geometry.iter().zip(&self.wheels) {
-            total += rot * g.axle_local * (i_w * w.speed_rad_per_s);
-        }
-        to_na(total)
+        self.restart_rigid();
     }
 
     /// Height of the chassis' lowest corner above the floor (m).
@@ -466,15 +442,13 @@ impl BallbotWorld {
     /// Contact kinematics per wheel, the contact point (world) and where on the rim it lies
     /// (roller gaps: [`crate::world::rollers`]).
     fn contacts(&self) -> [(ContactKinematics, DVec3, RimContact); 3] {
-        let ball = &self.physics.bodies[self.ball];
-        let body = &self.physics.bodies[self.body];
-        let c = ball.translation();
-        let v_c = ball.linvel();
-        let w_ball = ball.angvel();
-        let pose = body.position();
-        let com = body.center_of_mass();
-        let v_com = body.linvel();
-        let w_body = body.angvel();
+        let s = self.rigid.now();
+        let c = s.ball_centre;
+        let v_c = s.ball_velocity;
+        let w_ball = s.ball_angvel;
+        let com = s.body_com;
+        let v_com = s.body_velocity;
+        let w_body = s.body_angvel;
         let r = self.params.robot.ball_radius_m();
         let r_w = self.params.robot.drivetrain.wheel_radius_m;
         let mut out = [(
@@ -490,9 +464,9 @@ impl BallbotWorld {
             DVec3::ZERO,
             self.rollers.at(0.0),
         ); 3];
-        for (i, (g, w)) in self.geometry.iter().zip(&self.wheels).enumerate() {
-            let centre = pose.transform_point(g.centre_local);
-            let axle = pose.rotation * g.axle_local;
+        for (i, w) in self.wheels.iter().enumerate() {
+            let centre = s.wheel_centres[i];
+            let axle = s.axles[i];
             let diff = centre - c;
             let dist = diff.length();
             let n = diff / dist;
@@ -538,9 +512,9 @@ impl BallbotWorld {
         let mut ball_torque = DVec3::ZERO;
         let mut body_force = DVec3::ZERO;
         let mut body_torque = DVec3::ZERO;
-        let c = self.physics.bodies[self.ball].translation();
-        let body_com = self.physics.bodies[self.body].center_of_mass();
-        let body_rot = self.physics.bodies[self.body].position().rotation;
+        let state = *self.rigid.now();
+        let c = state.ball_centre;
+        let body_com = state.body_com;
         let mut wheel_tel = [WheelTelemetry::default(); 3];
         for i in 0..3 {
             let (kin, p, rim) = contacts[i];
@@ -564,7 +538,7 @@ impl BallbotWorld {
             ball_torque += (p - c).cross(f);
             body_force -= f;
             body_torque -= (p - body_com).cross(f);
-            body_torque -= body_rot * self.geometry[i].axle_local * wheel_torque;
+            body_torque -= state.axles[i] * wheel_torque;
             wheel_tel[i] = WheelTelemetry {
                 normal_force_n: out.normal_force_n,
                 traction_n: out.traction_n,
@@ -583,7 +557,7 @@ impl BallbotWorld {
         // Rolling resistance and spin (torsional) friction of the ball on the floor, both
         // bounded by the floor load of the previous step.
         let floor_n = self.telemetry.floor_force_n;
-        let w_ball = self.physics.bodies[self.ball].angvel();
+        let w_ball = state.ball_angvel;
         let w_h = DVec3::new(w_ball.x, w_ball.y, 0.0);
         let r = self.params.robot.ball_radius_m();
         let roll_max = self.params.rolling_resistance * floor_n * r;
@@ -596,34 +570,88 @@ impl BallbotWorld {
         let spin = (self.spin_friction_gain_nm_s * w_ball.z).clamp(-spin_max, spin_max);
         ball_torque.z -= spin;
 
+        let ball = Wrench {
+            force: ball_force,
+            torque: ball_torque,
+        };
+        let body = Wrench {
+            force: body_force,
+            torque: body_torque,
+        };
+        self.telemetry.time_secs += dt;
+        self.telemetry.wheels = wheel_tel;
+        self.sensors.record_encoders(wheel_tel.map(|w| w.angle_rad));
+        if self.rigid.add(ball, body, dt) {
+            self.step_rigid();
+        }
+        let clearance = self.chassis_clearance_m();
+        self.monitor.update(&self.telemetry, clearance, dt);
+        &self.telemetry
+    }
+
+    /// Steps rapier over the world steps since its last step, with the average of their
+    /// wrenches, and starts the next interval ([`crate::world::rigid`]).
+    fn step_rigid(&mut self) {
+        let substeps = self.rigid.substeps();
+        if substeps == 0 {
+            return;
+        }
+        let interval = self.params.dt_secs * f64::from(substeps);
+        let full = substeps == self.rigid.ratio();
+        if !full {
+            self.physics.integration_parameters.dt = interval;
+        }
+        let (ball_avg, body_avg) = self.rigid.averages();
         {
             let ball = &mut self.physics.bodies[self.ball];
             ball.reset_forces(false);
             ball.reset_torques(false);
-            ball.add_force(ball_force, false);
-            ball.add_torque(ball_torque, false);
+            ball.add_force(ball_avg.force, false);
+            ball.add_torque(ball_avg.torque, false);
         }
         {
             let body = &mut self.physics.bodies[self.body];
             body.reset_forces(false);
             body.reset_torques(false);
-            body.add_force(body_force, false);
-            body.add_torque(body_torque, false);
+            body.add_force(body_avg.force, false);
+            body.add_torque(body_avg.torque, false);
         }
         self.physics.step();
+        if !full {
+            self.physics.integration_parameters.dt = self.params.rigid_step_secs();
+        }
         let floor_impulse = self
             .physics
             .narrow_phase
             .contact_pair(self.floor_collider, self.ball_collider)
             .map_or(0.0, |pair| pair.total_impulse().z.abs());
-        self.telemetry.time_secs += dt;
-        self.telemetry.wheels = wheel_tel;
-        self.telemetry.floor_force_n = floor_impulse / dt;
-        self.sensors.record_encoders(wheel_tel.map(|w| w.angle_rad));
+        self.telemetry.floor_force_n = floor_impulse / interval;
+        let wheels = self.wheels_local();
+        self.rigid
+            .finish(&mut self.physics, (self.ball, self.body), wheels, interval);
         self.refresh_poses();
-        let clearance = self.chassis_clearance_m();
-        self.monitor.update(&self.telemetry, clearance, dt);
-        &self.telemetry
+    }
+
+    /// Completes the rigid step in progress (if any), so that rapier holds the current state:
+    /// before a change made to the bodies from outside.
+    pub(super) fn sync_rigid(&mut self) {
+        self.step_rigid();
+    }
+
+    /// Starts a new rigid interval at rapier's state (after a change made from outside).
+    pub(super) fn restart_rigid(&mut self) {
+        let (centres, axles) = self.wheels_local();
+        let state = RigidState::read(&self.physics, self.ball, self.body, centres, axles);
+        self.rigid
+            .restart(&self.physics, self.ball, self.body, state);
+    }
+
+    /// The wheels' centres and axles in the body frame.
+    fn wheels_local(&self) -> ([DVec3; 3], [DVec3; 3]) {
+        (
+            self.geometry.map(|g| g.centre_local),
+            self.geometry.map(|g| g.axle_local),
+        )
     }
 
     fn refresh_poses(&mut self) {

@@ -1,0 +1,70 @@
+//! Energies and momenta of the world, for the conservation tests and the studies. They read
+//! rapier's state, i.e. the last rigid step's ([`crate::world::rigid`]), and the wheels' current
+//! spins: read them right after a rigid step (every `rigid_step_ratio` world steps) for a
+//! consistent total.
+
+use super::{BallbotWorld, to_na};
+use nalgebra::Vector3;
+use rapier3d_f64::glamx::DVec3;
+
+impl BallbotWorld {
+    /// Total kinetic energy of ball, body and wheels (J).
+    pub fn kinetic_energy_j(&self) -> f64 {
+        let i_w = self.params.reflected_wheel_inertia_kg_m2();
+        let wheels: f64 = self
+            .wheels
+            .iter()
+            .map(|w| 0.5 * i_w * w.speed_rad_per_s * w.speed_rad_per_s)
+            .sum();
+        self.physics.bodies[self.ball].kinetic_energy()
+            + self.physics.bodies[self.body].kinetic_energy()
+            + wheels
+    }
+
+    /// Gravitational potential energy of ball and body above the floor (J).
+    pub fn potential_energy_j(&self) -> f64 {
+        let g = -self.physics.gravity.z;
+        let ball = &self.physics.bodies[self.ball];
+        let body = &self.physics.bodies[self.body];
+        g * (ball.mass() * ball.center_of_mass().z + body.mass() * body.center_of_mass().z)
+    }
+
+    /// Elastic energy stored in the three omniwheel contacts' normal springs (J).
+    pub fn contact_energy_j(&self) -> f64 {
+        let k = self.law.normal_stiffness_n_per_m;
+        self.contact_geometry()
+            .iter()
+            .map(|g| 0.5 * k * g.penetration_m.max(0.0).powi(2))
+            .sum()
+    }
+
+    /// Total linear momentum of ball and body (N s).
+    pub fn linear_momentum_ns(&self) -> Vector3<f64> {
+        let ball = &self.physics.bodies[self.ball];
+        let body = &self.physics.bodies[self.body];
+        to_na(ball.linvel() * ball.mass() + body.linvel() * body.mass())
+    }
+
+    /// Total angular momentum of ball, body and wheel spins about the world origin (N m s).
+    pub fn angular_momentum_nms(&self) -> Vector3<f64> {
+        let mut total = DVec3::ZERO;
+        for h in [self.ball, self.body] {
+            let rb = &self.physics.bodies[h];
+            let com = rb.center_of_mass();
+            let rot = rb.position().rotation;
+            let inertia = rb.mass_properties().local_mprops.principal_inertia();
+            let frame = rot
+                * rb.mass_properties()
+                    .local_mprops
+                    .principal_inertia_local_frame;
+            let w_local = frame.inverse() * rb.angvel();
+            total += frame * (inertia * w_local) + com.cross(rb.linvel() * rb.mass());
+        }
+        let i_w = self.params.reflected_wheel_inertia_kg_m2();
+        let rot = self.physics.bodies[self.body].position().rotation;
+        for (g, w) in self.geometry.iter().zip(&self.wheels) {
+            total += rot * g.axle_local * (i_w * w.speed_rad_per_s);
+        }
+        to_na(total)
+    }
+}
