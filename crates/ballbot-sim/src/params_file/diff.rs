@@ -30,8 +30,8 @@ pub struct KeyDiff {
 pub fn diff(a: &ParamsFile, b: &ParamsFile) -> Result<Vec<KeyDiff>, ParamsFileError> {
     if a.kind() != b.kind() {
         return Err(ParamsFileError::KindMismatch {
-            a: a.kind(),
-            b: b.kind(),
+            a: a.kind().as_str(),
+            b: b.kind().as_str(),
         });
     }
     let (a, b) = (leaves(a)?, leaves(b)?);

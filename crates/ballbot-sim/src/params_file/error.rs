@@ -44,18 +44,18 @@ pub enum ParamsFileError {
     UnknownPreset {
         /// The name asked for.
         name: String,
-        /// The kind asked for, if any.
-        kind: Option<super::FileKind>,
+        /// The kind asked for, if any (`robot`, `scenario`, `world`).
+        kind: Option<&'static str>,
         /// The presets there are (`kind/name` pairs).
         known: String,
     },
     /// Two files of different kinds cannot be compared.
     #[error("the files are of different kinds: {a} and {b}")]
     KindMismatch {
-        /// The first file's kind.
-        a: super::FileKind,
+        /// The first file's kind (`robot`, `scenario`, `world`).
+        a: &'static str,
         /// The second file's kind.
-        b: super::FileKind,
+        b: &'static str,
     },
     /// A value could not be written as TOML (a bug: every parameter type is plain data).
     #[error("cannot write TOML: {0}")]

@@ -78,7 +78,7 @@ pub fn preset(name: &str, kind: Option<FileKind>) -> Result<(Preset, ParamsFile)
         .find(|p| p.name == name && kind.is_none_or(|k| k == p.kind))
         .ok_or_else(|| ParamsFileError::UnknownPreset {
             name: name.to_owned(),
-            kind,
+            kind: kind.map(FileKind::as_str),
             known: PRESETS
                 .iter()
                 .map(|p| format!("{}/{}", p.kind, p.name))
