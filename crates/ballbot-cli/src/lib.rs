@@ -10,11 +10,15 @@
 //!   injection in the 3D world, Monte Carlo); writes `DIR/robustness.json`, figures and logs.
 //! - `ballbot sweep GRID.toml [--out DIR]`: a study over a grid of world parameters and
 //!   headings on every core; writes `DIR/sweep.csv` and `DIR/sweep.json`.
+//! - `ballbot params schema|check|show|diff`: the parameter files' JSON Schemas, checking a
+//!   file (errors name the dotted key and the bound), the presets as commented files, and the
+//!   keys two files differ in.
 //! - `ballbot brake [--preset miapure|piptb] [--json]`: a minimum-effort braking trajectory.
 //! - `ballbot world [--heading-deg D --accel-m-per-s2 A ...] --out FILE.mcap`: one 3D world run
 //!   with the core's controller; prints the outcome and writes an MCAP log for Foxglove.
 
 pub mod brake;
+pub mod params;
 pub mod reproduce;
 pub mod robustness;
 pub mod simulate;
@@ -22,6 +26,7 @@ pub mod sweep;
 pub mod world;
 
 use clap::{Parser, Subcommand};
+use std::process::ExitCode;
 
 /// Ballbot drivetrain simulation: reproduce the paper's experiments, run scenarios.
 #[derive(Debug, Parser)]
@@ -54,16 +59,22 @@ pub enum Command {
     /// push; print the outcome and write an MCAP log (telemetry, Foxglove 3D scene).
     #[command(after_help = world::AFTER_HELP)]
     World(world::WorldArgs),
+    /// Parameter files (robot, scenario, world): write their JSON Schemas, check a file,
+    /// print a preset with comments, list the keys two files differ in.
+    Params(params::ParamsArgs),
 }
 
-/// Runs a parsed command line.
-pub fn run(cli: Cli) -> anyhow::Result<()> {
-    match cli.command {
+/// Runs a parsed command line; the exit code is 0 unless the command says otherwise
+/// (`params diff`: 1 when the files differ, 2 on an error).
+pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    let done = match cli.command {
         Command::Simulate(args) => simulate::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Robustness(args) => robustness::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Brake(args) => brake::run(&args),
         Command::World(args) => world::run(&args),
-    }
+        Command::Params(args) => return params::run(&args),
+    };
+    done.map(|()| ExitCode::SUCCESS)
 }

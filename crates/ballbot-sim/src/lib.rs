@@ -6,12 +6,14 @@
 //!   [`planar`] (the multi-rate planar simulator); [`trajopt`] (braking trajectories, clarabel);
 //! - [`studies`]: the paper's experiments on that physics, with one shared job runner;
 //! - [`report`]: their JSON, tables and figures (figures behind the `plot` feature);
-//! - [`log`]: MCAP logging and reading; [`scenario`]: scenario files.
+//! - [`log`]: MCAP logging and reading; [`scenario`]: scenario files; [`params_file`]: every
+//!   parameter file's schema, checks, presets and differences (`ballbot params`).
 //!
 //! The `ballbot` command line is the `ballbot-cli` crate.
 
 pub mod gym;
 pub mod log;
+pub mod params_file;
 pub mod planar;
 pub mod report;
 pub mod rig;

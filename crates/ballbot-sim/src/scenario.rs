@@ -83,7 +83,17 @@ impl From<PlanarError> for ScenarioError {
 }
 
 /// A robot preset.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum RobotPreset {
     /// The planar testbed ([`PlanarRobotParams::piptb`]).
@@ -92,7 +102,16 @@ pub enum RobotPreset {
 }
 
 /// `[robot]`: a preset, optionally with its plane or actuator replaced entirely.
-#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct RobotSpec {
     /// The preset. Default `piptb`.
@@ -155,7 +174,9 @@ fn default_brake() -> f64 {
 }
 
 /// `[command]`: the command profile.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum CommandSpec {
     /// The PIPTB protocol: ramp to `cruise_speed_m_per_s` in `accel_secs`, hold for
@@ -166,12 +187,15 @@ pub enum CommandSpec {
         cruise_speed_m_per_s: f64,
         /// Ramp time (s). Default 2.
         #[serde(default = "default_accel")]
+        #[schemars(extend("exclusiveMinimum" = 0))]
         accel_secs: f64,
         /// Hold time (s). Default 2.
         #[serde(default = "default_hold")]
+        #[schemars(range(min = 0))]
         hold_secs: f64,
         /// Braking time (s). Default 1.4.
         #[serde(default = "default_brake")]
+        #[schemars(extend("exclusiveMinimum" = 0))]
         brake_secs: f64,
     },
     /// A speed trapezoid: ramp to `speed_m_per_s` in `ramp_secs`, hold `hold_secs`, ramp
@@ -180,8 +204,10 @@ pub enum CommandSpec {
         /// Peak speed (m/s).
         speed_m_per_s: f64,
         /// Each ramp's duration (s).
+        #[schemars(extend("exclusiveMinimum" = 0))]
         ramp_secs: f64,
         /// Hold at the peak (s).
+        #[schemars(range(min = 0))]
         hold_secs: f64,
     },
     /// Balance in place (all commands zero).
@@ -200,7 +226,16 @@ impl Default for CommandSpec {
 }
 
 /// `[initial]`: the initial state (default at rest upright).
-#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct InitialState {
     /// Tilt (rad).
@@ -216,7 +251,7 @@ fn default_duration() -> f64 {
 }
 
 /// A complete planar scenario.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// Noise seed. Default 0.
@@ -224,6 +259,7 @@ pub struct Scenario {
     pub seed: u64,
     /// Simulated time (s). Default 6.4 (the PIPTB protocol plus one second at rest).
     #[serde(default = "default_duration")]
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub duration_secs: f64,
     /// The robot.
     #[serde(default)]

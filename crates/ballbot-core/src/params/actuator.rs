@@ -25,12 +25,16 @@ use nalgebra::RealField;
     derive(serde::Serialize, serde::Deserialize),
     serde(deny_unknown_fields)
 )]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct ActuatorParams<T> {
     /// Gear ratio, rotor turns per output turn (dimensionless).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub gear_ratio: T,
     /// Peak torque at the output (N m).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub peak_torque_nm: T,
     /// No-load speed at the output (rad/s); the available torque falls linearly to zero there.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub no_load_speed_rad_per_s: T,
 }
 

@@ -41,20 +41,28 @@ pub const WHEEL_COUNT: usize = 3;
     derive(serde::Serialize, serde::Deserialize),
     serde(deny_unknown_fields)
 )]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct DrivetrainParams<T> {
     /// Azimuth `beta_i` of each omniwheel's contact, counter-clockwise from the body x axis
     /// seen from above (rad). MiaPURE: 0, 120, 240 deg.
     pub wheel_azimuths_rad: [T; WHEEL_COUNT],
     /// Contact angle `alpha` between the vertical and the line from the ball centre to each
     /// contact (rad), in (0, pi/2). MiaPURE: 45 deg.
+    #[cfg_attr(
+        feature = "schema",
+        schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = core::f64::consts::FRAC_PI_2))
+    )]
     pub contact_angle_rad: T,
     /// Omniwheel radius `r_W` (m).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub wheel_radius_m: T,
     /// Each omniwheel's actuator.
     pub actuator: ActuatorParams<T>,
     /// Friction coefficient between omniwheel rollers and ball (estimate 0.6: TPU on rubber).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub wheel_ball_friction: T,
     /// Friction coefficient between ball and floor (estimate 0.9).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub ball_floor_friction: T,
 }
 

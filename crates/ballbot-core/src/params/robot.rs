@@ -25,6 +25,7 @@ use nalgebra::RealField;
     derive(serde::Serialize, serde::Deserialize),
     serde(deny_unknown_fields)
 )]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct BallbotParams<T> {
     /// The sagittal plane (subscript y: travel along body x, rotation about y).
     pub sagittal: WipParams<T>,
@@ -146,6 +147,7 @@ impl<T: RealField + Copy> BallbotParams<T> {
     derive(serde::Serialize, serde::Deserialize),
     serde(deny_unknown_fields)
 )]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct PlanarRobotParams<T> {
     /// The WIP plane.
     pub plane: WipParams<T>,

@@ -24,10 +24,13 @@ use nalgebra::RealField;
     derive(serde::Serialize, serde::Deserialize),
     serde(deny_unknown_fields)
 )]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SpinParams<T> {
     /// Lumped yaw inertia of upper body and omniwheels `I_z` (kg m^2).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub inertia_kg_m2: T,
     /// Viscous yaw friction `D_z` (N m s/rad).
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub damping_nm_s_per_rad: T,
 }
 

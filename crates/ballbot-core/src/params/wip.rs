@@ -27,29 +27,40 @@ use nalgebra::RealField;
     derive(serde::Serialize, serde::Deserialize),
     serde(deny_unknown_fields)
 )]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct WipParams<T> {
     /// Ball radius `r` (m). For the PIPTB, the wheel radius.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub ball_radius_m: T,
     /// Ball mass `m_S` (kg).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub ball_mass_kg: T,
     /// Ball moment of inertia about its centre `I_S` (kg m^2).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub ball_inertia_kg_m2: T,
     /// Upper-body mass `m_U` (kg), payload included.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub body_mass_kg: T,
     /// Distance `l` from the ball centre to the upper body's centre of mass (m).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub com_height_m: T,
     /// Upper-body moment of inertia about its own centre of mass, about the plane's
     /// horizontal axis, `I_U` (kg m^2).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub body_inertia_kg_m2: T,
     /// Omniwheel plus rotor inertia reflected onto the relative rate `phi_dot - theta_dot`,
     /// `I_W` (kg m^2); 0 neglects it.
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub wheel_inertia_kg_m2: T,
     /// Viscous friction between ball and floor, on `phi_dot`, `b_k` (N m s/rad).
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub ball_damping_nm_s_per_rad: T,
     /// Viscous drivetrain friction on the relative rate `phi_dot - theta_dot`, `b_m`
     /// (N m s/rad).
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub drive_damping_nm_s_per_rad: T,
     /// Gravitational acceleration `g` (m/s^2).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub gravity_m_per_s2: T,
 }
 

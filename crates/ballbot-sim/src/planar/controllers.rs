@@ -24,7 +24,17 @@ use ballbot_core::lqr::WipLqrWeights;
 use ballbot_core::{ActuatorParams, PlanarRobotParams, Wip, WipState};
 
 /// Which of the paper's three controllers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum ControllerKind {
     /// LQR torque control at the outer rate.
@@ -60,7 +70,9 @@ impl ControllerKind {
 
 /// How to build a controller for a robot: the kind and its design settings. Every gain is
 /// designed from the model unless given explicitly.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct ControllerSettings {
     /// Which controller.

@@ -31,18 +31,25 @@ use super::PlanarError;
 
 /// Friction of the transmission between body and wheel (PIPTB) or ball (one ballbot plane),
 /// acting on the relative joint rate `phi_dot - theta_dot`. All torques at the wheel.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct TransmissionFriction {
     /// Breakaway (static) torque `T_s` (N m): the largest torque a stuck joint holds.
+    #[schemars(range(min = 0))]
     pub stiction_torque_nm: f64,
     /// Coulomb (sliding) torque `T_c` (N m), `<= T_s`.
+    #[schemars(range(min = 0))]
     pub coulomb_torque_nm: f64,
     /// Viscous coefficient `b_v` (N m s/rad) while slipping.
+    #[schemars(range(min = 0))]
     pub viscous_nm_s_per_rad: f64,
     /// Half-width `w` of the Karnopp stick window on the joint rate (rad/s).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub stick_window_rad_per_s: f64,
     /// Time constant `t_secs` with which a stuck joint's residual rate is pulled to zero (s).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub stick_settle_time_secs: f64,
 }
 

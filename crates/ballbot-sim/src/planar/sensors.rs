@@ -9,14 +9,18 @@ use rand_distr::{Distribution, StandardNormal};
 use std::f64::consts::TAU;
 
 /// Sensor imperfections. Noise levels are standard deviations per sample.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct SensorParams {
     /// White noise on the IMU's tilt estimate (rad, 1 sigma per sample).
+    #[schemars(range(min = 0))]
     pub tilt_noise_rad: f64,
     /// Constant tilt offset, e.g. IMU mounting misalignment (rad).
     pub tilt_bias_rad: f64,
     /// White noise on the gyro's tilt rate (rad/s, 1 sigma per sample).
+    #[schemars(range(min = 0))]
     pub tilt_rate_noise_rad_per_s: f64,
     /// Constant gyro bias (rad/s).
     pub tilt_rate_bias_rad_per_s: f64,
@@ -26,6 +30,7 @@ pub struct SensorParams {
     pub encoder_counts_per_rev: u32,
     /// Cut-off of the first-order low-pass on the differenced encoder speed (Hz); 0 disables
     /// the filter (raw difference quotient).
+    #[schemars(range(min = 0))]
     pub speed_filter_cutoff_hz: f64,
 }
 

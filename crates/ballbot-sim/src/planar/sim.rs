@@ -19,18 +19,24 @@ use ballbot_core::rates::{INNER_LOOP_RATE_HZ, OUTER_LOOP_RATE_HZ};
 use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
 
 /// Rates and timing of a simulation.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields, default)]
 pub struct SimConfig {
     /// RK4 steps per second (Hz). Default 8000.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub plant_rate_hz: f64,
     /// Motor drive loop rate (Hz); divides `plant_rate_hz`. Default 8000.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub drive_rate_hz: f64,
     /// Main controller rate (Hz); divides `drive_rate_hz`. Default 400.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub outer_rate_hz: f64,
     /// Apply every loop's output one period after the sample it was computed from.
     pub computation_delay: bool,
     /// The run stops with [`FaultKind::Fell`] beyond this tilt magnitude (rad). Default 0.6.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub max_tilt_rad: f64,
 }
 

@@ -32,23 +32,30 @@ use super::check::non_negative;
 use super::rollers::MIAPURE_ROLLER_RADIUS_M;
 
 /// Rolling resistance and pin friction of the rollers, along each wheel's axle.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct AxleLossParams {
     /// Rolling resistance coefficient of a roller on the ball `C_rr` (force over load).
     /// Default 0 (the ideal world); [`AxleLossParams::miapure`] has 0.015.
+    #[schemars(range(min = 0))]
     pub rolling_resistance: f64,
     /// Friction coefficient of the roller's bore on its pin `mu_b`. Default 0;
     /// [`AxleLossParams::miapure`] has 0.15.
+    #[schemars(range(min = 0))]
     pub pin_friction: f64,
     /// Radius of the roller's pin `r_pin` (m). Default 0.002.
+    #[schemars(range(min = 0))]
     pub pin_radius_m: f64,
     /// Radius of the roller at the contact `r_roller` (m), > `pin_radius_m`. Default 0.011
     /// ([`MIAPURE_ROLLER_RADIUS_M`]).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub roller_radius_m: f64,
     /// Axle slip speed `s_eps` below which the force is linear in the slip (m/s). Default
     /// 0.01: small against driving speeds (0.1 to 2 m/s) and keeping the explicit step stable
     /// (module documentation).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub regularisation_speed_m_per_s: f64,
 }
 

@@ -69,7 +69,9 @@ pub const ODRIVE_V36_SHUNT_OHM: f64 = 500.0e-6;
 pub const MIAPURE_BUS_VOLTAGE_V: f64 = 45.0;
 
 /// Which model turns a torque command into the wheel torque.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum DriverModel {
     /// The actuator's straight torque-speed line ([`ActuatorParams::clamp_torque_nm`]); the
@@ -80,35 +82,47 @@ pub enum DriverModel {
 }
 
 /// One motor driver's configuration (the same for the three wheels).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct DriverParams {
     /// The model. Default `Ideal`.
     pub model: DriverModel,
     /// DC bus voltage (V). Default 45 (paper).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub bus_voltage_v: f64,
     /// Largest modulation as a fraction of the linear space-vector range (phase peak voltage
     /// `m V_bus / sqrt 3`), in (0, 1]. ODrive 0.5.x: 0.8.
+    #[schemars(extend("exclusiveMinimum" = 0, "maximum" = 1))]
     pub max_modulation: f64,
     /// Motor velocity constant KV (rpm/V, at the rotor). Default 98.68: the paper's 62 rad/s
     /// at the wheel times the ratio 7.5 at 45 V.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub motor_kv_rpm_per_v: f64,
     /// Phase resistance (Ohm). Default [`Self::straight_line_phase_resistance_ohm`] (an
     /// assumption, see there).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub phase_resistance_ohm: f64,
     /// `motor.config.current_lim` (A, q-axis).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub current_limit_a: f64,
     /// `motor.config.current_lim_margin` (A).
+    #[schemars(range(min = 0))]
     pub current_limit_margin_a: f64,
     /// `motor.config.requested_current_range` (A): sets the current-sense gain and so the
     /// hardware current limit ([`Self::hardware_current_limit_a`]).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub requested_current_range_a: f64,
     /// `controller.config.vel_limit` (turn/s of the rotor).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub vel_limit_turn_per_s: f64,
     /// `controller.config.vel_limit_tolerance` (ratio to the velocity limit, >= 1).
+    #[schemars(range(min = 1))]
     pub vel_limit_tolerance: f64,
     /// `controller.config.vel_gain` (N m per turn/s at the rotor): the torque-mode velocity
     /// limiter's slope.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub vel_gain_nm_s_per_turn: f64,
     /// `controller.config.enable_torque_mode_vel_limit`.
     pub enable_torque_mode_vel_limit: bool,

@@ -41,22 +41,29 @@ fn default_rigid_step_ratio() -> u32 {
 /// [`RollerParams::miapure`] (roller gaps), [`AxleLossParams::miapure`] (roller losses along
 /// the axle) and [`ContactParams::rubber_coated`] (stiffness and damping of the rubber
 /// coating); docs/world.md, "Contact realism: parameters and sources".
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct ContactParams {
     /// Normal stiffness of one omniwheel contact (N/m). Default 2e6: the static 344 N load
     /// compresses it by 0.17 mm.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub normal_stiffness_n_per_m: f64,
     /// Normal damping of one omniwheel contact (N s/m). Default 3.5e3 (damping ratio about
     /// 0.7 of the ball-against-body mode).
+    #[schemars(range(min = 0))]
     pub normal_damping_n_s_per_m: f64,
     /// Tangential (stick) stiffness along the rolling direction (N/m). Default 5e5: the
     /// elastic creep of tyre and roller before gross slip.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub traction_stiffness_n_per_m: f64,
     /// Tangential (stick) damping along the rolling direction (N s/m). Default 1.2e3.
+    #[schemars(range(min = 0))]
     pub traction_damping_n_s_per_m: f64,
     /// Kinetic over static friction coefficient while slipping (dimensionless, in (0, 1]).
     /// Default 0.85 (estimate; TPU on rubber).
+    #[schemars(extend("exclusiveMinimum" = 0, "maximum" = 1))]
     pub kinetic_friction_ratio: f64,
     /// Roller gaps of the omniwheels. Default [`RollerParams::none`] (a continuous rim).
     #[serde(default)]
@@ -108,17 +115,22 @@ impl ContactParams {
 }
 
 /// Sensor noise and resolution. Noise is Gaussian, drawn from a seeded generator.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct SensorParams {
     /// Seed of the noise generator.
     pub seed: u64,
     /// Standard deviation of the IMU tilt (roll, pitch) angles (rad). Default 1e-3.
+    #[schemars(range(min = 0))]
     pub tilt_noise_rad: f64,
     /// Standard deviation of the gyro rates (rad/s). Default 5e-3.
+    #[schemars(range(min = 0))]
     pub gyro_noise_rad_per_s: f64,
     /// Encoder counts per motor-rotor turn. Default 16384 (14 bit); the wheel resolution is
     /// this times the gear ratio.
+    #[schemars(range(min = 1))]
     pub encoder_counts_per_rev: u32,
 }
 
@@ -134,19 +146,26 @@ impl Default for SensorParams {
 }
 
 /// When a run counts as failed.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct FailureParams {
     /// Body tilt (angle between body axis and vertical) beyond which the robot has fallen
     /// (rad). Default 25 deg.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub max_tilt_rad: f64,
     /// A wheel slipping faster than this counts as slipping (m/s). Default 0.05.
+    #[schemars(range(min = 0))]
     pub slip_speed_threshold_m_per_s: f64,
     /// Slip of any wheel lasting longer than this is a failure (s). Default 0.1.
+    #[schemars(range(min = 0))]
     pub max_slip_duration_secs: f64,
     /// Normal force below which a wheel has lifted off (N). Default 1.
+    #[schemars(range(min = 0))]
     pub lift_off_force_n: f64,
     /// Lift-off lasting longer than this is a failure (s). Default 0.02.
+    #[schemars(range(min = 0))]
     pub max_lift_off_duration_secs: f64,
 }
 
@@ -163,7 +182,9 @@ impl Default for FailureParams {
 }
 
 /// Everything the world needs: the core's robot parameters plus the world's own.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct WorldParams {
     /// The robot (masses, inertias, COM height, drivetrain, friction coefficients).
@@ -176,33 +197,42 @@ pub struct WorldParams {
     pub contact: ContactParams,
     /// Inertia of one omniwheel about its axle (kg m^2). Default 1.2e-3 (estimate: 0.6 kg,
     /// 62.5 mm radius disc).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub wheel_inertia_kg_m2: f64,
     /// Motor rotor inertia (kg m^2), reflected through the gear ratio squared onto the wheel.
     /// Default 1.5e-4 (estimate for a QDD pancake motor).
+    #[schemars(range(min = 0))]
     pub rotor_inertia_kg_m2: f64,
     /// Viscous friction of each wheel's drivetrain on the wheel speed (N m s/rad). Default 0.02.
+    #[schemars(range(min = 0))]
     pub wheel_damping_nm_s_per_rad: f64,
     /// Rolling resistance coefficient of the rubber ball on the floor (dimensionless, force
     /// over load). Default 0.015 (estimate).
+    #[schemars(range(min = 0))]
     pub rolling_resistance: f64,
     /// Torsional friction at the ball-floor contact: the largest spin torque is this times
     /// the floor load (N m per N, i.e. an effective patch radius, m). Default 0.01.
+    #[schemars(range(min = 0))]
     pub spin_friction_m: f64,
     /// Chassis half-width (m): the body touches the floor when a corner of its square
     /// footprint, at the ball centre's height in the body frame, reaches the floor.
     /// Default 0.18 (0.36 m footprint).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub chassis_half_width_m: f64,
     /// Chassis height above the ball centre (m). Default 0.45.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub chassis_height_m: f64,
     /// Physics step (s). Default 1/8000: the motor loop rate.
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub dt_secs: f64,
-    /// World steps per rapier step (dimensionless, in `1..=`[`MAX_RIGID_STEP_RATIO`]): the
+    /// World steps per rapier step (dimensionless, 1 to 40, [`MAX_RIGID_STEP_RATIO`]): the
     /// rigid bodies and the floor contact step at `rigid_step_ratio * dt_secs`, the omniwheel
     /// contacts, wheels, motor drivers and sensors at `dt_secs`, with the ball's and body's
     /// motion predicted in between ([`crate::world::rigid`]). Default 1 (one rate, when missing
     /// from a file too); docs/world.md, "Multi-rate world", measures the accuracy and speed of
     /// larger ratios.
     #[serde(default = "default_rigid_step_ratio")]
+    #[schemars(range(min = 1, max = 40))]
     pub rigid_step_ratio: u32,
     /// Sensors.
     pub sensors: SensorParams,

@@ -64,7 +64,9 @@ use super::check::non_negative;
 pub const MIAPURE_ROLLER_RADIUS_M: f64 = 0.011;
 
 /// The rollers of each omniwheel (see the module documentation for the geometry).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct RollerParams {
     /// Rollers per wheel `N_r` (0: a continuous ideal rim, no gaps). Default 0 (the ideal
@@ -72,6 +74,7 @@ pub struct RollerParams {
     pub count: u32,
     /// Gap between the ends of neighbouring rollers along the rim `g` (m), a chord of the rim
     /// circle. Default 0.004 in [`RollerParams::miapure`] (ignored while `count` is 0).
+    #[schemars(range(min = 0))]
     pub gap_width_m: f64,
 }
 
