@@ -71,3 +71,6 @@ python3 scripts/check-robustness.py target/robustness-quick/robustness.json
 step "Python package: pip install into a fresh venv (with the gym and dask extras), mypy.stubtest, mypy --strict, pytest"
 bash scripts/test-python.sh
 
+
+step "documentation site: mkdocs build --strict, the tutorial notebooks executed against the wheel"
+bash scripts/test-docs.sh
