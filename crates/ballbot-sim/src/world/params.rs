@@ -24,7 +24,7 @@ pub const DEFAULT_RIGID_STEP_RATIO: u32 = 10;
 /// The largest `omega_B T` allowed for the rigid step `T`, with `omega_B` the ball's vertical
 /// frequency on its three omniwheel contacts ([`WorldParams::ball_contact_frequency_rad_per_s`]).
 /// Between rigid steps the floor's force on the ball is held at the last step's average
-/// ([`crate::world::rigid`]), a lag of one rigid step on that mode. Measured on the 10 s drive
+/// (module `world::rigid`), a lag of one rigid step on that mode. Measured on the 10 s drive
 /// cycle of `benches/world_step` (docs/world.md, "Multi-rate world"): stable at 1.14 (ideal
 /// world, 1.25 ms) and 0.94 (default world, 2.5 ms), diverging at 1.83 (ideal, 2 ms) and 1.87
 /// (default, 5 ms).
@@ -228,7 +228,7 @@ pub struct WorldParams {
     /// World steps per rapier step (dimensionless, 1 to 40, [`MAX_RIGID_STEP_RATIO`]): the
     /// rigid bodies and the floor contact step at `rigid_step_ratio * dt_secs`, the omniwheel
     /// contacts, wheels, motor drivers and sensors at `dt_secs`, with the ball's and body's
-    /// motion predicted in between ([`crate::world::rigid`]). Default 1 (one rate, when missing
+    /// motion predicted in between (module `world::rigid`). Default 1 (one rate, when missing
     /// from a file too); docs/world.md, "Multi-rate world", measures the accuracy and speed of
     /// larger ratios.
     #[serde(default = "default_rigid_step_ratio")]
