@@ -8,12 +8,13 @@ use std::process::Command;
 
 use ballbot_cli::world::{WorldArgs, simulate};
 use ballbot_sim::log::foxglove::{
-    BallbotScene, FrameTransforms, Quaternion as FoxQuaternion, SceneUpdate,
+    BallbotScene, FrameTransforms, JointStates, Log, LogLevel, Pose, SceneUpdate, pose,
+    position_of, rotation_of,
 };
 use ballbot_sim::log::world::{WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg};
 use ballbot_sim::log::{McapLog, check_message, check_schema, schema_for, topics};
 use ballbot_sim::world::{BallbotWorld, StepTelemetry, WheelTelemetry, WorldParams, wheel_name};
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use serde_json::Value;
 
 fn args(out: &Path) -> WorldArgs {
@@ -29,12 +30,20 @@ fn args(out: &Path) -> WorldArgs {
     }
 }
 
-fn unit(q: &FoxQuaternion) -> UnitQuaternion<f64> {
-    UnitQuaternion::from_quaternion(Quaternion::new(q.w, q.x, q.y, q.z))
+/// The pose a frame transform carries.
+fn pose_of(f: &ballbot_sim::log::foxglove::FrameTransform) -> Pose {
+    Pose {
+        position: f.translation,
+        orientation: f.rotation,
+    }
 }
 
-fn vector(v: &ballbot_sim::log::foxglove::Vector3) -> Vector3<f64> {
-    Vector3::new(v.x, v.y, v.z)
+/// The pose logged for a position and orientation of the telemetry.
+fn logged(position: Vector3<f64>, orientation: UnitQuaternion<f64>) -> Pose {
+    pose(&Isometry3::from_parts(
+        Translation3::from(position),
+        orientation,
+    ))
 }
 
 #[test]
@@ -60,25 +69,46 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
     assert_eq!(count(topics::WORLD_CONTROLLER), Some(240));
     assert_eq!(count(topics::WORLD_COMMAND), Some(240));
     assert_eq!(count(topics::TRANSFORMS), Some(61));
+    assert_eq!(count(topics::JOINT_STATES), Some(61));
     assert_eq!(count(topics::SCENE), Some(31));
-    let schema_names: BTreeMap<&str, &str> = log
+    let schema_names: BTreeMap<&str, (&str, &str)> = log
         .channels()
         .iter()
-        .map(|c| (c.topic.as_str(), c.schema_name.as_str()))
+        .map(|c| {
+            let encodings = (c.schema_name.as_str(), c.message_encoding.as_str());
+            (c.topic.as_str(), encodings)
+        })
         .collect();
-    assert_eq!(schema_names[topics::TRANSFORMS], "foxglove.FrameTransforms");
-    assert_eq!(schema_names[topics::SCENE], "foxglove.SceneUpdate");
+    for (topic, name) in [
+        (topics::TRANSFORMS, "foxglove.FrameTransforms"),
+        (topics::SCENE, "foxglove.SceneUpdate"),
+        (topics::JOINT_STATES, "foxglove.JointStates"),
+        (topics::LOG, "foxglove.Log"),
+    ] {
+        assert_eq!(schema_names[topic], (name, "protobuf"), "{topic}");
+    }
 
-    // Every message matches its channel's schema (what Foxglove reads the fields by).
+    // Every JSON message matches its channel's schema (what Foxglove reads the fields by);
+    // every protobuf message decodes with the SDK's type of its schema.
     for channel in log.channels() {
-        let schema: Value = serde_json::from_str(&channel.schema).unwrap();
-        check_schema(&schema).unwrap();
         let series = log.json_series(&channel.topic).unwrap();
+        assert_eq!(series.values.len() as u64, channel.message_count);
+        let Some(text) = channel.schema_text() else {
+            assert_eq!(channel.schema_encoding, "protobuf", "{}", channel.topic);
+            continue;
+        };
+        let schema: Value = serde_json::from_str(text).unwrap();
+        check_schema(&schema).unwrap();
         for value in &series.values {
             check_message(&schema, value)
                 .unwrap_or_else(|e| panic!("{}: {e}: {value}", channel.topic));
         }
     }
+    // The events again as text for the Log panel, at the same times.
+    let text = log.decode_protobuf::<Log>(topics::LOG).unwrap();
+    let levels: Vec<i32> = text.iter().map(|(_, l)| l.level).collect();
+    assert_eq!(levels, [LogLevel::Info as i32, LogLevel::Info as i32]);
+    assert!(text[1].1.message.starts_with("push: "), "{:?}", text[1].1);
 
     // Events: the controller armed, the push, no failure.
     let events = log.decode::<WorldEventMsg>(topics::FAULTS).unwrap();
@@ -100,7 +130,13 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
         .map(|(t, m)| ((t * 1e9).round() as u64, m))
         .collect();
     let robot = BallbotScene::from_params(&WorldParams::miapure_60kg().robot);
-    let frames = log.decode::<FrameTransforms>(topics::TRANSFORMS).unwrap();
+    let frames = log
+        .decode_protobuf::<FrameTransforms>(topics::TRANSFORMS)
+        .unwrap();
+    let joints = log
+        .decode_protobuf::<JointStates>(topics::JOINT_STATES)
+        .unwrap();
+    assert_eq!(joints.len(), frames.len());
     let mut ball_angles = Vec::new();
     for (time_secs, frames) in &frames {
         let t = by_time[&((time_secs * 1e9).round() as u64)];
@@ -111,19 +147,28 @@ fn world_command_writes_every_channel_and_transforms_match_the_telemetry() {
                 .find(|f| f.parent_frame_id == parent && f.child_frame_id == child)
                 .unwrap_or_else(|| panic!("no {parent} -> {child}"))
         };
-        let ball = find("world", "ball");
-        assert_eq!(vector(&ball.translation), t.step.ball_position_m);
-        assert_eq!(ball.rotation, FoxQuaternion::from(t.step.ball_orientation));
-        ball_angles.push(unit(&ball.rotation).angle());
-        let body = find("world", "body");
-        assert_eq!(vector(&body.translation), t.step.body_position_m);
-        assert_eq!(body.rotation, FoxQuaternion::from(t.step.body_orientation));
+        let ball = pose_of(find("world", "ball"));
+        let step = &t.step;
+        assert_eq!(ball, logged(step.ball_position_m, step.ball_orientation));
+        ball_angles.push(rotation_of(Some(&ball)).angle());
+        let body = pose_of(find("world", "body"));
+        assert_eq!(body, logged(step.body_position_m, step.body_orientation));
+        let (joint_secs, joint_states) = &joints[ball_angles.len() - 1];
+        assert_eq!(joint_secs, time_secs);
         for (i, name) in ["ow1", "ow2", "ow3"].into_iter().enumerate() {
-            let wheel = find("body", name);
+            let wheel = pose_of(find("body", name));
             let nominal = robot.body_from_wheels[i];
-            assert!((vector(&wheel.translation) - nominal.translation.vector).norm() < 1e-12);
+            let at = position_of(Some(&wheel));
+            assert!((at - nominal.translation.vector).norm() < 1e-12);
+            // The joint state is the wheel's angle, speed and motor torque.
+            let joint = &joint_states.joints[i];
+            let w = &step.wheels[i];
+            assert_eq!(joint.name, name);
+            assert_eq!(joint.position, Some(w.angle_rad));
+            assert_eq!(joint.velocity, Some(w.speed_rad_per_s));
+            assert_eq!(joint.effort, Some(w.motor_torque_nm));
             // The wheel frame is the mounting pose turned by the wheel's angle about its axle.
-            let spin = nominal.rotation.inverse() * unit(&wheel.rotation);
+            let spin = nominal.rotation.inverse() * rotation_of(Some(&wheel));
             let expected =
                 UnitQuaternion::from_axis_angle(&Vector3::z_axis(), t.step.wheels[i].angle_rad);
             assert!(
@@ -210,7 +255,7 @@ fn a_failure_is_logged_once_and_the_run_stops_after_it() {
         .map(|(t, m)| ((t * 1e9).round() as u64, m))
         .collect();
     let mut red = 0;
-    for (time_secs, update) in log.decode::<SceneUpdate>(topics::SCENE).unwrap() {
+    for (time_secs, update) in log.decode_protobuf::<SceneUpdate>(topics::SCENE).unwrap() {
         let t = by_time[&((time_secs * 1e9).round() as u64)];
         let forces = update
             .entities
@@ -218,7 +263,8 @@ fn a_failure_is_logged_once_and_the_run_stops_after_it() {
             .find(|e| e.id == "contact_forces")
             .unwrap();
         for (arrow, w) in forces.arrows.iter().zip(&t.step.wheels) {
-            let is_red = arrow.color.r > 0.8 && arrow.color.g < 0.1;
+            let colour = arrow.color.unwrap_or_default();
+            let is_red = colour.r > 0.8 && colour.g < 0.1;
             assert_eq!(is_red, w.slipping, "at {time_secs}");
             red += usize::from(is_red);
         }
@@ -446,7 +492,7 @@ fn world_layout_plots_fields_that_a_written_log_has() {
                 .channel(topic)
                 .unwrap_or_else(|| panic!("{id}: {topic} is not in the log"));
             assert!(channel.message_count > 0);
-            let schema: Value = serde_json::from_str(&channel.schema).unwrap();
+            let schema: Value = serde_json::from_str(channel.schema_text().unwrap()).unwrap();
             assert!(
                 schema_has_numeric_field(&schema, fields),
                 "{id}: {value} is not a numeric field of {topic}"

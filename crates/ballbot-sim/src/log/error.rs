@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use super::codec::CodecError;
+
 /// What went wrong while writing or reading an MCAP log. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -70,27 +72,36 @@ pub enum LogError {
         /// The log file.
         path: PathBuf,
     },
-    /// A message could not be encoded to JSON.
+    /// A message could not be encoded (JSON or protobuf).
     #[error("cannot encode a message on topic {topic} for {path}: {source}")]
     Encode {
-        /// The log file.
+        /// The log file (or the live view's address).
         path: PathBuf,
         /// The channel's topic.
         topic: String,
-        /// serde_json's error.
+        /// The codec's error.
         #[source]
-        source: serde_json::Error,
+        source: CodecError,
     },
-    /// A schema could not be encoded to JSON.
-    #[error("cannot encode the JSON schema {schema_name} for {path}: {source}")]
+    /// A channel's schema could not be produced.
+    #[error("cannot produce the schema of topic {topic} for {path}: {source}")]
     Schema {
-        /// The log file.
+        /// The log file (or the live view's address).
         path: PathBuf,
-        /// The schema's name.
-        schema_name: String,
-        /// serde_json's error.
+        /// The channel's topic.
+        topic: String,
+        /// The codec's error.
         #[source]
-        source: serde_json::Error,
+        source: CodecError,
+    },
+    /// The live view's server could not start, or refused a channel.
+    #[error("live view on {address}: {source}")]
+    Live {
+        /// The address served, `host:port` or `ws://host:port`.
+        address: String,
+        /// The Foxglove SDK's error.
+        #[source]
+        source: foxglove::FoxgloveError,
     },
     /// No channel with this topic exists in the log.
     #[error("no channel with topic {topic} in {path}")]
@@ -100,8 +111,12 @@ pub enum LogError {
         /// The requested topic.
         topic: String,
     },
-    /// The channel's messages are not JSON encoded.
-    #[error("topic {topic} in {path} has message encoding {encoding:?}, not \"json\"")]
+    /// The channel's messages are in an encoding this reader cannot decode: JSON, and the
+    /// Foxglove well-known protobuf messages (by schema name) are decoded.
+    #[error(
+        "topic {topic} in {path} has message encoding {encoding:?}, which is neither \"json\" \
+         nor a Foxglove well-known protobuf message"
+    )]
     NotJson {
         /// The log file.
         path: PathBuf,
@@ -110,7 +125,7 @@ pub enum LogError {
         /// The channel's message encoding.
         encoding: String,
     },
-    /// A message is not valid JSON, or does not decode into the requested type.
+    /// A message is not valid JSON (or protobuf), or does not decode into the requested type.
     #[error("message {index} on topic {topic} in {path} does not decode: {source}")]
     Decode {
         /// The log file.
@@ -119,9 +134,9 @@ pub enum LogError {
         topic: String,
         /// Index of the message in the channel (file order, from 0).
         index: usize,
-        /// serde_json's error.
+        /// serde_json's or prost's error.
         #[source]
-        source: serde_json::Error,
+        source: CodecError,
     },
     /// A message path names no numeric field of its channel.
     #[error("no numeric field {field} in topic {topic} of {path}")]

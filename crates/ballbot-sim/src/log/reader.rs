@@ -14,7 +14,7 @@ use mcap::{
 use serde::de::DeserializeOwned;
 use serde_json::Value;
 
-use super::{ChannelInfo, LogError, ns_to_secs, schema::MESSAGE_ENCODING};
+use super::{ChannelInfo, LogError, ns_to_secs, well_known};
 
 /// One message as stored: log time and the encoded payload.
 #[derive(Debug, Clone)]
@@ -109,7 +109,7 @@ impl McapLog {
             complete: false,
             stop_reason: None,
         };
-        let mut schemas: HashMap<u16, (String, String, String)> = HashMap::new();
+        let mut schemas: HashMap<u16, (String, String, Vec<u8>)> = HashMap::new();
         let mut by_id: HashMap<u16, usize> = HashMap::new();
         let mut records_seen = 0_usize;
 
@@ -143,8 +143,10 @@ impl McapLog {
                     };
                     match record {
                         Record::Schema { header, data } => {
-                            let text = String::from_utf8_lossy(&data).into_owned();
-                            schemas.insert(header.id, (header.name, header.encoding, text));
+                            schemas.insert(
+                                header.id,
+                                (header.name, header.encoding, data.into_owned()),
+                            );
                         }
                         Record::Channel(channel) => {
                             if by_id.contains_key(&channel.id) {
@@ -224,7 +226,12 @@ impl McapLog {
         self.channels.iter().map(|c| c.message_count).sum()
     }
 
-    fn json_messages(&self, topic: &str) -> Result<&[StoredMessage], LogError> {
+    /// The channel on `topic` and its messages, if they decode to JSON
+    /// ([`well_known::decodable`]).
+    fn decodable_messages(
+        &self,
+        topic: &str,
+    ) -> Result<(&ChannelInfo, &[StoredMessage]), LogError> {
         let index = self
             .channels
             .iter()
@@ -234,55 +241,120 @@ impl McapLog {
                 topic: topic.to_owned(),
             })?;
         let channel = &self.channels[index];
-        if channel.message_encoding != MESSAGE_ENCODING {
+        if !well_known::decodable(&channel.message_encoding, &channel.schema_name) {
             return Err(LogError::NotJson {
                 path: self.path.clone(),
                 topic: topic.to_owned(),
                 encoding: channel.message_encoding.clone(),
             });
         }
-        Ok(&self.messages[index])
+        Ok((channel, &self.messages[index]))
     }
 
-    /// Decodes every message of a JSON channel into `T`, with its log time (s).
+    /// Message `index` of `channel` as a JSON value.
+    fn json_value(
+        &self,
+        channel: &ChannelInfo,
+        index: usize,
+        message: &StoredMessage,
+    ) -> Result<Value, LogError> {
+        well_known::to_json(
+            &channel.message_encoding,
+            &channel.schema_name,
+            &message.data,
+        )
+        .map_err(|source| LogError::Decode {
+            path: self.path.clone(),
+            topic: channel.topic.clone(),
+            index,
+            source,
+        })
+    }
+
+    /// Decodes every message of a channel into `T`, with its log time (s): a JSON channel, or a
+    /// Foxglove well-known protobuf channel through its JSON form (the field and enum names of
+    /// the Foxglove schema).
     pub fn decode<T: DeserializeOwned>(&self, topic: &str) -> Result<Vec<(f64, T)>, LogError> {
-        self.json_messages(topic)?
+        let (channel, messages) = self.decodable_messages(topic)?;
+        let decode_error = |index, source| LogError::Decode {
+            path: self.path.clone(),
+            topic: topic.to_owned(),
+            index,
+            source,
+        };
+        messages
             .iter()
             .enumerate()
             .map(|(index, message)| {
-                serde_json::from_slice(&message.data)
+                let value = if channel.message_encoding == super::MESSAGE_ENCODING {
+                    serde_json::from_slice(&message.data)
+                        .map_err(|e| decode_error(index, e.into()))?
+                } else {
+                    serde_json::from_value(self.json_value(channel, index, message)?)
+                        .map_err(|e| decode_error(index, e.into()))?
+                };
+                Ok((ns_to_secs(message.log_time_ns), value))
+            })
+            .collect()
+    }
+
+    /// Decodes every message of a protobuf channel into one of the Foxglove SDK's types (e.g.
+    /// `foxglove::schemas::SceneUpdate`), with its log time (s).
+    pub fn decode_protobuf<T: foxglove::Decode>(
+        &self,
+        topic: &str,
+    ) -> Result<Vec<(f64, T)>, LogError>
+    where
+        T::Error: Send + Sync + 'static,
+    {
+        let index = self
+            .channels
+            .iter()
+            .position(|c| c.topic == topic)
+            .ok_or_else(|| LogError::NoSuchTopic {
+                path: self.path.clone(),
+                topic: topic.to_owned(),
+            })?;
+        if self.channels[index].message_encoding != "protobuf" {
+            return Err(LogError::NotJson {
+                path: self.path.clone(),
+                topic: topic.to_owned(),
+                encoding: self.channels[index].message_encoding.clone(),
+            });
+        }
+        self.messages[index]
+            .iter()
+            .enumerate()
+            .map(|(i, message)| {
+                T::decode(message.data.as_slice())
                     .map(|value| (ns_to_secs(message.log_time_ns), value))
                     .map_err(|source| LogError::Decode {
                         path: self.path.clone(),
                         topic: topic.to_owned(),
-                        index,
-                        source,
+                        index: i,
+                        source: source.into(),
                     })
             })
             .collect()
     }
 
-    /// A JSON channel's messages as JSON values with their log times.
+    /// A channel's messages as JSON values with their log times (JSON channels, and the
+    /// Foxglove well-known protobuf messages).
     pub fn json_series(&self, topic: &str) -> Result<JsonSeries, LogError> {
         let decoded = self.decode::<Value>(topic)?;
         let (time_secs, values) = decoded.into_iter().unzip();
         Ok(JsonSeries { time_secs, values })
     }
 
-    /// A JSON channel's numeric fields as columns (see [`NumericSeries`]).
+    /// A channel's numeric fields as columns (see [`NumericSeries`]); JSON channels, and the
+    /// Foxglove well-known protobuf messages.
     pub fn numeric_series(&self, topic: &str) -> Result<NumericSeries, LogError> {
-        let messages = self.json_messages(topic)?;
+        let (channel, messages) = self.decodable_messages(topic)?;
         let mut time_secs = Vec::with_capacity(messages.len());
         let mut columns: HashMap<String, Vec<f64>> = HashMap::new();
         let mut path = String::new();
         for (row, message) in messages.iter().enumerate() {
-            let value: Value =
-                serde_json::from_slice(&message.data).map_err(|source| LogError::Decode {
-                    path: self.path.clone(),
-                    topic: topic.to_owned(),
-                    index: row,
-                    source,
-                })?;
+            let value = self.json_value(channel, row, message)?;
             time_secs.push(ns_to_secs(message.log_time_ns));
             path.clear();
             flatten(&value, &mut path, &mut |name, number| {

@@ -1,4 +1,5 @@
-//! The MCAP logger: typed JSON channels, simulated log time, chunked incremental writing.
+//! The MCAP logger: typed channels (JSON, or the Foxglove SDK's protobuf messages), simulated
+//! log time, chunked incremental writing.
 
 use std::{
     collections::BTreeMap,
@@ -14,7 +15,7 @@ use serde::Serialize;
 
 use super::{
     LogError,
-    schema::{MESSAGE_ENCODING, SCHEMA_ENCODING, schema_for, schema_name_for},
+    codec::{ChannelSchema, Codec, Json, Protobuf},
 };
 
 /// Chunk compression of an MCAP log.
@@ -82,24 +83,26 @@ impl LoggerOptions {
     }
 }
 
-/// A typed handle to a channel of an [`McapLogger`], returned by [`McapLogger::channel`].
+/// A typed handle to a channel of an [`McapLogger`], returned by [`McapLogger::channel`]
+/// (JSON, `C = `[`Json`]) or [`McapLogger::foxglove_channel`] (the SDK's protobuf messages,
+/// `C = `[`Protobuf`]).
 ///
 /// It is cheap to copy and only valid with the logger that created it.
-pub struct Channel<T> {
+pub struct Channel<T, C = Json> {
     logger_id: u64,
     index: usize,
-    _message: PhantomData<fn(&T)>,
+    _message: PhantomData<fn(&T, C)>,
 }
 
-impl<T> Clone for Channel<T> {
+impl<T, C> Clone for Channel<T, C> {
     fn clone(&self) -> Self {
         *self
     }
 }
 
-impl<T> Copy for Channel<T> {}
+impl<T, C> Copy for Channel<T, C> {}
 
-impl<T> std::fmt::Debug for Channel<T> {
+impl<T, C> std::fmt::Debug for Channel<T, C> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Channel")
             .field("logger_id", &self.logger_id)
@@ -117,14 +120,27 @@ pub struct ChannelInfo {
     pub topic: String,
     /// The schema name, e.g. `ballbot.PlanarState` or `foxglove.FrameTransform`.
     pub schema_name: String,
-    /// The schema encoding (`jsonschema` for channels written by [`McapLogger`]).
+    /// The schema encoding: `jsonschema` (our own channels) or `protobuf` (Foxglove's
+    /// well-known messages).
     pub schema_encoding: String,
-    /// The schema document (a JSON schema for channels written by [`McapLogger`]).
-    pub schema: String,
-    /// The message encoding (`json` for channels written by [`McapLogger`]).
+    /// The schema document: a JSON schema (UTF-8 text, see
+    /// [`schema_text`](Self::schema_text)) or a serialised protobuf `FileDescriptorSet`.
+    pub schema: Vec<u8>,
+    /// The message encoding: `json` or `protobuf`.
     pub message_encoding: String,
     /// How many messages the channel holds.
     pub message_count: u64,
+}
+
+impl ChannelInfo {
+    /// The schema as text, for a text schema encoding (`jsonschema`); `None` for a binary one.
+    pub fn schema_text(&self) -> Option<&str> {
+        if self.schema_encoding == super::SCHEMA_ENCODING {
+            std::str::from_utf8(&self.schema).ok()
+        } else {
+            None
+        }
+    }
 }
 
 struct ChannelState {
@@ -132,13 +148,14 @@ struct ChannelState {
     sequence: u32,
 }
 
-/// Writes an MCAP file of JSON-encoded, JSON-schema-typed channels, stamped with simulated time.
+/// Writes an MCAP file of typed channels, stamped with simulated time.
 ///
-/// Register channels with [`channel`](Self::channel) (the schema comes from the message type's
-/// [`JsonSchema`] derive), [`write`](Self::write) messages with their simulated time in
-/// seconds, and [`finish`](Self::finish) to write the summary and footer. Foxglove opens the
-/// file and its plot panel sees every field with its type. Floats that are not finite are
-/// written as JSON `null` (and read back as NaN).
+/// Register channels with [`channel`](Self::channel) (JSON; the schema comes from the message
+/// type's [`JsonSchema`] derive) or [`foxglove_channel`](Self::foxglove_channel) (the Foxglove
+/// SDK's protobuf messages, `foxglove::schemas::SceneUpdate` and the like), [`write`](Self::write)
+/// messages with their simulated time in seconds, and [`finish`](Self::finish) to write the
+/// summary and footer. Foxglove opens the file and its plot panel sees every field with its
+/// type. Floats that are not finite are written as JSON `null` (and read back as NaN).
 ///
 /// ```
 /// use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger};
@@ -267,7 +284,30 @@ impl McapLogger {
         &mut self,
         topic: &str,
     ) -> Result<Channel<T>, LogError> {
-        self.channel_with_schema_name(topic, &schema_name_for::<T>())
+        self.channel_with::<T, Json>(topic)
+    }
+
+    /// Registers a channel on `topic` for one of the Foxglove SDK's well-known messages
+    /// (`foxglove::schemas::SceneUpdate`, `FrameTransforms`, `JointStates`, `Log`, ...): protobuf,
+    /// with the schema the SDK ships for it.
+    pub fn foxglove_channel<T: foxglove::Encode>(
+        &mut self,
+        topic: &str,
+    ) -> Result<Channel<T, Protobuf>, LogError>
+    where
+        T::Error: Send + Sync + 'static,
+    {
+        self.channel_with::<T, Protobuf>(topic)
+    }
+
+    /// Registers a channel on `topic` whose messages `C` encodes.
+    pub fn channel_with<T, C: Codec<T>>(&mut self, topic: &str) -> Result<Channel<T, C>, LogError> {
+        let schema = C::schema().map_err(|source| LogError::Schema {
+            path: self.path.clone(),
+            topic: topic.to_owned(),
+            source,
+        })?;
+        self.register(topic, schema)
     }
 
     /// Like [`channel`](Self::channel), with an explicit schema name (e.g. to log a type under
@@ -277,18 +317,25 @@ impl McapLogger {
         topic: &str,
         schema_name: &str,
     ) -> Result<Channel<T>, LogError> {
+        let schema = Json::schema_named::<T>(schema_name).map_err(|source| LogError::Schema {
+            path: self.path.clone(),
+            topic: topic.to_owned(),
+            source,
+        })?;
+        self.register(topic, schema)
+    }
+
+    fn register<T, C>(
+        &mut self,
+        topic: &str,
+        schema: ChannelSchema,
+    ) -> Result<Channel<T, C>, LogError> {
         if self.channels.iter().any(|c| c.info.topic == topic) {
             return Err(LogError::DuplicateTopic {
                 path: self.path.clone(),
                 topic: topic.to_owned(),
             });
         }
-        let schema =
-            serde_json::to_string(&schema_for::<T>()).map_err(|source| LogError::Schema {
-                path: self.path.clone(),
-                schema_name: schema_name.to_owned(),
-                source,
-            })?;
         let path = &self.path;
         let writer = self
             .writer
@@ -299,19 +346,19 @@ impl McapLogger {
             source,
         };
         let schema_id = writer
-            .add_schema(schema_name, SCHEMA_ENCODING, schema.as_bytes())
+            .add_schema(&schema.name, &schema.encoding, &schema.data)
             .map_err(mcap_error)?;
         let id = writer
-            .add_channel(schema_id, topic, MESSAGE_ENCODING, &BTreeMap::new())
+            .add_channel(schema_id, topic, &schema.message_encoding, &BTreeMap::new())
             .map_err(mcap_error)?;
         self.channels.push(ChannelState {
             info: ChannelInfo {
                 id,
                 topic: topic.to_owned(),
-                schema_name: schema_name.to_owned(),
-                schema_encoding: SCHEMA_ENCODING.to_owned(),
-                schema,
-                message_encoding: MESSAGE_ENCODING.to_owned(),
+                schema_name: schema.name,
+                schema_encoding: schema.encoding,
+                schema: schema.data,
+                message_encoding: schema.message_encoding,
                 message_count: 0,
             },
             sequence: 0,
@@ -326,9 +373,9 @@ impl McapLogger {
     /// Writes one message with log time (and publish time) = `time_secs` of simulated time.
     ///
     /// Closes the open chunk when the log time has advanced by the flush interval.
-    pub fn write<T: Serialize>(
+    pub fn write<T, C: Codec<T>>(
         &mut self,
-        channel: &Channel<T>,
+        channel: &Channel<T, C>,
         time_secs: f64,
         message: &T,
     ) -> Result<(), LogError> {
@@ -352,7 +399,7 @@ impl McapLogger {
             });
         };
         self.buffer.clear();
-        serde_json::to_writer(&mut self.buffer, message).map_err(|source| LogError::Encode {
+        C::encode(message, &mut self.buffer).map_err(|source| LogError::Encode {
             path: self.path.clone(),
             topic: state.info.topic.clone(),
             source,

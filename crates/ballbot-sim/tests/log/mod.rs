@@ -11,9 +11,7 @@ use std::{
 
 use ballbot_sim::log::{
     LogCompression, LogError, LoggerOptions, McapLog, McapLogger, check_message, check_schema,
-    foxglove::{
-        BallbotScene, FrameTransform, FrameTransforms, SceneEntity, SceneUpdate, WheelContact,
-    },
+    foxglove::{BallbotScene, FrameTransform, FrameTransforms, SceneUpdate, WheelContact},
     ns_to_secs, schema_for, secs_to_ns,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -67,15 +65,28 @@ fn state_at(step: u64) -> RobotState {
     }
 }
 
+/// The wheel contacts of [`state_at`], for the scene's contact-force arrows.
+fn contacts_at(step: u64) -> Vec<WheelContact> {
+    state_at(step)
+        .wheels
+        .iter()
+        .map(|w| WheelContact {
+            normal_force_n: w.normal_force_n,
+            traction_n: w.traction_n,
+            slipping: w.slipping,
+        })
+        .collect()
+}
+
 /// Writes a 3 s run: state at 400 Hz, command at 50 Hz, 3D transforms at 100 Hz, the scene at
 /// 10 Hz, and one channel that never gets a message. Returns the number written per topic.
 fn write_run(path: &Path, options: LoggerOptions) -> BTreeMap<String, u64> {
     let mut log = McapLogger::create(path, options).unwrap();
     let state = log.channel::<RobotState>("/robot/state").unwrap();
     let command = log.channel::<SpeedCommand>("/robot/command").unwrap();
-    let tf = log.channel::<FrameTransforms>("/tf").unwrap();
-    let single_tf = log.channel::<FrameTransform>("/tf_body").unwrap();
-    let scene = log.channel::<SceneUpdate>("/scene").unwrap();
+    let tf = log.foxglove_channel::<FrameTransforms>("/tf").unwrap();
+    let single_tf = log.foxglove_channel::<FrameTransform>("/tf_body").unwrap();
+    let scene = log.foxglove_channel::<SceneUpdate>("/scene").unwrap();
     let _faults = log.channel::<SpeedCommand>("/faults").unwrap();
     let robot = BallbotScene::miapure_like();
     for step in 0..1200_u64 {
@@ -103,18 +114,9 @@ fn write_run(path: &Path, options: LoggerOptions) -> BTreeMap<String, u64> {
         }
         if step % 40 == 0 {
             let mut update = robot.scene(time_secs);
-            let contacts: Vec<WheelContact> = state_at(step)
-                .wheels
-                .iter()
-                .map(|w| WheelContact {
-                    normal_force_n: w.normal_force_n,
-                    traction_n: w.traction_n,
-                    slipping: w.slipping,
-                })
-                .collect();
             update
                 .entities
-                .push(robot.contact_forces(time_secs, &contacts, 0.002));
+                .push(robot.contact_forces(time_secs, &contacts_at(step), 0.002));
             log.write(&scene, time_secs, &update).unwrap();
         }
     }
@@ -137,6 +139,11 @@ fn expected_counts() -> BTreeMap<String, u64> {
     .into_iter()
     .map(|(t, n)| (t.to_owned(), n))
     .collect()
+}
+
+/// Whether `write_run` writes the topic with a Foxglove SDK message (protobuf).
+fn is_foxglove(topic: &str) -> bool {
+    ["/tf", "/tf_body", "/scene"].contains(&topic)
 }
 
 fn small_chunks() -> LoggerOptions {
@@ -164,8 +171,15 @@ fn round_trip_keeps_every_channel_and_message_count() {
         .collect();
     assert_eq!(read, expected_counts());
     for channel in log.channels() {
-        assert_eq!(channel.message_encoding, "json");
-        assert_eq!(channel.schema_encoding, "jsonschema");
+        let encodings = (
+            channel.schema_encoding.as_str(),
+            channel.message_encoding.as_str(),
+        );
+        if is_foxglove(&channel.topic) {
+            assert_eq!(encodings, ("protobuf", "protobuf"), "{}", channel.topic);
+        } else {
+            assert_eq!(encodings, ("jsonschema", "json"), "{}", channel.topic);
+        }
     }
     assert_eq!(
         log.channel("/robot/state").unwrap().schema_name,
@@ -230,7 +244,12 @@ fn round_trip_keeps_every_channel_and_message_count() {
         let message = message.unwrap();
         *streamed.get_mut(&message.channel.topic).unwrap() += 1;
         let schema = message.channel.schema.as_ref().unwrap();
-        assert_eq!(schema.encoding, "jsonschema");
+        let expected = if is_foxglove(&message.channel.topic) {
+            "protobuf"
+        } else {
+            "jsonschema"
+        };
+        assert_eq!(schema.encoding, expected);
     }
     assert_eq!(streamed, expected_counts());
 }
@@ -266,7 +285,11 @@ fn every_schema_is_valid_and_describes_every_logged_field() {
     write_run(&path, LoggerOptions::default());
     let log = McapLog::open(&path).unwrap();
     for channel in log.channels() {
-        let schema: Value = serde_json::from_str(&channel.schema).unwrap();
+        let Some(text) = channel.schema_text() else {
+            assert!(is_foxglove(&channel.topic), "{}", channel.topic);
+            continue;
+        };
+        let schema: Value = serde_json::from_str(text).unwrap();
         assert_eq!(
             schema["$schema"], "http://json-schema.org/draft-07/schema#",
             "{}",
@@ -299,8 +322,9 @@ fn every_schema_is_valid_and_describes_every_logged_field() {
     assert!(check_message(&schema, &serde_json::json!({})).is_err());
 }
 
-fn property_names(schema: &Value) -> BTreeSet<&str> {
-    schema["properties"]
+/// The field names of a JSON object.
+fn keys(value: &Value) -> BTreeSet<&str> {
+    value
         .as_object()
         .unwrap()
         .keys()
@@ -309,10 +333,26 @@ fn property_names(schema: &Value) -> BTreeSet<&str> {
 }
 
 #[test]
-fn foxglove_schemas_have_the_published_field_layout() {
-    let tf = schema_for::<FrameTransform>();
+fn foxglove_messages_read_back_with_the_published_field_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("foxglove.mcap");
+    write_run(&path, LoggerOptions::default());
+    let log = McapLog::open(&path).unwrap();
+    // Exactly as written, through the SDK's own protobuf decoding.
+    let robot = BallbotScene::miapure_like();
+    let scenes = log.decode_protobuf::<SceneUpdate>("/scene").unwrap();
+    assert_eq!(scenes.len(), 30);
+    let (time_secs, first) = &scenes[1];
+    assert_eq!(*time_secs, 0.1);
+    let mut expected = robot.scene(0.1);
+    expected
+        .entities
+        .push(robot.contact_forces(0.1, &contacts_at(40), 0.002));
+    assert_eq!(*first, expected);
+    // As JSON, the field names of the Foxglove schemas (what its panels and Python see).
+    let tf = &log.json_series("/tf_body").unwrap().values[3];
     assert_eq!(
-        property_names(&tf),
+        keys(tf),
         BTreeSet::from([
             "timestamp",
             "parent_frame_id",
@@ -321,109 +361,23 @@ fn foxglove_schemas_have_the_published_field_layout() {
             "rotation"
         ])
     );
+    assert_eq!(keys(&tf["timestamp"]), BTreeSet::from(["sec", "nsec"]));
+    assert_eq!(keys(&tf["rotation"]), BTreeSet::from(["x", "y", "z", "w"]));
+    let scene = &log.json_series("/scene").unwrap().values[0];
+    let body = &scene["entities"][1];
+    assert_eq!(body["id"], "body");
     assert_eq!(
-        property_names(&tf["properties"]["timestamp"]),
-        BTreeSet::from(["sec", "nsec"])
-    );
-    assert_eq!(
-        property_names(&tf["properties"]["rotation"]),
-        BTreeSet::from(["x", "y", "z", "w"])
-    );
-    let scene = schema_for::<SceneUpdate>();
-    assert_eq!(
-        property_names(&scene),
-        BTreeSet::from(["deletions", "entities"])
-    );
-    assert_eq!(
-        property_names(&scene["properties"]["deletions"]["items"]),
-        BTreeSet::from(["timestamp", "type", "id"])
-    );
-    let entity = schema_for::<SceneEntity>();
-    assert_eq!(
-        property_names(&entity),
-        BTreeSet::from([
-            "timestamp",
-            "frame_id",
-            "id",
-            "lifetime",
-            "frame_locked",
-            "metadata",
-            "arrows",
-            "cubes",
-            "spheres",
-            "cylinders",
-            "lines",
-            "triangles",
-            "texts",
-            "models",
-        ])
-    );
-    let item = |field: &str| entity["properties"][field]["items"].clone();
-    assert_eq!(
-        property_names(&item("spheres")),
-        BTreeSet::from(["pose", "size", "color"])
-    );
-    assert_eq!(
-        property_names(&item("cubes")),
-        BTreeSet::from(["pose", "size", "color"])
-    );
-    assert_eq!(
-        property_names(&item("cylinders")),
+        keys(&body["cylinders"][0]),
         BTreeSet::from(["pose", "size", "bottom_scale", "top_scale", "color"])
     );
-    assert_eq!(
-        property_names(&item("arrows")),
-        BTreeSet::from([
-            "pose",
-            "shaft_length",
-            "shaft_diameter",
-            "head_length",
-            "head_diameter",
-            "color"
-        ])
+    // Numeric columns of a protobuf channel, by the same message paths.
+    let (_, ball_z) = log.field("/tf.transforms[0].translation.z").unwrap();
+    assert_eq!(ball_z.len(), 300);
+    assert!(
+        ball_z
+            .iter()
+            .all(|z| (z - robot.ball_radius_m).abs() < 1e-12)
     );
-    assert_eq!(
-        property_names(&item("lines")),
-        BTreeSet::from([
-            "type",
-            "pose",
-            "thickness",
-            "scale_invariant",
-            "points",
-            "color",
-            "colors",
-            "indices"
-        ])
-    );
-    assert_eq!(
-        property_names(&item("texts")),
-        BTreeSet::from([
-            "pose",
-            "billboard",
-            "font_size",
-            "scale_invariant",
-            "color",
-            "text"
-        ])
-    );
-    assert_eq!(
-        property_names(&item("models")),
-        BTreeSet::from([
-            "pose",
-            "scale",
-            "color",
-            "override_color",
-            "url",
-            "media_type",
-            "data"
-        ])
-    );
-    assert_eq!(
-        property_names(&item("triangles")),
-        BTreeSet::from(["pose", "points", "color", "colors", "indices"])
-    );
-    // Enumerations travel as integers.
-    assert_eq!(item("lines")["properties"]["type"]["type"], "integer");
 }
 
 #[test]

@@ -4,9 +4,10 @@
 use ballbot_core::BallbotParams;
 use nalgebra::{Isometry3, UnitQuaternion};
 
-use super::frame_transform::{FrameTransform, FrameTransforms};
-use super::geometry::{Color, Pose, Vector3};
-use super::scene::{ArrowPrimitive, CylinderPrimitive, SceneEntity, SceneUpdate, SpherePrimitive};
+use super::convert::{arrow, entity, frame_transform, pose, pose_at, rgba, size};
+use ::foxglove::schemas::{
+    CylinderPrimitive, FrameTransforms, Pose, SceneEntity, SceneUpdate, SpherePrimitive,
+};
 
 /// Dimensions and frames for drawing a ballbot in Foxglove's 3D panel.
 ///
@@ -102,13 +103,13 @@ impl BallbotScene {
     ) -> FrameTransforms {
         FrameTransforms {
             transforms: vec![
-                FrameTransform::new(
+                frame_transform(
                     time_secs,
                     &self.world_frame,
                     &self.ball_frame,
                     world_from_ball,
                 ),
-                FrameTransform::new(
+                frame_transform(
                     time_secs,
                     &self.world_frame,
                     &self.body_frame,
@@ -121,38 +122,42 @@ impl BallbotScene {
     /// The entities `ball`, `body` and `wheels` at a simulated time.
     pub fn scene(&self, time_secs: f64) -> SceneUpdate {
         let ball_diameter_m = 2.0 * self.ball_radius_m;
-        let mut ball = SceneEntity::new(time_secs, &self.ball_frame, "ball");
+        let mut ball = entity(time_secs, &self.ball_frame, "ball");
         ball.spheres.push(SpherePrimitive {
-            pose: Pose::default(),
-            size: Vector3::new(ball_diameter_m, ball_diameter_m, ball_diameter_m),
-            color: Color::rgba(0.85, 0.33, 0.10, 1.0),
+            pose: Some(Pose::default()),
+            size: Some(size(ball_diameter_m, ball_diameter_m, ball_diameter_m)),
+            color: Some(rgba(0.85, 0.33, 0.10, 1.0)),
         });
         let dot_m = 0.25 * self.ball_radius_m;
         ball.spheres.push(SpherePrimitive {
-            pose: Pose::at(self.ball_radius_m, 0.0, 0.0),
-            size: Vector3::new(dot_m, dot_m, dot_m),
-            color: Color::rgba(1.0, 1.0, 1.0, 1.0),
+            pose: Some(pose_at(self.ball_radius_m, 0.0, 0.0)),
+            size: Some(size(dot_m, dot_m, dot_m)),
+            color: Some(rgba(1.0, 1.0, 1.0, 1.0)),
         });
 
-        let mut body = SceneEntity::new(time_secs, &self.body_frame, "body");
+        let mut body = entity(time_secs, &self.body_frame, "body");
         let body_diameter_m = 2.0 * self.body_radius_m;
         body.cylinders.push(CylinderPrimitive {
-            pose: Pose::at(0.0, 0.0, self.body_bottom_m + 0.5 * self.body_height_m),
-            size: Vector3::new(body_diameter_m, body_diameter_m, self.body_height_m),
+            pose: Some(pose_at(
+                0.0,
+                0.0,
+                self.body_bottom_m + 0.5 * self.body_height_m,
+            )),
+            size: Some(size(body_diameter_m, body_diameter_m, self.body_height_m)),
             bottom_scale: 1.0,
             top_scale: 1.0,
-            color: Color::rgba(0.0, 0.45, 0.74, 0.6),
+            color: Some(rgba(0.0, 0.45, 0.74, 0.6)),
         });
 
-        let mut wheels = SceneEntity::new(time_secs, &self.body_frame, "wheels");
+        let mut wheels = entity(time_secs, &self.body_frame, "wheels");
         let wheel_diameter_m = 2.0 * self.wheel_radius_m;
         for body_from_wheel in &self.body_from_wheels {
             wheels.cylinders.push(CylinderPrimitive {
-                pose: body_from_wheel.into(),
-                size: Vector3::new(wheel_diameter_m, wheel_diameter_m, self.wheel_width_m),
+                pose: Some(pose(body_from_wheel)),
+                size: Some(size(wheel_diameter_m, wheel_diameter_m, self.wheel_width_m)),
                 bottom_scale: 1.0,
                 top_scale: 1.0,
-                color: Color::rgba(0.2, 0.2, 0.2, 1.0),
+                color: Some(rgba(0.2, 0.2, 0.2, 1.0)),
             });
         }
         SceneUpdate {
@@ -172,7 +177,7 @@ impl BallbotScene {
         contacts: &[WheelContact],
         metres_per_newton: f64,
     ) -> SceneEntity {
-        let mut entity = SceneEntity::new(time_secs, &self.body_frame, "contact_forces");
+        let mut forces = entity(time_secs, &self.body_frame, "contact_forces");
         for (body_from_wheel, contact) in self.body_from_wheels.iter().zip(contacts) {
             let centre = body_from_wheel.translation.vector;
             let Some(inward) = (-centre).try_normalize(1e-12) else {
@@ -181,25 +186,25 @@ impl BallbotScene {
             let axle = body_from_wheel.rotation * nalgebra::Vector3::z();
             let rolling = axle.cross(&inward);
             let point = nalgebra::Point3::from(centre + inward * self.wheel_radius_m);
-            entity.arrows.push(ArrowPrimitive::from_vector(
+            forces.arrows.push(arrow(
                 point - inward * (contact.normal_force_n * metres_per_newton),
                 inward * contact.normal_force_n,
                 metres_per_newton,
-                Color::rgba(0.0, 0.3, 0.9, 1.0),
+                rgba(0.0, 0.3, 0.9, 1.0),
             ));
             let traction_color = if contact.slipping {
-                Color::rgba(0.9, 0.1, 0.1, 1.0)
+                rgba(0.9, 0.1, 0.1, 1.0)
             } else {
-                Color::rgba(0.1, 0.7, 0.2, 1.0)
+                rgba(0.1, 0.7, 0.2, 1.0)
             };
-            entity.arrows.push(ArrowPrimitive::from_vector(
+            forces.arrows.push(arrow(
                 point,
                 rolling * contact.traction_n,
                 metres_per_newton,
                 traction_color,
             ));
         }
-        entity
+        forces
     }
 }
 
@@ -218,6 +223,7 @@ pub struct WheelContact {
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
+    use crate::log::foxglove::{ArrowPrimitive, position_of, rotation_of};
 
     #[test]
     fn contact_arrows_start_at_the_contacts_and_point_as_the_forces() {
@@ -238,14 +244,10 @@ mod tests {
         let entity = robot.contact_forces(1.0, &contacts, 0.001);
         assert_eq!(entity.frame_id, "body");
         assert_eq!(entity.arrows.len(), 6);
-        let direction = |arrow: &ArrowPrimitive| {
-            let q = arrow.pose.orientation;
-            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q.w, q.x, q.y, q.z))
-                * nalgebra::Vector3::x()
-        };
+        let direction =
+            |arrow: &ArrowPrimitive| rotation_of(arrow.pose.as_ref()) * nalgebra::Vector3::x();
         let tip = |arrow: &ArrowPrimitive| {
-            let p = arrow.pose.position;
-            nalgebra::Vector3::new(p.x, p.y, p.z)
+            position_of(arrow.pose.as_ref())
                 + direction(arrow) * (arrow.shaft_length + arrow.head_length)
         };
         // The normal-force arrow of wheel 0 ends on the ball surface, pointing at the centre.
@@ -257,10 +259,10 @@ mod tests {
         // Traction is tangent to the ball, starts at the contact, and red only when slipping.
         let traction = &entity.arrows[1];
         assert!(direction(traction).dot(&inward).abs() < 1e-12);
-        let p = traction.pose.position;
-        assert!((nalgebra::Vector3::new(p.x, p.y, p.z) - tip(normal)).norm() < 1e-12);
-        assert!(traction.color.g > traction.color.r);
-        assert!(entity.arrows[3].color.r > entity.arrows[3].color.g);
+        assert!((position_of(traction.pose.as_ref()) - tip(normal)).norm() < 1e-12);
+        let colour = |a: &ArrowPrimitive| a.color.unwrap_or_default();
+        assert!(colour(traction).g > colour(traction).r);
+        assert!(colour(&entity.arrows[3]).r > colour(&entity.arrows[3]).g);
         // A negative traction points the other way.
         let axle = robot.body_from_wheels[1].rotation * nalgebra::Vector3::z();
         let inward_1 = -robot.body_from_wheels[1].translation.vector.normalize();

@@ -1,25 +1,26 @@
-//! Foxglove well-known messages for the 3D panel: `foxglove.FrameTransform(s)` and
-//! `foxglove.SceneUpdate`, as JSON with their JSON schemas.
+//! Foxglove's well-known messages for the 3D panel, from the official Foxglove SDK
+//! (`foxglove::schemas`: `FrameTransforms`, `SceneUpdate`, `JointStates`, `Log`, ...), with
+//! helpers that build them from nalgebra types and simulated time.
 //!
-//! The types follow the field layout of the public Foxglove schemas (same field names, JSON
-//! types and enum values, times as `{sec, nsec}`, byte fields as base64 strings); their JSON
-//! schemas are generated from these definitions, with the doc comments as descriptions, under
-//! the well-known schema names, so Foxglove's 3D panel recognises the channels. Log them with
-//! [`McapLogger::channel`](crate::log::McapLogger::channel) like any other message.
+//! The SDK's types are protobuf messages that carry their own schema; log them with
+//! [`McapLogger::foxglove_channel`](crate::log::McapLogger::foxglove_channel) and read them back
+//! with [`McapLog::decode_protobuf`](crate::log::McapLog::decode_protobuf) (or as JSON with
+//! [`McapLog::json_series`](crate::log::McapLog::json_series)).
 //!
 //! [`BallbotScene`] draws a ballbot (ball, body, omniwheels) from poses, and the contact forces
 //! of the omniwheels as arrows ([`BallbotScene::contact_forces`]):
 //!
 //! ```
 //! use ballbot_sim::log::foxglove::{BallbotScene, FrameTransforms, SceneUpdate};
-//! use ballbot_sim::log::{LoggerOptions, McapLogger};
+//! use ballbot_sim::log::{LoggerOptions, McapLog, McapLogger};
 //! use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let dir = tempfile::tempdir()?;
-//! let mut log = McapLogger::create(dir.path().join("3d.mcap"), LoggerOptions::default())?;
-//! let tf = log.channel::<FrameTransforms>("/tf")?;
-//! let scene = log.channel::<SceneUpdate>("/scene")?;
+//! let path = dir.path().join("3d.mcap");
+//! let mut log = McapLogger::create(&path, LoggerOptions::default())?;
+//! let tf = log.foxglove_channel::<FrameTransforms>("/tf")?;
+//! let scene = log.foxglove_channel::<SceneUpdate>("/scene")?;
 //! let robot = BallbotScene::miapure_like();
 //! for step in 0..100 {
 //!     let time_secs = f64::from(step) * 0.01;
@@ -33,20 +34,25 @@
 //!     log.write(&scene, time_secs, &robot.scene(time_secs))?;
 //! }
 //! log.finish()?;
+//!
+//! let read = McapLog::open(&path)?;
+//! let frames = read.decode_protobuf::<FrameTransforms>("/tf")?;
+//! assert_eq!(frames[99].1.transforms[1].child_frame_id, "body");
 //! # Ok(())
 //! # }
 //! ```
 
 mod ballbot_scene;
-mod frame_transform;
-mod geometry;
-mod scene;
+mod convert;
 
+pub use ::foxglove::schemas::{
+    ArrowPrimitive, Color, CubePrimitive, CylinderPrimitive, FrameTransform, FrameTransforms,
+    JointState, JointStates, KeyValuePair, LinePrimitive, Log, Point3, Pose, Quaternion,
+    SceneEntity, SceneEntityDeletion, SceneUpdate, SpherePrimitive, TextPrimitive, Timestamp,
+    Vector3, line_primitive::Type as LineType, log::Level as LogLevel,
+};
 pub use ballbot_scene::{BallbotScene, WheelContact};
-pub use frame_transform::{FrameTransform, FrameTransforms};
-pub use geometry::{Color, Duration, Point3, Pose, Quaternion, Time, Vector3};
-pub use scene::{
-    ArrowPrimitive, CubePrimitive, CylinderPrimitive, KeyValuePair, LinePrimitive, LineType,
-    ModelPrimitive, SceneEntity, SceneEntityDeletion, SceneEntityDeletionType, SceneUpdate,
-    SpherePrimitive, TextPrimitive, TriangleListPrimitive,
+pub use convert::{
+    arrow, entity, frame_transform, point3, pose, pose_at, position_of, quaternion, rgba,
+    rotation_of, size, timestamp, vector3,
 };

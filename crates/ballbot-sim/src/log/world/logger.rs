@@ -10,17 +10,19 @@ use super::grid::Grid;
 use super::messages::{WorldCommandMsg, WorldControllerMsg, WorldEventMsg, WorldTelemetryMsg};
 use super::options::WorldLogOptions;
 use super::scene::WorldScene;
-use crate::log::foxglove::{FrameTransforms, SceneUpdate};
-use crate::log::{Channel, ChannelInfo, LogError, McapLogger, topics};
+use crate::log::foxglove::{FrameTransforms, JointStates, Log, LogLevel, SceneUpdate, timestamp};
+use crate::log::{ChannelInfo, LogError, LogSink, McapLogger, Protobuf, SinkChannel, topics};
 use crate::rig::WorldRobot;
 use crate::world::failure::{Failure, tilt_from_vertical_rad};
 use crate::world::params::WorldParams;
 use crate::world::sim::BallbotWorld;
 use crate::world::telemetry::StepTelemetry;
 
-/// Writes a world run into an MCAP file (see the module docs for the channels).
+/// Writes a world run into an MCAP file, a live Foxglove view, or both (see the module docs
+/// for the channels).
 ///
-/// Create it with the run's parameters, call [`record_robot`](Self::record_robot) (with a
+/// Create it with the run's parameters ([`create`](Self::create) for a file,
+/// [`with_sink`](Self::with_sink) for a [`LogSink`] that may serve a live view), call [`record_robot`](Self::record_robot) (with a
 /// [`WorldRobot`]), [`record`](Self::record) (a [`BallbotWorld`] and any controller output) or
 /// [`record_telemetry`](Self::record_telemetry) after every physics step, and
 /// [`finish`](Self::finish) at the end. A run that is killed leaves a file that
@@ -29,17 +31,19 @@ use crate::world::telemetry::StepTelemetry;
 /// [`LoggerOptions`](crate::log::LoggerOptions)).
 #[derive(Debug)]
 pub struct WorldLogger {
-    log: McapLogger,
+    log: LogSink,
     scene: WorldScene,
     options: WorldLogOptions,
     dt_secs: f64,
     steps_per_outer: u64,
-    telemetry: Channel<WorldTelemetryMsg>,
-    controller: Channel<WorldControllerMsg>,
-    command: Channel<WorldCommandMsg>,
-    transforms: Channel<FrameTransforms>,
-    scene_channel: Channel<SceneUpdate>,
-    events: Channel<WorldEventMsg>,
+    telemetry: SinkChannel<WorldTelemetryMsg>,
+    controller: SinkChannel<WorldControllerMsg>,
+    command: SinkChannel<WorldCommandMsg>,
+    transforms: SinkChannel<FrameTransforms, Protobuf>,
+    joints: SinkChannel<JointStates, Protobuf>,
+    scene_channel: SinkChannel<SceneUpdate, Protobuf>,
+    events: SinkChannel<WorldEventMsg>,
+    text_log: SinkChannel<Log, Protobuf>,
     records: u64,
     transform_grid: Grid,
     scene_grid: Grid,
@@ -64,13 +68,30 @@ impl WorldLogger {
     ) -> Result<Self, LogError> {
         let path = path.as_ref();
         options.validate(path, params.dt_secs)?;
-        let mut log = McapLogger::create(path, options.logger.clone())?;
+        let log = McapLogger::create(path, options.logger.clone())?;
+        Self::with_sink(LogSink::file(log), params, options)
+    }
+
+    /// Writes the run to `sink`: an MCAP file, a live view, or both. The options' `logger`
+    /// field is not used (the file, if any, is already open); the live view, if any, paces
+    /// the run at every [`record_telemetry`](Self::record_telemetry).
+    pub fn with_sink(
+        mut log: LogSink,
+        params: &WorldParams,
+        options: WorldLogOptions,
+    ) -> Result<Self, LogError> {
+        let path = log
+            .path()
+            .map_or_else(|| Path::new("live view").to_owned(), Path::to_owned);
+        options.validate(&path, params.dt_secs)?;
         let telemetry = log.channel::<WorldTelemetryMsg>(topics::WORLD_TELEMETRY)?;
         let controller = log.channel::<WorldControllerMsg>(topics::WORLD_CONTROLLER)?;
         let command = log.channel::<WorldCommandMsg>(topics::WORLD_COMMAND)?;
-        let transforms = log.channel::<FrameTransforms>(topics::TRANSFORMS)?;
-        let scene_channel = log.channel::<SceneUpdate>(topics::SCENE)?;
+        let transforms = log.channel_with::<FrameTransforms, Protobuf>(topics::TRANSFORMS)?;
+        let joints = log.channel_with::<JointStates, Protobuf>(topics::JOINT_STATES)?;
+        let scene_channel = log.channel_with::<SceneUpdate, Protobuf>(topics::SCENE)?;
         let events = log.channel::<WorldEventMsg>(topics::FAULTS)?;
+        let text_log = log.channel_with::<Log, Protobuf>(topics::LOG)?;
         // Validated above: a whole number >= 1.
         let steps_per_outer = (options.controller_interval_secs / params.dt_secs).round() as u64;
         Ok(Self {
@@ -82,8 +103,10 @@ impl WorldLogger {
             controller,
             command,
             transforms,
+            joints,
             scene_channel,
             events,
+            text_log,
             records: 0,
             transform_grid: Grid::new(options.transform_interval_secs),
             scene_grid: Grid::new(options.scene_interval_secs),
@@ -95,8 +118,8 @@ impl WorldLogger {
         })
     }
 
-    /// The file being written.
-    pub fn path(&self) -> &Path {
+    /// The file being written, if the run goes to one.
+    pub fn path(&self) -> Option<&Path> {
         self.log.path()
     }
 
@@ -110,8 +133,9 @@ impl WorldLogger {
         &self.scene
     }
 
-    /// The underlying logger, e.g. to add channels of one's own.
-    pub fn logger_mut(&mut self) -> &mut McapLogger {
+    /// Where the run goes, e.g. to add channels of one's own
+    /// ([`LogSink::channel`]).
+    pub fn sink_mut(&mut self) -> &mut LogSink {
         &mut self.log
     }
 
@@ -155,6 +179,8 @@ impl WorldLogger {
         if self.transform_grid.due(t.time_secs) {
             let frames = self.scene.frames(t);
             self.log.write(&self.transforms, t.time_secs, &frames)?;
+            let joints = self.scene.joints(t);
+            self.log.write(&self.joints, t.time_secs, &joints)?;
         }
         if self.scene_grid.due(t.time_secs) {
             let update = self.scene.scene(t);
@@ -163,9 +189,29 @@ impl WorldLogger {
         if let (Some(f), false) = (failure, self.failure_logged) {
             self.failure_logged = true;
             let msg = WorldEventMsg::failure(&f, tilt_from_vertical_rad(t));
-            self.log.write(&self.events, f.time_secs.max(0.0), &msg)?;
+            self.write_event(f.time_secs.max(0.0), &msg, LogLevel::Error)?;
         }
+        self.log.pace(t.time_secs);
         Ok(())
+    }
+
+    /// Writes an event on [`topics::FAULTS`] and, as text, on [`topics::LOG`].
+    fn write_event(
+        &mut self,
+        time_secs: f64,
+        msg: &WorldEventMsg,
+        level: LogLevel,
+    ) -> Result<(), LogError> {
+        self.log.write(&self.events, time_secs, msg)?;
+        let text = Log {
+            timestamp: Some(timestamp(time_secs)),
+            level: level as i32,
+            message: format!("{}: {}", msg.kind, msg.description),
+            name: "ballbot.world".to_owned(),
+            file: String::new(),
+            line: 0,
+        };
+        self.log.write(&self.text_log, time_secs, &text)
     }
 
     fn record_outer(&mut self, t: &StepTelemetry, out: &OuterOutput<f64>) -> Result<(), LogError> {
@@ -194,7 +240,12 @@ impl WorldLogger {
                 wheel: None,
                 tilt_rad: tilt_from_vertical_rad(t),
             };
-            self.log.write(&self.events, computed_secs, &msg)?;
+            let level = match mode {
+                Mode::Idle | Mode::Balancing => LogLevel::Info,
+                Mode::ControlledStop => LogLevel::Warning,
+                Mode::Fault => LogLevel::Error,
+            };
+            self.write_event(computed_secs, &msg, level)?;
         }
         Ok(())
     }
@@ -228,16 +279,17 @@ impl WorldLogger {
             wheel: None,
             tilt_rad,
         };
-        self.log.write(&self.events, time_secs, &msg)
+        self.write_event(time_secs, &msg, LogLevel::Info)
     }
 
-    /// The channels registered, with the number of messages written to each so far.
+    /// The file's channels, with the number of messages written to each so far (empty
+    /// without a file).
     pub fn channels(&self) -> Vec<ChannelInfo> {
         self.log.channels()
     }
 
-    /// Writes the summary section and footer and returns the channels with their message
-    /// counts.
+    /// Writes the file's summary section and footer and returns its channels with their
+    /// message counts (empty without a file).
     pub fn finish(self) -> Result<Vec<ChannelInfo>, LogError> {
         self.log.finish()
     }

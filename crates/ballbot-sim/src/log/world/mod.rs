@@ -2,17 +2,20 @@
 //! 3D scene in which the robot is seen moving, its wheels spinning and its contact forces.
 //!
 //! [`WorldLogger`] writes one run into one MCAP file through
-//! [`McapLogger`](crate::log::McapLogger) (typed JSON channels, simulated log time, chunked so
-//! that a killed run leaves a readable file):
+//! [`McapLogger`](crate::log::McapLogger) (typed JSON channels and the Foxglove SDK's protobuf
+//! messages, simulated log time, chunked so that a killed run leaves a readable file), and with
+//! the `live` feature to a live Foxglove view as well ([`LogSink`](crate::log::LogSink)):
 //!
 //! | topic | message | rate (defaults) |
 //! | --- | --- | --- |
 //! | [`topics::WORLD_TELEMETRY`](crate::log::topics::WORLD_TELEMETRY) `/world/telemetry` | [`WorldTelemetryMsg`]: per wheel normal force, traction, cone utilisation, slip speed, wheel speed, motor torque, slipping; ball position/velocity/angular velocity; body pose, rates, tilt | every step (8 kHz), or every `telemetry_every_steps`-th |
 //! | [`topics::WORLD_CONTROLLER`](crate::log::topics::WORLD_CONTROLLER) `/world/controller` | [`WorldControllerMsg`]: the outer loop's references, estimates, shaped commands, safety mode and faults | once per outer step (400 Hz) |
 //! | [`topics::WORLD_COMMAND`](crate::log::topics::WORLD_COMMAND) `/world/command` | [`WorldCommandMsg`]: the velocity command given ([`WorldLogger::record_command`]) | at most 400 Hz |
-//! | [`topics::TRANSFORMS`](crate::log::topics::TRANSFORMS) `/tf` | `foxglove.FrameTransforms`: `world -> ball` (with the ball's rotation), `world -> body`, `body -> ow1..ow3` (with each wheel's spin angle) | 100 Hz |
-//! | [`topics::SCENE`](crate::log::topics::SCENE) `/scene` | `foxglove.SceneUpdate`: floor, ball, body, the three omniwheels, contact-force arrows coloured by cone utilisation (red when slipping), wheel labels | 50 Hz |
+//! | [`topics::TRANSFORMS`](crate::log::topics::TRANSFORMS) `/tf` | `foxglove.FrameTransforms` (protobuf): `world -> ball` (with the ball's rotation), `world -> body`, `body -> ow1..ow3` (with each wheel's spin angle) | 100 Hz |
+//! | [`topics::JOINT_STATES`](crate::log::topics::JOINT_STATES) `/joint_states` | `foxglove.JointStates` (protobuf): `ow1..ow3` angle (rad), speed (rad/s), motor torque as effort (N m) | 100 Hz |
+//! | [`topics::SCENE`](crate::log::topics::SCENE) `/scene` | `foxglove.SceneUpdate` (protobuf): floor, ball, body, the three omniwheels, contact-force arrows coloured by cone utilisation (red when slipping), wheel labels | 50 Hz |
 //! | [`topics::FAULTS`](crate::log::topics::FAULTS) `/faults` | [`WorldEventMsg`]: the world's failure (tilt, body on the floor, sustained slip, lift-off), safety-mode changes, user events such as a push | on events |
+//! | [`topics::LOG`](crate::log::topics::LOG) `/log` | `foxglove.Log` (protobuf): the same events as text, for Foxglove's Log panel (failure: error; controlled stop: warning) | on events |
 //!
 //! `foxglove/world-layout.json` (in the repository) opens such a log with the 3D panel and plots
 //! of the per-wheel forces. The bytes are a function of the messages only (no wall clock), so
@@ -43,6 +46,7 @@
 //! assert_eq!(read.channel(topics::WORLD_CONTROLLER).map(|c| c.message_count), Some(40));
 //! // At the first step, then at 0.01, 0.02, ..., 0.1 s (100 Hz) and every 0.02 s (50 Hz).
 //! assert_eq!(read.channel(topics::TRANSFORMS).map(|c| c.message_count), Some(11));
+//! assert_eq!(read.channel(topics::JOINT_STATES).map(|c| c.message_count), Some(11));
 //! assert_eq!(read.channel(topics::SCENE).map(|c| c.message_count), Some(6));
 //! # Ok(())
 //! # }

@@ -4,9 +4,9 @@
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 use crate::log::foxglove::{
-    ArrowPrimitive, BallbotScene, Color, CubePrimitive, CylinderPrimitive, FrameTransform,
-    FrameTransforms, LinePrimitive, LineType, Point3, Pose, SceneEntity, SceneUpdate,
-    TextPrimitive, Vector3 as FoxVector3,
+    BallbotScene, Color, CubePrimitive, CylinderPrimitive, FrameTransforms, JointState,
+    JointStates, LinePrimitive, LineType, Pose, SceneEntity, SceneUpdate, TextPrimitive, arrow,
+    entity, frame_transform, point3, pose_at, rgba, size, timestamp,
 };
 use crate::world::failure::wheel_name;
 use crate::world::params::WorldParams;
@@ -59,7 +59,7 @@ impl WorldScene {
         {
             let spin = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), wheel.angle_rad);
             let body_from_spinning_wheel = body_from_wheel * spin;
-            frames.transforms.push(FrameTransform::new(
+            frames.transforms.push(frame_transform(
                 t.time_secs,
                 &self.robot.body_frame,
                 name,
@@ -67,6 +67,26 @@ impl WorldScene {
             ));
         }
         frames
+    }
+
+    /// The omniwheel joints `ow1`..`ow3` of one step: angle (rad), speed (rad/s) and the
+    /// motor torque (N m) as the effort.
+    pub fn joints(&self, t: &StepTelemetry) -> JointStates {
+        JointStates {
+            timestamp: Some(timestamp(t.time_secs)),
+            joints: self
+                .wheel_frames
+                .iter()
+                .zip(&t.wheels)
+                .map(|(name, wheel)| JointState {
+                    name: name.clone(),
+                    position: Some(wheel.angle_rad),
+                    velocity: Some(wheel.speed_rad_per_s),
+                    acceleration: None,
+                    effort: Some(wheel.motor_torque_nm),
+                })
+                .collect(),
+        }
     }
 
     /// The entities of one step: `floor`, `ball`, `body`, `ow1`..`ow3`, `contact_forces` and
@@ -90,7 +110,7 @@ impl WorldScene {
     /// The wheel names `OW1`..`OW3` just outside each wheel, in the body frame, facing the
     /// camera.
     fn labels(&self, time_secs: f64) -> SceneEntity {
-        let mut labels = SceneEntity::new(time_secs, &self.robot.body_frame, "labels");
+        let mut labels = entity(time_secs, &self.robot.body_frame, "labels");
         for (i, body_from_wheel) in self.robot.body_from_wheels.iter().enumerate() {
             let centre = body_from_wheel.translation.vector;
             let outward = Vector3::new(centre.x, centre.y, 0.0)
@@ -98,11 +118,11 @@ impl WorldScene {
                 .unwrap_or_else(Vector3::x);
             let at = centre + outward * (2.0 * self.robot.wheel_radius_m);
             labels.texts.push(TextPrimitive {
-                pose: Pose::at(at.x, at.y, at.z),
+                pose: Some(pose_at(at.x, at.y, at.z)),
                 billboard: true,
                 font_size: 14.0,
                 scale_invariant: true,
-                color: Color::rgba(1.0, 1.0, 1.0, 1.0),
+                color: Some(rgba(1.0, 1.0, 1.0, 1.0)),
                 text: wheel_name(i).to_owned(),
             });
         }
@@ -111,12 +131,12 @@ impl WorldScene {
 
     /// A grey floor slab just below z = 0 with lines every metre, in the world frame.
     fn floor(&self, time_secs: f64) -> SceneEntity {
-        let mut floor = SceneEntity::new(time_secs, &self.robot.world_frame, "floor");
+        let mut floor = entity(time_secs, &self.robot.world_frame, "floor");
         let size_m = self.floor_size_m;
         floor.cubes.push(CubePrimitive {
-            pose: Pose::at(0.0, 0.0, -0.006),
-            size: FoxVector3::new(size_m, size_m, 0.01),
-            color: Color::rgba(0.55, 0.55, 0.55, 1.0),
+            pose: Some(pose_at(0.0, 0.0, -0.006)),
+            size: Some(size(size_m, size_m, 0.01)),
+            color: Some(rgba(0.55, 0.55, 0.55, 1.0)),
         });
         let half_m = 0.5 * size_m;
         let lines = size_m.floor() as i32;
@@ -124,18 +144,18 @@ impl WorldScene {
         for k in 0..=lines {
             let at_m = -half_m + f64::from(k);
             let z_m = 0.0005;
-            points.push(Point3::from(nalgebra::Point3::new(at_m, -half_m, z_m)));
-            points.push(Point3::from(nalgebra::Point3::new(at_m, half_m, z_m)));
-            points.push(Point3::from(nalgebra::Point3::new(-half_m, at_m, z_m)));
-            points.push(Point3::from(nalgebra::Point3::new(half_m, at_m, z_m)));
+            points.push(point3(&nalgebra::Point3::new(at_m, -half_m, z_m)));
+            points.push(point3(&nalgebra::Point3::new(at_m, half_m, z_m)));
+            points.push(point3(&nalgebra::Point3::new(-half_m, at_m, z_m)));
+            points.push(point3(&nalgebra::Point3::new(half_m, at_m, z_m)));
         }
         floor.lines.push(LinePrimitive {
-            kind: LineType::LineList,
-            pose: Pose::default(),
+            r#type: LineType::LineList as i32,
+            pose: Some(Pose::default()),
             thickness: 0.01,
             scale_invariant: false,
             points,
-            color: Color::rgba(0.25, 0.25, 0.25, 1.0),
+            color: Some(rgba(0.25, 0.25, 0.25, 1.0)),
             colors: Vec::new(),
             indices: Vec::new(),
         });
@@ -145,20 +165,20 @@ impl WorldScene {
     /// One omniwheel in its own (spinning) frame: a disc about the axle (z) with a light spoke
     /// along its x axis, so its rotation shows.
     fn wheel(&self, time_secs: f64, frame: &str) -> SceneEntity {
-        let mut wheel = SceneEntity::new(time_secs, frame, frame);
+        let mut wheel = entity(time_secs, frame, frame);
         let r_m = self.robot.wheel_radius_m;
         let width_m = self.robot.wheel_width_m;
         wheel.cylinders.push(CylinderPrimitive {
-            pose: Pose::default(),
-            size: FoxVector3::new(2.0 * r_m, 2.0 * r_m, width_m),
+            pose: Some(Pose::default()),
+            size: Some(size(2.0 * r_m, 2.0 * r_m, width_m)),
             bottom_scale: 1.0,
             top_scale: 1.0,
-            color: Color::rgba(0.2, 0.2, 0.2, 1.0),
+            color: Some(rgba(0.2, 0.2, 0.2, 1.0)),
         });
         wheel.cubes.push(CubePrimitive {
-            pose: Pose::at(0.5 * r_m, 0.0, 0.0),
-            size: FoxVector3::new(r_m, 0.2 * r_m, 1.1 * width_m),
-            color: Color::rgba(0.95, 0.85, 0.2, 1.0),
+            pose: Some(pose_at(0.5 * r_m, 0.0, 0.0)),
+            size: Some(size(r_m, 0.2 * r_m, 1.1 * width_m)),
+            color: Some(rgba(0.95, 0.85, 0.2, 1.0)),
         });
         wheel
     }
@@ -167,7 +187,7 @@ impl WorldScene {
     /// ending at the wheel's (nominal) contact point, in the body frame, coloured by
     /// [`cone_colour`].
     fn contact_forces(&self, time_secs: f64, wheels: &[WheelTelemetry; 3]) -> SceneEntity {
-        let mut entity = SceneEntity::new(time_secs, &self.robot.body_frame, "contact_forces");
+        let mut forces = entity(time_secs, &self.robot.body_frame, "contact_forces");
         for (body_from_wheel, w) in self.robot.body_from_wheels.iter().zip(wheels) {
             let centre = body_from_wheel.translation.vector;
             let Some(inward) = (-centre).try_normalize(1e-12) else {
@@ -178,14 +198,14 @@ impl WorldScene {
             let contact = centre + inward * self.robot.wheel_radius_m;
             let force = inward * w.normal_force_n + rolling * w.traction_n;
             let tail = contact - force * self.metres_per_newton;
-            entity.arrows.push(ArrowPrimitive::from_vector(
+            forces.arrows.push(arrow(
                 nalgebra::Point3::from(tail),
                 force,
                 self.metres_per_newton,
                 cone_colour(w.cone_utilisation, w.slipping),
             ));
         }
-        entity
+        forces
     }
 }
 
@@ -193,7 +213,7 @@ impl WorldScene {
 /// to orange at the cone's edge; red while the contact slips.
 pub fn cone_colour(cone_utilisation: f64, slipping: bool) -> Color {
     if slipping {
-        return Color::rgba(0.9, 0.05, 0.05, 1.0);
+        return rgba(0.9, 0.05, 0.05, 1.0);
     }
     let u = if cone_utilisation.is_finite() {
         cone_utilisation.clamp(0.0, 1.0)
@@ -204,7 +224,7 @@ pub fn cone_colour(cone_utilisation: f64, slipping: bool) -> Color {
     let yellow = (0.95, 0.85, 0.1);
     let orange = (1.0, 0.45, 0.0);
     let mix = |a: (f64, f64, f64), b: (f64, f64, f64), s: f64| {
-        Color::rgba(
+        rgba(
             a.0 + (b.0 - a.0) * s,
             a.1 + (b.1 - a.1) * s,
             a.2 + (b.2 - a.2) * s,
