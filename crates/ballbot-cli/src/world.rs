@@ -10,15 +10,21 @@
 //! ballbot world --heading-deg 0 --accel-m-per-s2 1.0 --top-speed-m-per-s 1.5 \
 //!     --duration-secs 4 --out out/world.mcap
 //! ballbot world --push-ns 40 --push-at-secs 1.0 --push-heading-deg 90 --duration-secs 3
+//! ballbot world --live --duration-secs 30 --decimate 8    # watch it in Foxglove as it runs
 //! ```
+//!
+//! With `--live` the run is also served over the Foxglove SDK's WebSocket server
+//! (`ws://127.0.0.1:8765` by default), paced to real time unless `--as-fast-as-possible`.
 
 use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
-use ballbot_sim::log::WorldLogOptions;
+use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, WorldLogOptions};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
-use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world};
+use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world, run_world_with_sink};
 use ballbot_sim::world::{WorldParams, wheel_name};
+use std::io::Write;
 use std::path::PathBuf;
+use std::time::Duration;
 
 /// Examples and log sizes shown after `ballbot world --help`.
 pub const AFTER_HELP: &str = "\
@@ -28,8 +34,11 @@ Examples:
   ballbot world --wheel-ball-friction 0.05 --accel-m-per-s2 1 --duration-secs 1.5 --out out/slip.mcap
   ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-secs 1 --duration-secs 3
 
+  ballbot world --live --duration-secs 30 --decimate 8
+
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
-normal force, cone utilisation, slip speed). Size: about 4.4 MB per simulated second with
+normal force, cone utilisation, slip speed). With --live, open a Foxglove WebSocket connection
+to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Size: about 4.4 MB per simulated second with
 telemetry at every 8 kHz step, 0.77 MB with --decimate 8 (1 kHz).";
 
 /// Arguments of `ballbot world`.
@@ -92,6 +101,22 @@ pub struct WorldArgs {
     /// Print the outcome as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Also serve the run live over the Foxglove SDK's WebSocket server (Foxglove: Open
+    /// connection, Foxglove WebSocket, the printed address).
+    #[arg(long)]
+    pub live: bool,
+    /// Address the live view listens on (127.0.0.1: this machine only).
+    #[arg(long, default_value = "127.0.0.1", requires = "live")]
+    pub live_host: String,
+    /// Port of the live view (0 picks a free one, printed).
+    #[arg(long, default_value_t = 8765, requires = "live")]
+    pub live_port: u16,
+    /// Wait up to this long for Foxglove to connect before the run starts (s, >= 0).
+    #[arg(long, default_value_t = 60.0, requires = "live")]
+    pub live_wait_secs: f64,
+    /// Run the live view as fast as the simulation goes instead of in real time.
+    #[arg(long, requires = "live")]
+    pub as_fast_as_possible: bool,
 }
 
 impl Default for WorldArgs {
@@ -113,6 +138,11 @@ impl Default for WorldArgs {
             decimate: 1,
             scene_hz: 50.0,
             json: false,
+            live: false,
+            live_host: "127.0.0.1".to_owned(),
+            live_port: 8765,
+            live_wait_secs: 60.0,
+            as_fast_as_possible: false,
         }
     }
 }
@@ -200,6 +230,12 @@ impl WorldArgs {
             "in (0, 1000]",
             self.scene_hz,
         )?;
+        check(
+            finite(self.live_wait_secs) && self.live_wait_secs >= 0.0,
+            "--live-wait-secs",
+            "finite and >= 0",
+            self.live_wait_secs,
+        )?;
         Ok(())
     }
 
@@ -244,35 +280,99 @@ impl WorldArgs {
     }
 }
 
+impl WorldArgs {
+    /// What the log writes and how often.
+    fn log_options(&self) -> WorldLogOptions {
+        let scene_interval_secs = 1.0 / self.scene_hz;
+        WorldLogOptions {
+            telemetry_every_steps: self.decimate,
+            scene_interval_secs,
+            transform_interval_secs: 0.5 * scene_interval_secs,
+            ..WorldLogOptions::default()
+        }
+    }
+
+    /// The command and push of the run.
+    fn run_settings(&self) -> WorldRunSettings {
+        WorldRunSettings {
+            heading_deg: self.heading_deg,
+            accel_m_per_s2: self.accel_m_per_s2,
+            top_speed_m_per_s: self.top_speed_m_per_s,
+            duration_secs: self.duration_secs,
+            push_ns: self.push_ns,
+            push_at_secs: self.push_at_secs,
+            push_heading_deg: self.push_heading_deg,
+            after_failure_secs: self.after_failure_secs,
+        }
+    }
+}
+
 /// Runs the world as `args` say, writes the log and returns the outcome (without printing).
+/// `--live` is not served here (see [`run`]).
 pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     args.validate()?;
     let params = args.world_params()?;
     let config = args.controller_config(&params)?;
-    let scene_interval_secs = 1.0 / args.scene_hz;
-    let options = WorldLogOptions {
-        telemetry_every_steps: args.decimate,
-        scene_interval_secs,
-        transform_interval_secs: 0.5 * scene_interval_secs,
-        ..WorldLogOptions::default()
+    run_logged_world(
+        params,
+        config,
+        &args.run_settings(),
+        &args.out,
+        args.log_options(),
+    )
+    .with_context(|| format!("ballbot world --out {}", args.out.display()))
+}
+
+/// Runs the world as `args` say, writing the log and serving it live to Foxglove
+/// (`--live`): prints the address, waits up to `--live-wait-secs` for a client, then runs
+/// paced to real time (or as fast as possible).
+pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
+    args.validate()?;
+    let params = args.world_params()?;
+    let config = args.controller_config(&params)?;
+    let pace = if args.as_fast_as_possible {
+        LivePace::AsFastAsPossible
+    } else {
+        LivePace::RealTime
     };
-    let run = WorldRunSettings {
-        heading_deg: args.heading_deg,
-        accel_m_per_s2: args.accel_m_per_s2,
-        top_speed_m_per_s: args.top_speed_m_per_s,
-        duration_secs: args.duration_secs,
-        push_ns: args.push_ns,
-        push_at_secs: args.push_at_secs,
-        push_heading_deg: args.push_heading_deg,
-        after_failure_secs: args.after_failure_secs,
-    };
-    run_logged_world(params, config, &run, &args.out, options)
-        .with_context(|| format!("ballbot world --out {}", args.out.display()))
+    let server = LiveServer::start(LiveOptions {
+        host: args.live_host.clone(),
+        port: args.live_port,
+        pace,
+        ..LiveOptions::default()
+    })
+    .context("ballbot world --live: cannot start the Foxglove WebSocket server")?;
+    println!(
+        "live view: {} (Foxglove: Open connection, Foxglove WebSocket)",
+        server.url()
+    );
+    std::io::stdout().flush()?;
+    if args.live_wait_secs > 0.0 {
+        let connected = server.wait_for_client(Duration::from_secs_f64(args.live_wait_secs));
+        if !connected {
+            println!("no client after {} s: running anyway", args.live_wait_secs);
+        }
+    }
+    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    let options = args.log_options();
+    let file = McapLogger::create(&args.out, options.logger.clone())
+        .with_context(|| format!("ballbot world --out {}", args.out.display()))?;
+    let sink = LogSink::file(file).with_live(server.clone());
+    let outcome = run_world_with_sink(params, config, &args.run_settings(), sink, options)
+        .with_context(|| format!("ballbot world --live --out {}", args.out.display()))?;
+    server.stop();
+    Ok(outcome)
 }
 
 /// Runs `ballbot world` and prints the outcome.
 pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
-    let o = simulate(args)?;
+    let o = if args.live {
+        simulate_live(args)?
+    } else {
+        simulate(args)?
+    };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&o)?);
         return Ok(());

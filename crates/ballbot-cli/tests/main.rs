@@ -7,4 +7,5 @@ mod brake;
 mod params;
 mod simulate;
 mod sweep;
+mod world_live;
 mod world_log;

@@ -2,8 +2,7 @@
 //! ([`WorldLogger`]): a velocity ramp towards a heading after a [`SETTLE_SECS`] hold, optionally a
 //! push of the body; reduced to a [`WorldOutcome`]. What `ballbot world` runs.
 
-use crate::log::LogError;
-use crate::log::{WorldLogOptions, WorldLogger};
+use crate::log::{LogError, LogSink, McapLogger, WorldLogOptions, WorldLogger};
 use crate::rig::WorldRobot;
 use crate::world::failure::tilt_from_vertical_rad;
 use crate::world::{Failure, WorldError, WorldParams};
@@ -98,18 +97,40 @@ pub fn run_logged_world(
     out: &Path,
     options: WorldLogOptions,
 ) -> Result<WorldOutcome, WorldRunError> {
-    let mut sim = WorldRobot::with_config(params, config)?;
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|source| WorldRunError::Io {
             path: dir.to_owned(),
             source,
         })?;
     }
+    let file =
+        McapLogger::create(out, options.logger.clone()).map_err(|source| WorldRunError::Log {
+            path: out.to_owned(),
+            source,
+        })?;
+    run_world_with_sink(params, config, args, LogSink::file(file), options)
+}
+
+/// Runs the world with `config` in the loop as `args` say, writing to `sink` (an MCAP file, a
+/// live Foxglove view that paces the run, or both) with `options`, and returns the outcome
+/// (`log` is empty and `log_bytes` 0 without a file).
+pub fn run_world_with_sink(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    args: &WorldRunSettings,
+    sink: LogSink,
+    options: WorldLogOptions,
+) -> Result<WorldOutcome, WorldRunError> {
+    let out = sink
+        .path()
+        .map_or_else(|| PathBuf::from("live view"), Path::to_owned);
+    let has_file = sink.path().is_some();
+    let mut sim = WorldRobot::with_config(params, config)?;
     let log_error = |source| WorldRunError::Log {
-        path: out.to_owned(),
+        path: out.clone(),
         source,
     };
-    let mut log = WorldLogger::with_options(out, &params, options).map_err(log_error)?;
+    let mut log = WorldLogger::with_sink(sink, &params, options).map_err(log_error)?;
 
     let dt = params.dt_secs;
     let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
@@ -127,7 +148,11 @@ pub fn run_logged_world(
         min_normal_force_n: f64::INFINITY,
         max_tilt_deg: 0.0,
         end_time_secs: 0.0,
-        log: out.display().to_string(),
+        log: if has_file {
+            out.display().to_string()
+        } else {
+            String::new()
+        },
         log_bytes: 0,
     };
     for k in 0..steps {
@@ -196,11 +221,13 @@ pub fn run_logged_world(
         outcome.failure_wheel = f.kind.wheel().map(|w| w + 1);
         outcome.failure_time_secs = Some(f.time_secs);
     }
-    outcome.log_bytes = std::fs::metadata(out)
-        .map_err(|source| WorldRunError::Io {
-            path: out.to_owned(),
-            source,
-        })?
-        .len();
+    if has_file {
+        outcome.log_bytes = std::fs::metadata(&out)
+            .map_err(|source| WorldRunError::Io {
+                path: out.clone(),
+                source,
+            })?
+            .len();
+    }
     Ok(outcome)
 }
