@@ -17,7 +17,7 @@ fi
 rm -rf "$venv"
 python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check -r docs/requirements.txt \
-    "${built[0]}[gym]"
+    "${built[0]}[gym,mcap]"
 # Always execute the notebooks (mkdocs-jupyter would reuse its cache of executed pages).
 rm -rf .cache/mkdocs-jupyter
 NO_MKDOCS_2_WARNING=1 "$venv/bin/python" -m mkdocs build --strict --site-dir "$target/site"

@@ -11,7 +11,7 @@ wheels="$target/wheels"
 rm -rf "$venv" "$wheels"
 python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check "pytest>=7" "mypy>=1.10" \
-    "maturin>=1.9.4,<2"
+    "websockets>=12" "maturin>=1.9.4,<2"
 # Share the workspace's target directory so the Rust build is not repeated from scratch.
 CARGO_TARGET_DIR="$target" "$venv/bin/maturin" build --release --quiet \
     --manifest-path crates/ballbot-py/Cargo.toml --out "$wheels"
@@ -24,10 +24,10 @@ fi
 echo "built ${built[0]##*/}"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps \
     "${built[0]}"
-# What `pip install "ballbot[gym,dask]"` adds, read from the installed wheel's own metadata (so
-# the extras the README names are the ones tested): the base dependencies and the `gym` and
-# `dask` extras.
-mapfile -t requirements < <("$venv/bin/python" scripts/extra-requirements.py ballbot gym dask)
+# What `pip install "ballbot[gym,dask,mcap]"` adds, read from the installed wheel's own metadata
+# (so the extras the README names are the ones tested): the base dependencies and the `gym`,
+# `dask` and `mcap` extras.
+mapfile -t requirements < <("$venv/bin/python" scripts/extra-requirements.py ballbot gym dask mcap)
 "$venv/bin/python" -m pip install -q --disable-pip-version-check "${requirements[@]}"
 # The tests must see the installed wheel, not the sources under crates/ballbot-py/python.
 (cd "$target" && "$venv/bin/python" -c "

@@ -482,6 +482,19 @@ fn world_layout_plots_fields_that_a_written_log_has() {
     let log = McapLog::open(&path).unwrap();
     let mut plotted = 0;
     for (id, panel) in config {
+        // The Log panel shows the foxglove.Log channel the log writes; the raw-message panel
+        // a channel it writes.
+        if id.starts_with("Log!") {
+            let topic = panel["topicToRender"].as_str().unwrap();
+            assert_eq!(log.channel(topic).unwrap().schema_name, "foxglove.Log");
+        }
+        if id.starts_with("RawMessages!") {
+            let topic = panel["topicPath"].as_str().unwrap();
+            assert!(
+                log.channel(topic).is_some(),
+                "{id}: {topic} is not in the log"
+            );
+        }
         if !id.starts_with("Plot!") {
             continue;
         }

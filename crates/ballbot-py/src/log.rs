@@ -7,8 +7,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList};
 use serde_json::Value;
 
-/// Maps a log error: unreadable or malformed files to `FileError`, a missing or non-JSON
-/// topic to `ParameterError`.
+/// Maps a log error: unreadable or malformed files, and a live view that cannot serve, to
+/// `FileError`; a missing or undecodable topic to `ParameterError`.
 pub fn log_error(py: Python<'_>, e: LogError) -> PyErr {
     let kind = match &e {
         LogError::NoSuchTopic { .. } | LogError::NotJson { .. } => Kind::Parameter,
@@ -119,7 +119,7 @@ impl PyMcapLog {
             .collect()
     }
 
-    /// A JSON channel's numeric fields as `(n,)` float arrays: `time_secs` (log time) and one
+    /// A channel's numeric fields (JSON, or Foxglove's protobuf messages) as `(n,)` float arrays: `time_secs` (log time) and one
     /// column per field path (`body.tilt_rad`, `wheels[2].normal_force_n`; NaN where a message
     /// lacks the field or logged a non-finite value).
     fn numeric_series<'py>(&self, py: Python<'py>, topic: &str) -> PyResult<Bound<'py, PyDict>> {
@@ -134,8 +134,8 @@ impl PyMcapLog {
         Ok(d)
     }
 
-    /// A JSON channel's messages: `(time_secs (n,), [message, ...])`, each message decoded to
-    /// plain Python values.
+    /// A channel's messages (JSON, or Foxglove's protobuf messages with their schema's field
+    /// names): `(time_secs (n,), [message, ...])`, each message decoded to plain Python values.
     fn messages<'py>(
         &self,
         py: Python<'py>,

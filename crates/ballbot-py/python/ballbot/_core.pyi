@@ -68,6 +68,7 @@ __all__ = [
     "BrakingSolution",
     "ContactForces",
     "DrivetrainParams",
+    "LiveView",
     "Lqr",
     "LqrController",
     "LqrGains",
@@ -1517,6 +1518,24 @@ class GymVecEnv:
     ]: ...
 
 @final
+class LiveView:
+    """A Foxglove WebSocket server that ``World.run`` and ``WorldLoop.run`` serve a run to as
+    it happens (``live=``), paced to real time when ``realtime``."""
+
+    def __new__(
+        cls, *, host: str = "127.0.0.1", port: int = 8765, realtime: bool = True
+    ) -> LiveView: ...
+    @property
+    def port(self) -> int: ...
+    @property
+    def url(self) -> str: ...
+    @property
+    def realtime(self) -> bool: ...
+    def client_count(self) -> int: ...
+    def wait_for_client(self, timeout_secs: float) -> bool: ...
+    def close(self) -> None: ...
+
+@final
 class World:
     """The simulated 3D ballbot driven directly by wheel torques (rapier3d; friction-cone
     omniwheel contacts)."""
@@ -1532,6 +1551,7 @@ class World:
         stop_on_failure: bool = False,
         log_path: Optional[_Path] = None,
         log_compact: bool = False,
+        live: Optional[LiveView] = None,
     ) -> WorldRun: ...
     @property
     def params(self) -> WorldParams: ...
@@ -1602,6 +1622,7 @@ class WorldLoop:
         stop_on_failure: bool = False,
         log_path: Optional[_Path] = None,
         log_compact: bool = False,
+        live: Optional[LiveView] = None,
     ) -> WorldLoopRun: ...
     @property
     def params(self) -> WorldParams: ...

@@ -1,6 +1,7 @@
 //! `World`, the 3D ballbot driven by wheel torques, and `world_class!`, the methods it shares
 //! with `WorldLoop`.
 
+use super::live::PyLiveView;
 use super::telemetry::{PyFailure, PyMeasurement, PyStepTelemetry, vec_out};
 use super::trace::{RunOptions, Trace, finish_log, finish_run, logger, run_steps};
 use super::{Arr, finite, non_negative, params_or_default, step_rows, vec3};
@@ -257,10 +258,12 @@ world_class! {
         /// (steps run), `failure` (`Failure` or `None`), `log_path`. With `log_path` every step
         /// is also written to that MCAP file (`ballbot_sim::log::WorldLogger`: telemetry,
         /// the Foxglove 3D scene and transforms, failure events; `log_compact` writes the
-        /// telemetry at 1 kHz instead of every step), readable with `McapLog`.
+        /// telemetry at 1 kHz instead of every step), readable with `McapLog`. With `live` (a
+        /// `LiveView`) the same channels are served to Foxglove while the run goes, paced as
+        /// the view says.
         #[pyo3(signature = (
             n_steps, torque_nm = None, *, record_every = 1, stop_on_failure = false,
-            log_path = None, log_compact = false,
+            log_path = None, log_compact = false, live = None,
         ))]
         #[allow(clippy::too_many_arguments)]
         fn run<'py>(
@@ -272,11 +275,18 @@ world_class! {
             stop_on_failure: bool,
             log_path: Option<PathBuf>,
             log_compact: bool,
+            live: Option<PyRef<'py, PyLiveView>>,
         ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, torque_nm, n_steps, "torque_nm")?;
             let trace = Trace::with_capacity(options.records())?;
-            let mut log = logger(py, log_path.as_deref(), self.inner.params(), log_compact)?;
+            let mut log = logger(
+                py,
+                log_path.as_deref(),
+                live.as_deref(),
+                self.inner.params(),
+                log_compact,
+            )?;
             let world = &mut self.inner;
             let result = py.detach(|| {
                 run_steps(options, &inputs, trace, |tau| {

@@ -4,6 +4,7 @@
 //! return dicts of numpy arrays, so Python threads run several worlds in parallel.
 
 mod class;
+mod live;
 mod ramp;
 mod telemetry;
 mod trace;
@@ -17,6 +18,7 @@ use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 pub(crate) use class::*;
+pub(crate) use live::*;
 pub(crate) use ramp::*;
 pub(crate) use telemetry::*;
 pub(crate) use trace::*;
@@ -117,6 +119,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyFailure>()?;
     m.add_class::<PyWorld>()?;
     m.add_class::<PyWorldLoop>()?;
+    m.add_class::<PyLiveView>()?;
     m.add_function(wrap_pyfunction!(max_speed_ramp, m)?)?;
     Ok(())
 }

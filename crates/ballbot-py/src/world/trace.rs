@@ -1,12 +1,13 @@
 //! A run's recording: the per-step columns (`Trace`), how a run records and stops, its MCAP
 //! log.
 
+use super::live::PyLiveView;
 use super::row_at;
 use super::telemetry::PyFailure;
 use crate::arrays::reserve;
 use crate::errors::{Kind, error};
 use crate::log::log_error;
-use ballbot_sim::log::{WorldLogOptions, WorldLogger};
+use ballbot_sim::log::{LogSink, McapLogger, WorldLogOptions, WorldLogger};
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
 use ballbot_sim::world::{Failure, StepTelemetry, WheelTelemetry, WorldParams};
 use nalgebra::Vector3;
@@ -212,22 +213,34 @@ pub(crate) fn run_steps<E>(
     Ok((trace, steps))
 }
 
-/// The MCAP logger of a run, if `log_path` is given: `compact` writes the telemetry at 1 kHz.
+/// The logger of a run, if `log_path` or `live` is given: the MCAP file, the live view, or
+/// both; `compact` writes the telemetry at 1 kHz.
 pub(crate) fn logger(
     py: Python<'_>,
     log_path: Option<&Path>,
+    live: Option<&PyLiveView>,
     params: &WorldParams,
     compact: bool,
 ) -> PyResult<Option<WorldLogger>> {
-    let Some(path) = log_path else {
-        return Ok(None);
-    };
     let options = if compact {
         WorldLogOptions::compact()
     } else {
         WorldLogOptions::default()
     };
-    WorldLogger::with_options(path, params, options)
+    let sink = match (log_path, live) {
+        (None, None) => return Ok(None),
+        (Some(path), live) => {
+            let file =
+                McapLogger::create(path, options.logger.clone()).map_err(|e| log_error(py, e))?;
+            let sink = LogSink::file(file);
+            match live {
+                Some(view) => sink.with_live(view.server.clone()),
+                None => sink,
+            }
+        }
+        (None, Some(view)) => LogSink::live(view.server.clone()),
+    };
+    WorldLogger::with_sink(sink, params, options)
         .map(Some)
         .map_err(|e| log_error(py, e))
 }

@@ -2,6 +2,7 @@
 //! overrides.
 
 use super::class::world_class;
+use super::live::PyLiveView;
 use super::telemetry::{PyFailure, PyMeasurement, PyStepTelemetry, vec_out};
 use super::trace::{RunOptions, Trace, finish_log, finish_run, logger, run_steps};
 use super::{Arr, finite, non_negative, params_or_default, step_rows, vec3};
@@ -223,10 +224,11 @@ world_class! {
         /// Returns a `WorldLoopRun`, the columns of `World.run` with `command` (n, 3) instead
         /// of `torque_nm` (`motor_torque_nm` holds what the controller drove). `log_path` and `log_compact`
         /// as in `World.run`; the log also carries the controller's outer loop and the
-        /// commands (what `ballbot world` writes).
+        /// commands (what `ballbot world` writes). `live`: a `LiveView` to serve the run to
+        /// Foxglove as it goes (`ballbot world --live`).
         #[pyo3(signature = (
             n_steps, command = None, *, record_every = 1, stop_on_failure = false,
-            log_path = None, log_compact = false,
+            log_path = None, log_compact = false, live = None,
         ))]
         #[allow(clippy::too_many_arguments)]
         fn run<'py>(
@@ -238,12 +240,13 @@ world_class! {
             stop_on_failure: bool,
             log_path: Option<PathBuf>,
             log_compact: bool,
+            live: Option<PyRef<'py, PyLiveView>>,
         ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, command, n_steps, "command")?;
             let trace = Trace::with_capacity(options.records())?;
             let params = *self.inner.world().params();
-            let mut log = logger(py, log_path.as_deref(), &params, log_compact)?;
+            let mut log = logger(py, log_path.as_deref(), live.as_deref(), &params, log_compact)?;
             let sim = &mut self.inner;
             let result = py.detach(|| {
                 run_steps(options, &inputs, trace, |cmd| {
