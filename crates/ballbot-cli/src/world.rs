@@ -38,8 +38,9 @@ Examples:
 
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
 normal force, cone utilisation, slip speed). With --live, open a Foxglove WebSocket connection
-to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Size: about 4.4 MB per simulated second with
-telemetry at every 8 kHz step, 0.77 MB with --decimate 8 (1 kHz).";
+to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Size: about
+3.3 MB per simulated second with telemetry at every 8 kHz step, 0.81 MB with --decimate 8
+(1 kHz).";
 
 /// Arguments of `ballbot world`.
 #[derive(Debug, Clone, clap::Args)]

@@ -49,8 +49,8 @@ impl Default for WorldLogOptions {
 }
 
 impl WorldLogOptions {
-    /// The defaults with the telemetry at 1 kHz (every 8th step at 8 kHz): about a sixth of
-    /// the file size (0.77 instead of 4.4 MB per simulated second), for experiments that write
+    /// The defaults with the telemetry at 1 kHz (every 8th step at 8 kHz): about a quarter of
+    /// the file size (0.81 instead of 3.3 MB per simulated second), for experiments that write
     /// many logs.
     ///
     /// ```
