@@ -119,9 +119,10 @@ impl PyMcapLog {
             .collect()
     }
 
-    /// A channel's numeric fields (JSON, or Foxglove's protobuf messages) as `(n,)` float arrays: `time_secs` (log time) and one
-    /// column per field path (`body.tilt_rad`, `wheels[2].normal_force_n`; NaN where a message
-    /// lacks the field or logged a non-finite value).
+    /// A channel's numeric fields (JSON, or Foxglove's protobuf messages) as `(n,)` float
+    /// arrays: `time_secs` (log time) and one column per field path (`body.tilt_rad`,
+    /// `wheels[2].normal_force_n`; NaN where a message lacks the field or logged a non-finite
+    /// value).
     fn numeric_series<'py>(&self, py: Python<'py>, topic: &str) -> PyResult<Bound<'py, PyDict>> {
         let series = py
             .detach(|| self.inner.numeric_series(topic))

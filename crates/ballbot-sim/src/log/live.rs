@@ -105,16 +105,23 @@ struct Clock {
     next_broadcast_secs: f64,
 }
 
-impl Drop for Shared {
-    fn drop(&mut self) {
+impl Shared {
+    /// Stops the server, once: clients are disconnected and the port is freed.
+    fn stop(&self) {
         let server = self
             .server
-            .get_mut()
+            .lock()
             .unwrap_or_else(PoisonError::into_inner)
             .take();
         if let Some(server) = server {
             server.stop().wait_blocking();
         }
+    }
+}
+
+impl Drop for Shared {
+    fn drop(&mut self) {
+        self.stop();
     }
 }
 
@@ -214,9 +221,10 @@ impl LiveServer {
 
     /// Waits until at least one client is connected or `timeout` has passed; whether one is.
     pub fn wait_for_client(&self, timeout: Duration) -> bool {
-        let deadline = Instant::now() + timeout;
+        // `None`: a timeout too long to represent, i.e. wait for ever.
+        let deadline = Instant::now().checked_add(timeout);
         while self.client_count() == 0 {
-            if Instant::now() >= deadline {
+            if deadline.is_some_and(|d| Instant::now() >= d) {
                 return false;
             }
             std::thread::sleep(Duration::from_millis(20));
@@ -366,14 +374,6 @@ impl LiveServer {
     /// Stops the server now (otherwise it stops when the last clone is dropped): clients are
     /// disconnected and the port is freed.
     pub fn stop(&self) {
-        let server = self
-            .shared
-            .server
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .take();
-        if let Some(server) = server {
-            server.stop().wait_blocking();
-        }
+        self.shared.stop();
     }
 }

@@ -226,20 +226,24 @@ impl McapLog {
         self.channels.iter().map(|c| c.message_count).sum()
     }
 
+    /// The index of the channel on `topic`.
+    fn channel_index(&self, topic: &str) -> Result<usize, LogError> {
+        self.channels
+            .iter()
+            .position(|c| c.topic == topic)
+            .ok_or_else(|| LogError::NoSuchTopic {
+                path: self.path.clone(),
+                topic: topic.to_owned(),
+            })
+    }
+
     /// The channel on `topic` and its messages, if they decode to JSON
     /// ([`well_known::decodable`]).
     fn decodable_messages(
         &self,
         topic: &str,
     ) -> Result<(&ChannelInfo, &[StoredMessage]), LogError> {
-        let index = self
-            .channels
-            .iter()
-            .position(|c| c.topic == topic)
-            .ok_or_else(|| LogError::NoSuchTopic {
-                path: self.path.clone(),
-                topic: topic.to_owned(),
-            })?;
+        let index = self.channel_index(topic)?;
         let channel = &self.channels[index];
         if !well_known::decodable(&channel.message_encoding, &channel.schema_name) {
             return Err(LogError::NotJson {
@@ -307,14 +311,7 @@ impl McapLog {
     where
         T::Error: Send + Sync + 'static,
     {
-        let index = self
-            .channels
-            .iter()
-            .position(|c| c.topic == topic)
-            .ok_or_else(|| LogError::NoSuchTopic {
-                path: self.path.clone(),
-                topic: topic.to_owned(),
-            })?;
+        let index = self.channel_index(topic)?;
         if self.channels[index].message_encoding != "protobuf" {
             return Err(LogError::NotJson {
                 path: self.path.clone(),

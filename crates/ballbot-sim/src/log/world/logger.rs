@@ -22,8 +22,9 @@ use crate::world::telemetry::StepTelemetry;
 /// for the channels).
 ///
 /// Create it with the run's parameters ([`create`](Self::create) for a file,
-/// [`with_sink`](Self::with_sink) for a [`LogSink`] that may serve a live view), call [`record_robot`](Self::record_robot) (with a
-/// [`WorldRobot`]), [`record`](Self::record) (a [`BallbotWorld`] and any controller output) or
+/// [`with_sink`](Self::with_sink) for a [`LogSink`] that may serve a live view), call
+/// [`record_robot`](Self::record_robot) (with a [`WorldRobot`]), [`record`](Self::record) (a
+/// [`BallbotWorld`] and any controller output) or
 /// [`record_telemetry`](Self::record_telemetry) after every physics step, and
 /// [`finish`](Self::finish) at the end. A run that is killed leaves a file that
 /// [`McapLog::open`](crate::log::McapLog::open) reads up to the last closed chunk (at most
