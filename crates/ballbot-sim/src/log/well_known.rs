@@ -8,8 +8,8 @@ use serde_json::Value;
 
 use super::codec::CodecError;
 
-/// The schema names [`to_json`] decodes: the messages the world's log writes, and the single
-/// frame transform.
+/// The schema names that [`McapLog`](super::McapLog) decodes from protobuf: the messages the
+/// world's log writes, and the single frame transform.
 pub const DECODED_SCHEMAS: [&str; 5] = [
     "foxglove.FrameTransform",
     "foxglove.FrameTransforms",
