@@ -5,6 +5,7 @@ carries. And the live view: a WebSocket client connects to `LiveView` as Foxglov
 
 import json
 import threading
+import time
 from pathlib import Path
 from typing import Any
 
@@ -135,3 +136,15 @@ def test_a_live_view_needs_a_free_port() -> None:
     with pytest.raises(ballbot.BallbotError, match="live view"):
         ballbot.LiveView(port=view.port)
     view.close()
+
+
+def test_a_live_view_alone_paces_a_run_to_real_time() -> None:
+    # No file: the run goes to the live view only, and is held to the wall clock.
+    view = ballbot.LiveView(port=0, realtime=True)
+    assert view.realtime and view.client_count() == 0
+    start = time.monotonic()
+    run = ballbot.World().run(4000, live=view)  # 0.5 s simulated
+    elapsed = time.monotonic() - start
+    view.close()
+    assert run.steps == 4000 and run.log_path is None
+    assert elapsed >= 0.45, f"{elapsed:.3f} s of wall time for 0.5 s simulated"
