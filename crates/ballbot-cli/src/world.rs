@@ -20,7 +20,9 @@ use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, WorldLogOptions};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
-use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world, run_world_with_sink};
+use ballbot_sim::studies::world_run::{
+    WorldRunSettings, run_logged_world, run_world_with_sink_after,
+};
 use ballbot_sim::world::{WorldParams, wheel_name};
 use std::io::Write;
 use std::path::PathBuf;
@@ -41,6 +43,10 @@ normal force, cone utilisation, slip speed). With --live, open a Foxglove WebSoc
 to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Size: about
 3.3 MB per simulated second with telemetry at every 8 kHz step, 0.81 MB with --decimate 8
 (1 kHz).";
+
+/// How long `--live` waits, once a client has connected, for it to subscribe before the run
+/// starts.
+const LIVE_SUBSCRIBE_WAIT: Duration = Duration::from_secs(5);
 
 /// Arguments of `ballbot world`.
 #[derive(Debug, Clone, clap::Args)]
@@ -112,7 +118,8 @@ pub struct WorldArgs {
     /// Port of the live view (0 picks a free one, printed).
     #[arg(long, default_value_t = 8765, requires = "live")]
     pub live_port: u16,
-    /// Wait up to this long for Foxglove to connect before the run starts (s, >= 0).
+    /// Wait up to this long for Foxglove to connect before the run starts (s, >= 0); then up
+    /// to 5 s more for it to subscribe to the run's channels.
     #[arg(long, default_value_t = 60.0, requires = "live")]
     pub live_wait_secs: f64,
     /// Run the live view as fast as the simulation goes instead of in real time.
@@ -348,12 +355,20 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
         server.url()
     );
     std::io::stdout().flush()?;
+    let mut connected = false;
     if args.live_wait_secs > 0.0 {
-        let connected = server.wait_for_client(Duration::from_secs_f64(args.live_wait_secs));
+        connected = server.wait_for_client(Duration::from_secs_f64(args.live_wait_secs));
         if !connected {
             println!("no client after {} s: running anyway", args.live_wait_secs);
         }
     }
+    // A connected client subscribes once it has seen the channels, which the run advertises
+    // when it starts: wait for that too, so the client sees the run from its first step.
+    let subscriber_wait = if connected {
+        LIVE_SUBSCRIBE_WAIT
+    } else {
+        Duration::ZERO
+    };
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
@@ -361,7 +376,8 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     let file = McapLogger::create(&args.out, options.logger.clone())
         .with_context(|| format!("ballbot world --out {}", args.out.display()))?;
     let sink = LogSink::file(file).with_live(server.clone());
-    let outcome = run_world_with_sink(params, config, &args.run_settings(), sink, options)
+    let run = args.run_settings();
+    let outcome = run_world_with_sink_after(params, config, &run, sink, options, subscriber_wait)
         .with_context(|| format!("ballbot world --live --out {}", args.out.display()))?;
     server.stop();
     Ok(outcome)

@@ -168,7 +168,20 @@ fn a_websocket_client_on_loopback_reads_the_live_channels_and_messages() {
     }
 
     // Messages of each subscribed channel, stamped with simulated time, decoding as sent.
-    let telemetry = &got.messages[topics::WORLD_TELEMETRY];
+    let counts: BTreeMap<&str, usize> = got
+        .messages
+        .iter()
+        .map(|(t, m)| (t.as_str(), m.len()))
+        .collect();
+    let telemetry = got
+        .messages
+        .get(topics::WORLD_TELEMETRY)
+        .unwrap_or_else(|| {
+            panic!(
+                "no telemetry; received {counts:?}, {} time frames",
+                got.times_ns.len()
+            )
+        });
     assert!(
         telemetry.len() > 100,
         "{} telemetry messages",

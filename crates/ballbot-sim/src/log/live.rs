@@ -95,6 +95,8 @@ struct Shared {
     host: String,
     pace: LivePace,
     clock: Mutex<Clock>,
+    /// Every channel registered, to tell whether a client subscribed to one.
+    channels: Mutex<Vec<Arc<RawChannel>>>,
 }
 
 /// The pacing state: where simulated time was anchored to the wall clock, and when the
@@ -193,6 +195,7 @@ impl LiveServer {
                 host: options.host,
                 pace: options.pace,
                 clock: Mutex::new(Clock::default()),
+                channels: Mutex::new(Vec::new()),
             }),
             buffer: Vec::new(),
         })
@@ -232,6 +235,29 @@ impl LiveServer {
         true
     }
 
+    /// Waits until a client has subscribed to at least one channel registered so far, or
+    /// `timeout` has passed; whether one has. A run that registers its channels, then waits
+    /// here, is seen by Foxglove from its first step.
+    pub fn wait_for_subscriber(&self, timeout: Duration) -> bool {
+        let deadline = Instant::now().checked_add(timeout);
+        loop {
+            let subscribed = self
+                .shared
+                .channels
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .iter()
+                .any(|c| c.has_sinks());
+            if subscribed {
+                return true;
+            }
+            if deadline.is_some_and(|d| Instant::now() >= d) {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
     fn with_server<R>(&self, f: impl FnOnce(&WebSocketServerHandle) -> R) -> Option<R> {
         let server = self
             .shared
@@ -268,6 +294,11 @@ impl LiveServer {
                 address: self.url(),
                 source,
             })?;
+        self.shared
+            .channels
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push(Arc::clone(&raw));
         Ok(LiveChannel {
             raw,
             _message: PhantomData,

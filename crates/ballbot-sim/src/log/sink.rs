@@ -139,6 +139,18 @@ impl LogSink {
         Ok(())
     }
 
+    /// Waits up to `timeout` for a live client to subscribe to one of the channels registered
+    /// so far (`LiveServer::wait_for_subscriber`); whether one has. `true` at once without a
+    /// live view.
+    pub fn wait_for_subscriber(&self, timeout: std::time::Duration) -> bool {
+        #[cfg(feature = "live")]
+        if let Some(server) = &self.live {
+            return server.wait_for_subscriber(timeout);
+        }
+        let _ = timeout;
+        true
+    }
+
     /// Paces the run to the live view ([`LiveServer::pace`]); nothing without one.
     pub fn pace(&self, time_secs: f64) {
         #[cfg(feature = "live")]

@@ -121,6 +121,27 @@ pub fn run_world_with_sink(
     sink: LogSink,
     options: WorldLogOptions,
 ) -> Result<WorldOutcome, WorldRunError> {
+    run_world_with_sink_after(
+        params,
+        config,
+        args,
+        sink,
+        options,
+        std::time::Duration::ZERO,
+    )
+}
+
+/// [`run_world_with_sink`], waiting up to `subscriber_wait` after the channels are registered
+/// (advertised to live clients) for a live client to subscribe, so that it sees the run from
+/// its first step.
+pub fn run_world_with_sink_after(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    args: &WorldRunSettings,
+    sink: LogSink,
+    options: WorldLogOptions,
+    subscriber_wait: std::time::Duration,
+) -> Result<WorldOutcome, WorldRunError> {
     let out = sink
         .path()
         .map_or_else(|| PathBuf::from("live view"), Path::to_owned);
@@ -131,6 +152,9 @@ pub fn run_world_with_sink(
         source,
     };
     let mut log = WorldLogger::with_sink(sink, &params, options).map_err(log_error)?;
+    if !subscriber_wait.is_zero() {
+        log.sink_mut().wait_for_subscriber(subscriber_wait);
+    }
 
     let dt = params.dt_secs;
     let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
