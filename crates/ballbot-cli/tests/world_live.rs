@@ -49,6 +49,8 @@ struct Received {
     channels: BTreeMap<String, Value>,
     messages: BTreeMap<String, Vec<(u64, Vec<u8>)>>,
     times_ns: Vec<u64>,
+    /// Status messages of the server (warnings and errors), for the failure message.
+    statuses: Vec<String>,
     /// When the first and the last telemetry message arrived.
     telemetry_wall: Option<(Instant, Instant)>,
 }
@@ -102,15 +104,24 @@ fn a_websocket_client_on_loopback_reads_the_live_channels_and_messages() {
             Message::Text(text) => {
                 let value: Value = serde_json::from_str(&text).unwrap();
                 if value["op"] == "advertise" {
-                    let mut subscriptions = Vec::new();
                     for channel in value["channels"].as_array().unwrap() {
                         let topic = channel["topic"].as_str().unwrap().to_owned();
-                        if wanted.contains(&topic.as_str()) {
-                            let id = u32::try_from(subscription_topics.len() + 1).unwrap();
-                            subscription_topics.insert(id, topic.clone());
-                            subscriptions.push(json!({"id": id, "channelId": channel["id"]}));
-                        }
                         got.channels.insert(topic, channel.clone());
+                    }
+                } else if value["op"] == "status" {
+                    got.statuses.push(value.to_string());
+                }
+                // Subscribe once every wanted channel has been advertised, as a panel does
+                // once it knows its topics (the server advertises each as the run adds it).
+                if subscription_topics.is_empty()
+                    && wanted.iter().all(|t| got.channels.contains_key(*t))
+                {
+                    let mut subscriptions = Vec::new();
+                    for topic in wanted {
+                        let id = u32::try_from(subscription_topics.len() + 1).unwrap();
+                        subscription_topics.insert(id, topic.to_owned());
+                        let channel_id = &got.channels[topic]["id"];
+                        subscriptions.push(json!({"id": id, "channelId": channel_id}));
                     }
                     let subscribe = json!({"op": "subscribe", "subscriptions": subscriptions});
                     socket.send(Message::text(subscribe.to_string())).unwrap();

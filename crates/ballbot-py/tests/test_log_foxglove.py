@@ -98,12 +98,14 @@ def test_a_websocket_client_watches_a_run_through_the_live_view(tmp_path: Path) 
                 if isinstance(frame, str):
                     msg = json.loads(frame)
                     if msg["op"] == "advertise":
-                        subs = []
                         for ch in msg["channels"]:
                             received["channels"][ch["topic"]] = ch
-                            if ch["topic"] == "/world/telemetry":
-                                subs.append({"id": 7, "channelId": ch["id"]})
-                                subscribed[7] = ch["topic"]
+                    # Subscribe once the run's channels are all advertised (the last is /log).
+                    channels = received["channels"]
+                    if not subscribed and {"/world/telemetry", "/log"} <= channels.keys():
+                        channel_id = channels["/world/telemetry"]["id"]
+                        subscribed[7] = "/world/telemetry"
+                        subs = [{"id": 7, "channelId": channel_id}]
                         ws.send(json.dumps({"op": "subscribe", "subscriptions": subs}))
                 elif frame[0] == 1 and int.from_bytes(frame[1:5], "little") in subscribed:
                     received["telemetry"].append(json.loads(frame[13:]))
