@@ -20,9 +20,7 @@ use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, WorldLogOptions};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
-use ballbot_sim::studies::world_run::{
-    WorldRunSettings, run_logged_world, run_world_with_sink_after,
-};
+use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world, run_world_with_sink};
 use ballbot_sim::world::{WorldParams, wheel_name};
 use std::io::Write;
 use std::path::PathBuf;
@@ -377,7 +375,7 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
         .with_context(|| format!("ballbot world --out {}", args.out.display()))?;
     let sink = LogSink::file(file).with_live(server.clone());
     let run = args.run_settings();
-    let outcome = run_world_with_sink_after(params, config, &run, sink, options, subscriber_wait)
+    let outcome = run_world_with_sink(params, config, &run, sink, options, subscriber_wait)
         .with_context(|| format!("ballbot world --live --out {}", args.out.display()))?;
     server.stop();
     Ok(outcome)

@@ -10,6 +10,7 @@ use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use nalgebra::{Rotation3, Vector3};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 /// Hold before the ramp starts (s).
 pub const SETTLE_SECS: f64 = 0.5;
@@ -108,39 +109,22 @@ pub fn run_logged_world(
             path: out.to_owned(),
             source,
         })?;
-    run_world_with_sink(params, config, args, LogSink::file(file), options)
+    let sink = LogSink::file(file);
+    run_world_with_sink(params, config, args, sink, options, Duration::ZERO)
 }
 
 /// Runs the world with `config` in the loop as `args` say, writing to `sink` (an MCAP file, a
 /// live Foxglove view that paces the run, or both) with `options`, and returns the outcome
-/// (`log` is empty and `log_bytes` 0 without a file).
+/// (`log` is empty and `log_bytes` 0 without a file). With a live view, the run first waits up
+/// to `subscriber_wait` after its channels are registered (advertised to live clients) for a
+/// client to subscribe, so that it sees the run from its first step.
 pub fn run_world_with_sink(
     params: WorldParams,
     config: BallbotControllerConfig<f64>,
     args: &WorldRunSettings,
     sink: LogSink,
     options: WorldLogOptions,
-) -> Result<WorldOutcome, WorldRunError> {
-    run_world_with_sink_after(
-        params,
-        config,
-        args,
-        sink,
-        options,
-        std::time::Duration::ZERO,
-    )
-}
-
-/// [`run_world_with_sink`], waiting up to `subscriber_wait` after the channels are registered
-/// (advertised to live clients) for a live client to subscribe, so that it sees the run from
-/// its first step.
-pub fn run_world_with_sink_after(
-    params: WorldParams,
-    config: BallbotControllerConfig<f64>,
-    args: &WorldRunSettings,
-    sink: LogSink,
-    options: WorldLogOptions,
-    subscriber_wait: std::time::Duration,
+    subscriber_wait: Duration,
 ) -> Result<WorldOutcome, WorldRunError> {
     let out = sink
         .path()
