@@ -25,7 +25,7 @@ fn stand_crooked(rig: &mut Rig, seconds: f64) -> f64 {
 }
 
 fn rig(balance_point: bool) -> Rig {
-    let designed = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    let designed = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap();
     let config = if balance_point {
         designed.with_balance_point_estimation()
     } else {

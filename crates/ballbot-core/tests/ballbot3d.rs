@@ -88,7 +88,15 @@ pub struct Rig {
 }
 
 impl Rig {
+    /// The paper's configuration ([`BallbotControllerConfig::paper`]): the controller's own
+    /// mechanisms (feedforward, shaping, supervisor), without traction-aware control and the
+    /// balance point, which these tests were written to isolate.
     pub fn new() -> Self {
+        Self::with_config(BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap())
+    }
+
+    /// The shipped default ([`BallbotControllerConfig::design`]).
+    pub fn shipped() -> Self {
         Self::with_config(BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap())
     }
 
@@ -191,7 +199,7 @@ pub fn velocity(vx: f64, vy: f64, wz: f64) -> Command<'static, f64> {
 
 #[test]
 fn design_gives_model_md_sign_conventions_and_stable_discrete_gains() {
-    let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg()).unwrap();
+    let config = BallbotControllerConfig::paper(&BallbotParams::<f64>::miapure_60kg()).unwrap();
     let k = config.sagittal.lqr.reduced();
     // The discrete design at 400 Hz, docs/model.md section 6: [-229.9, -44.51, -3.060] (2 %
     // from MODEL.md's continuous [-234.8, -45.70, -3.162]), to the 4 digits printed. (A 10 %
@@ -354,7 +362,7 @@ fn motor_pis_remove_the_speed_error_that_drive_friction_leaves() {
     // (At a steady cruise the ball needs no net torque, so the motors must cancel the friction;
     // the LQR can only produce that torque from a speed error: with k3 < 0 it runs fast.)
     let cruise = |with_pi: bool| {
-        let mut config = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+        let mut config = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap();
         if !with_pi {
             config.motor.proportional_nm_s_per_rad = 0.0;
             config.motor.integral_nm_per_rad = 0.0;
@@ -423,7 +431,7 @@ fn ramp_peaks(config: BallbotControllerConfig<f64>) -> (f64, f64, f64) {
 /// both overshoots (next test).
 #[test]
 fn ramp_overshoot_comes_from_the_lean_feedforward_not_the_integrators() {
-    let design = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    let design = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap();
     let (ball, com, _) = ramp_peaks(design);
     assert_relative_eq!(ball, 1.786, epsilon = 0.005);
     assert_relative_eq!(com, 1.645, epsilon = 0.005);
@@ -450,7 +458,7 @@ fn ramp_overshoot_comes_from_the_lean_feedforward_not_the_integrators() {
 /// forward instead gives 6.7).
 #[test]
 fn the_reference_filter_removes_the_ramp_overshoot() {
-    let design = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    let design = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap();
     let (_, _, accel_off) = ramp_peaks(design);
     let mut filtered = design;
     filtered.shaping.reference_filter_secs = 0.3;
@@ -474,7 +482,7 @@ fn trajectory_feedforward_nm(config: &BallbotControllerConfig<f64>, out: &OuterO
 
 /// A controller whose shaper lets a trajectory through (the world braking study's caps).
 fn trajectory_config() -> BallbotControllerConfig<f64> {
-    let mut config = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    let mut config = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap();
     config.shaping.translation.max_rate_per_s = 20.0;
     config.shaping.translation.max_jerk_per_s2 = 500.0;
     config.shaping.max_tilt_command_rad = 0.5;
@@ -530,7 +538,7 @@ fn trajectory_feedforward_is_the_inverse_dynamics_of_a_pure_tilt() {
 fn trajectory_feedforward_follows_a_brisk_start_and_stop_closely() {
     // A dynamically consistent tilting plan: the sagittal plant's own motion under a brisk
     // velocity command (0 -> 1 m/s -> 0 at 2 m/s^2, 20 m/s^3), recorded every outer period.
-    let mut brisk = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+    let mut brisk = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap();
     brisk.shaping.translation.max_rate_per_s = 2.0;
     brisk.shaping.translation.max_jerk_per_s2 = 20.0;
     brisk.shaping.max_tilt_command_rad = 0.5;

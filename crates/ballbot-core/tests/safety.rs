@@ -289,18 +289,17 @@ fn lean_to_drive_moves_the_robot_along_the_lean() {
     approx::assert_relative_eq!(vy, 6.0 * (0.2 - 0.0524), epsilon = 0.02);
 }
 
-#[test]
-fn follows_a_trajectory_command_to_rest() {
-    // A smooth 1 m/s -> 0 braking profile in 3 s along heading 180 deg (quintic: zero
-    // acceleration and jerk at both ends), sampled at 100 Hz, with the body's equilibrium lean
-    // for its deceleration (as the trajectory optimiser's output has).
+/// The samples of the trajectory tests' braking profile: a smooth 1 m/s -> 0 stop in 3 s along heading
+/// 180 deg (quintic: zero acceleration and jerk at both ends), sampled at 100 Hz, with the
+/// body's equilibrium lean for its deceleration (as the trajectory optimiser's output has).
+fn braking_samples() -> Vec<WipState<f64>> {
     let p = BallbotParams::<f64>::miapure_60kg().sagittal;
     let r = p.ball_radius_m;
     let b = p.ball_inertia_kg_m2 + (p.ball_mass_kg + p.body_mass_kg) * r * r;
     let c = p.body_mass_kg * r * p.com_height_m;
     let lean_per_ball_accel = (b + c) / (p.body_mass_kg * p.gravity_m_per_s2 * p.com_height_m);
     let duration = 3.0;
-    let samples: Vec<WipState<f64>> = (0..=300)
+    (0..=300)
         .map(|k| {
             let x = k as f64 * 0.01 / duration;
             let v = 1.0 - (10.0 * x.powi(3) - 15.0 * x.powi(4) + 6.0 * x.powi(5));
@@ -313,9 +312,17 @@ fn follows_a_trajectory_command_to_rest() {
                 v / r,
             )
         })
-        .collect();
+        .collect()
+}
+
+/// Follows the trajectory of [`braking_samples`] from a 1 m/s cruise on `rig` for 5 s; the
+/// peak speed error and the speed at the end (m/s).
+fn follow_braking_trajectory(mut rig: Rig) -> (f64, f64) {
+    let samples = braking_samples();
     let traj = Trajectory::new(&samples, 0.01, core::f64::consts::PI).unwrap();
-    let mut rig = cruising(-1.0);
+    let r = BallbotParams::<f64>::miapure_60kg().sagittal.ball_radius_m;
+    rig.arm();
+    rig.run(velocity(-1.0, 0.0, 0.0), 4.0);
     let mut peak_error: f64 = 0.0;
     for k in 0..2000 {
         let t = k as f64 * 0.0025;
@@ -328,9 +335,29 @@ fn follows_a_trajectory_command_to_rest() {
         let expected = -traj.sample(t)[BALL_RATE] * r;
         peak_error = peak_error.max((rig.body_speed().0 - expected).abs());
     }
+    let (vx, vy) = rig.body_speed();
+    (peak_error, vx.hypot(vy))
+}
+
+#[test]
+fn follows_a_trajectory_command_to_rest() {
+    let (peak_error, end_speed) = follow_braking_trajectory(Rig::new());
     // Measured 0.056 m/s (6 % of the initial speed).
     assert!(peak_error < 0.08, "peak speed error {peak_error} m/s");
-    assert!(rig.body_speed().0.abs() < 0.01, "{:?}", rig.body_speed());
+    assert!(end_speed < 0.01, "{end_speed} m/s");
+}
+
+#[test]
+fn the_shipped_default_follows_a_trajectory_command_to_rest() {
+    // Traction-aware control and the balance point cost tracking: during the 4 s cruise the
+    // balance point learns the lean that drive friction needs as an offset, which is wrong for
+    // the stop (balance point alone: 0.101 m/s peak error), and the envelope holds the command
+    // back (traction control alone: 0.122 m/s). The learnt offset then decays with the
+    // estimator's 2 s time constant: 2 s after the trajectory's end the robot still creeps at
+    // about 1 cm/s. Measured together: see the assertions.
+    let (peak_error, end_speed) = follow_braking_trajectory(Rig::shipped());
+    assert!(peak_error < 0.15, "peak speed error {peak_error} m/s");
+    assert!(end_speed < 0.02, "{end_speed} m/s");
 }
 
 fn any_f64() -> impl Strategy<Value = f64> {
@@ -406,7 +433,7 @@ proptest! {
         traction in any::<bool>(),
         balance_point in any::<bool>(),
     ) {
-        let designed = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
+        let designed = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg()).unwrap();
         // With and without traction-aware control (envelope, slip monitor) and balance-point
         // estimation.
         let config = if traction { designed.with_traction_control() } else { designed };

@@ -15,7 +15,7 @@ use ballbot_core::safety::{Fault, Mode, ModeRequest};
 /// reference filter that `with_traction_control` adds, so that the shaped command itself
 /// (which the envelope bounds) is what the tests see.
 fn traction_config() -> BallbotControllerConfig<f64> {
-    let mut config = BallbotControllerConfig::design(&BallbotParams::miapure_60kg())
+    let mut config = BallbotControllerConfig::paper(&BallbotParams::miapure_60kg())
         .unwrap()
         .with_traction_control();
     config.shaping.translation.max_value = 8.0;

@@ -28,7 +28,7 @@ def test_quick_campaign_returns_typed_results_matching_the_json(tmp_path: Path) 
     assert written["fault_matrix"]["summary"]["as_expected"] == matrix.as_expected
     assert matrix.to_dict()["cells"][0]["fault"] == written["fault_matrix"]["cells"][0]["class"]
     # Monte Carlo: both controllers, each run re-runnable from its printed seed.
-    assert set(result.monte_carlo) == {"design", "balance_point"}
+    assert set(result.monte_carlo) == {"paper", "design"}
     mc = result.monte_carlo["design"]
     assert mc.runs == 6 and 0.0 <= mc.recovery_rate <= 1.0
     assert mc.recovery_rate == written["monte_carlo"]["recovery_rate"]

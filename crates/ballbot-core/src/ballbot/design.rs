@@ -48,11 +48,11 @@ pub struct BallbotControllerConfig<T> {
     /// How the reference rates map to the omniwheels (see [`WheelMapping`]). Default
     /// [`WheelMapping::RollingBall`].
     pub wheel_mapping: WheelMapping,
-    /// Traction-aware control ([`crate::traction`]): off in [`Self::design`], on with
-    /// [`Self::with_traction_control`].
+    /// Traction-aware control ([`crate::traction`]): on in [`Self::design`] (its
+    /// recommended settings, [`Self::with_traction_control`]), off in [`Self::paper`].
     pub traction: TractionParams<T>,
-    /// Balance-point estimation ([`super::BalancePoint`]): off in [`Self::design`], on with
-    /// [`Self::with_balance_point_estimation`].
+    /// Balance-point estimation ([`super::BalancePoint`]): on in [`Self::design`]
+    /// ([`Self::with_balance_point_estimation`]), off in [`Self::paper`].
     pub balance_point: BalancePointParams<T>,
 }
 
@@ -106,7 +106,9 @@ impl<T: RealField + Copy> BallbotDesign<T> {
 }
 
 impl<T: RealField + Copy> BallbotControllerConfig<T> {
-    /// [`Self::design_with`] the [`BallbotDesign::paper`] weights.
+    /// The shipped controller: [`Self::design_with`] the [`BallbotDesign::paper`] weights, with
+    /// every safety layer the project knows on (traction-aware control and balance-point
+    /// estimation). This is the configuration to run on a robot.
     ///
     /// ```
     /// use ballbot_core::BallbotParams;
@@ -118,13 +120,37 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
     /// // The frontal plane has the smaller torque capacity (83.9 vs 96.9 N m).
     /// approx::assert_relative_eq!(config.frontal.lqr.max_torque_nm, 83.9, epsilon = 0.05);
     /// approx::assert_relative_eq!(config.sagittal.lqr.max_torque_nm, 96.9, epsilon = 0.05);
+    /// // Safe by default: traction-aware control and balance-point estimation are on.
+    /// assert!(config.traction.enabled && config.balance_point.enabled);
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn design(robot: &BallbotParams<T>) -> Result<Self, Error> {
         Self::design_with(robot, &BallbotDesign::paper())
     }
 
-    /// Designs every gain from the model: discrete LQR at the outer period on each plane's
+    /// The configuration the paper's protocols pin: the same gains, shaping and safety as
+    /// [`Self::design`], with traction-aware control and balance-point estimation **off**, as
+    /// the paper's controller has neither. The studies that reproduce the paper's figures run
+    /// it, so that the comparison with the paper stays reproducible while the default improves;
+    /// a robot should run [`Self::design`].
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::BallbotControllerConfig;
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let paper = BallbotControllerConfig::paper(&robot)?;
+    /// assert!(!paper.traction.enabled && !paper.balance_point.enabled);
+    /// // The shipped default is exactly the paper's configuration with both layers on.
+    /// let shipped = paper.with_traction_control().with_balance_point_estimation();
+    /// assert_eq!(shipped, BallbotControllerConfig::design(&robot)?);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn paper(robot: &BallbotParams<T>) -> Result<Self, Error> {
+        Self::designed_gains(robot, &BallbotDesign::paper())
+    }
+
+    /// Designs every gain from the model, with traction-aware control and balance-point
+    /// estimation on as in [`Self::design`]: discrete LQR at the outer period on each plane's
     /// upright linearisation and on the spin model (torque limits: the planar torque
     /// capacity of the drivetrain), the motor PI from [`motor_speed_pi_gains`], and the
     /// MiaPURE shaping and safety defaults (wheel-speed limits from the robot's actuator).
@@ -146,6 +172,14 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn design_with(robot: &BallbotParams<T>, design: &BallbotDesign<T>) -> Result<Self, Error> {
+        Ok(Self::designed_gains(robot, design)?
+            .with_traction_control()
+            .with_balance_point_estimation())
+    }
+
+    /// Every gain designed from the model, traction-aware control and balance-point estimation
+    /// off (the body of [`Self::design_with`] and [`Self::paper`]).
+    fn designed_gains(robot: &BallbotParams<T>, design: &BallbotDesign<T>) -> Result<Self, Error> {
         let kin = OmniKinematics::from_ballbot(robot)?;
         let capacity = kin.planar_torque_capacity_nm();
         let dt = design.outer_dt_secs;
@@ -236,12 +270,12 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
     }
 
     /// **An ablation, not a recommendation**: the paper's controller as we read it, built from
-    /// [`Self::design`] with two changes, the upright wheel mapping of MODEL.md section 4
+    /// [`Self::paper`] with two changes, the upright wheel mapping of MODEL.md section 4
     /// ([`WheelMapping::Upright`]) and no jerk limit on the translation command
     /// ([`AxisLimits::unlimited_jerk_per_s2`]; the paper
     /// describes no command shaping). Everything else (gains, speed and acceleration caps,
-    /// safety) is the designed configuration's. It exists to show in the world what the
-    /// designed controller's two departures from the paper change; the default controller
+    /// safety) is [`Self::paper`]'s. It exists to show in the world what the designed
+    /// controller's two departures from the paper change; the default controller
     /// ([`Self::design`]) is the one to run.
     ///
     /// ```
@@ -249,7 +283,7 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
     /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, WheelMapping};
     /// let robot = BallbotParams::<f64>::miapure_60kg();
     /// let paper = BallbotControllerConfig::with_paper_ablation(&robot)?;
-    /// let designed = BallbotControllerConfig::design(&robot)?;
+    /// let designed = BallbotControllerConfig::paper(&robot)?;
     /// assert_eq!(paper.wheel_mapping, WheelMapping::Upright);
     /// assert_eq!(paper.shaping.translation.max_jerk_per_s2, f64::INFINITY);
     /// // Nothing else differs.
@@ -261,7 +295,7 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn with_paper_ablation(robot: &BallbotParams<T>) -> Result<Self, Error> {
-        let mut config = Self::design(robot)?;
+        let mut config = Self::paper(robot)?;
         config.wheel_mapping = WheelMapping::Upright;
         config.shaping.translation.max_jerk_per_s2 = AxisLimits::<T>::unlimited_jerk_per_s2();
         Ok(config)

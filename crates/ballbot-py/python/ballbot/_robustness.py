@@ -28,7 +28,7 @@ class FaultCell(_Result):
     """One cell of the fault-injection matrix: one fault, condition, heading and controller."""
 
     controller: str
-    """``"design"`` or ``"balance_point"``."""
+    """``"paper"`` or ``"design"``."""
     fault: str
     """The fault class, e.g. ``"imu_stale"``."""
     condition: str
@@ -176,7 +176,7 @@ class MonteCarlo(_Result):
     """The Monte Carlo study of one controller."""
 
     controller: str
-    """``"design"`` or ``"balance_point"``."""
+    """``"paper"`` or ``"design"``."""
     settings: dict[str, Any]
     """The settings it ran with."""
     runs: int
@@ -276,7 +276,7 @@ class Robustness(_Result):
     fault_matrix: FaultMatrix
     """The fault-injection matrix in the 3D world."""
     monte_carlo: dict[str, MonteCarlo]
-    """The Monte Carlo study per controller (``"design"``, ``"balance_point"``)."""
+    """The Monte Carlo study per controller (``"paper"``, ``"design"``)."""
 
     @classmethod
     def _from_json(cls, d: dict[str, Any]) -> Robustness:

@@ -85,7 +85,7 @@ pub fn max_speed_ramp(
     heading_deg: f64,
     ramp: &RampParams,
 ) -> Result<RampResult, WorldError> {
-    let config = BallbotControllerConfig::design(&params.robot)?;
+    let config = BallbotControllerConfig::paper(&params.robot)?;
     max_speed_ramp_with_config(params, config, heading_deg, ramp)
 }
 

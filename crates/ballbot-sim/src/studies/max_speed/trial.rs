@@ -135,7 +135,7 @@ pub fn controller(
     params: &WorldParams,
     protocol: &MaxSpeedProtocol,
 ) -> Result<BallbotControllerConfig<f64>, WorldError> {
-    let mut config = BallbotControllerConfig::design(&params.robot)?;
+    let mut config = BallbotControllerConfig::paper(&params.robot)?;
     protocol.shaper.apply(&mut config);
     Ok(config)
 }

@@ -88,8 +88,10 @@ impl Mechanism {
 /// The controller a run uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ControllerVariant {
-    /// The core's controller as shipped (wheel mapping with the lean term, jerk-limited
-    /// command), with the protocol's shaper caps lifted ([`max_speed::controller`]).
+    /// The core's designed controller in the paper's configuration
+    /// ([`BallbotControllerConfig::paper`]: wheel mapping with the lean term, jerk-limited
+    /// command, no traction-aware control), with the protocol's shaper caps lifted
+    /// ([`max_speed::controller`]).
     Corrected,
     /// The paper's robot as an ablation: the same controller and caps with the upright wheel
     /// mapping (no lean term, [`WheelMapping::Upright`]) and no jerk limit on the command

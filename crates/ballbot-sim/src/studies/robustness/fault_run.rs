@@ -65,36 +65,36 @@ impl CellProtocol {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ControllerVariant {
-    /// [`BallbotControllerConfig::design`]: what an engineer gets by default.
+    /// [`BallbotControllerConfig::paper`]: the paper's configuration, traction-aware control
+    /// and balance-point estimation off (the default before they were turned on).
+    Paper,
+    /// [`BallbotControllerConfig::design`]: what an engineer gets by default (traction-aware
+    /// control and balance-point estimation on).
     Design,
-    /// The design with balance-point estimation
-    /// ([`BallbotControllerConfig::with_balance_point_estimation`]).
-    BalancePoint,
 }
 
 impl ControllerVariant {
     /// Both variants.
-    pub const ALL: [Self; 2] = [Self::Design, Self::BalancePoint];
+    pub const ALL: [Self; 2] = [Self::Paper, Self::Design];
 
     /// The canonical name.
     ///
     /// ```
     /// use ballbot_sim::studies::robustness::ControllerVariant;
-    /// assert_eq!(ControllerVariant::BalancePoint.as_str(), "balance_point");
+    /// assert_eq!(ControllerVariant::Paper.as_str(), "paper");
     /// ```
     pub fn as_str(self) -> &'static str {
         match self {
+            Self::Paper => "paper",
             Self::Design => "design",
-            Self::BalancePoint => "balance_point",
         }
     }
 
     /// The variant's configuration for `world`'s robot.
     pub fn config(self, world: &WorldParams) -> Result<BallbotControllerConfig<f64>, WorldError> {
-        let designed = BallbotControllerConfig::design(&world.robot)?;
         Ok(match self {
-            Self::Design => designed,
-            Self::BalancePoint => designed.with_balance_point_estimation(),
+            Self::Paper => BallbotControllerConfig::paper(&world.robot)?,
+            Self::Design => BallbotControllerConfig::design(&world.robot)?,
         })
     }
 }

@@ -15,12 +15,13 @@ pub const SAMPLE_PERIOD_SECS: f64 = 0.01;
 /// Which controller a run uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Control {
-    /// The designed controller with the study's shaper caps lifted (the envelope alone limits).
+    /// The paper's configuration ([`BallbotControllerConfig::paper`]) with traction-aware
+    /// control on and the study's shaper caps lifted (the envelope alone limits).
     TractionOn,
     /// The same without traction-aware control.
     TractionOff,
-    /// The designed controller as shipped: default shaping (1 m/s^2, 2 m/s^3), no traction
-    /// control (the reference for the stop).
+    /// The controller as shipped ([`BallbotControllerConfig::design`]): default shaping
+    /// (1 m/s^2, 2 m/s^3), traction-aware control and balance-point estimation on.
     Shipped,
 }
 
@@ -40,10 +41,11 @@ impl Control {
         params: &WorldParams,
         caps: &ShaperLimits,
     ) -> Result<BallbotControllerConfig<f64>, WorldError> {
-        let mut config = BallbotControllerConfig::design(&params.robot)?;
-        if self != Self::Shipped {
-            caps.apply(&mut config);
+        if self == Self::Shipped {
+            return Ok(BallbotControllerConfig::design(&params.robot)?);
         }
+        let mut config = BallbotControllerConfig::paper(&params.robot)?;
+        caps.apply(&mut config);
         if self == Self::TractionOn {
             config = config.with_traction_control();
         }

@@ -219,7 +219,7 @@ impl BrakingParams {
 pub fn braking_controller_config(
     robot: &BallbotParams<f64>,
 ) -> Result<BallbotControllerConfig<f64>, WorldError> {
-    let mut config = BallbotControllerConfig::design(robot)?;
+    let mut config = BallbotControllerConfig::paper(robot)?;
     config.shaping.translation.max_rate_per_s = 20.0;
     config.shaping.translation.max_jerk_per_s2 = 500.0;
     config.shaping.max_tilt_command_rad = 0.5;

@@ -148,10 +148,8 @@ pub fn run_fuzz(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<FuzzResult, WorldError> {
     settings.validate()?;
-    let designed = BallbotControllerConfig::design(robot)?;
-    let all_on = designed
-        .with_traction_control()
-        .with_balance_point_estimation();
+    let designed = BallbotControllerConfig::paper(robot)?;
+    let all_on = BallbotControllerConfig::design(robot)?;
     let total = settings.hostile_episodes + settings.accepted_episodes;
     let jobs: Vec<usize> = (0..total).collect();
     let done = AtomicUsize::new(0);
