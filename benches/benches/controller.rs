@@ -31,7 +31,7 @@ use std::hint::black_box;
 /// readings change every step (a frozen IMU would trip the supervisor).
 fn bench_outer<T: RealField + Copy>(c: &mut Criterion, name: &str) {
     let v = |x: f64| -> T { nalgebra::convert(x) };
-    let config = BallbotControllerConfig::design(&BallbotParams::<T>::miapure_60kg()).unwrap();
+    let config = BallbotControllerConfig::paper(&BallbotParams::<T>::miapure_60kg()).unwrap();
     let mut outer = BallbotController::new(config).unwrap();
     let mut input = OuterInput {
         now_us: 0,
@@ -74,7 +74,7 @@ fn bench_outer<T: RealField + Copy>(c: &mut Criterion, name: &str) {
 /// yaw rate), so the slip monitor runs its quiet path as on a robot that does not slip.
 fn bench_outer_traction(c: &mut Criterion) {
     let robot = BallbotParams::<f64>::miapure_60kg();
-    let config = BallbotControllerConfig::design(&robot)
+    let config = BallbotControllerConfig::paper(&robot)
         .unwrap()
         .with_traction_control();
     let kin = OmniKinematics::from_ballbot(&robot).unwrap();
@@ -141,7 +141,7 @@ fn bench_shaper(c: &mut Criterion) {
 
 fn bench_inner(c: &mut Criterion) {
     let robot = BallbotParams::<f64>::miapure_60kg();
-    let config = BallbotControllerConfig::design(&robot).unwrap();
+    let config = BallbotControllerConfig::paper(&robot).unwrap();
     let mut motor = MotorSpeedPi::new(config.motor, &robot.drivetrain.actuator).unwrap();
     let speeds: [f64; 8] = core::array::from_fn(|i| 1.9 + i as f64 * 0.01);
     let mut k: usize = 0;

@@ -118,8 +118,9 @@ fn lqr_pi_outer_step_f64(n: u64) -> Result<(), String> {
 mod three_d {
     use super::*;
 
-    /// The 3D controller's outer step (400 Hz): safety, estimation, shaping, two LQR-PI planes and
-    /// the spin plane, the kinematic mapping. Armed and balancing, following a velocity command,
+    /// The 3D controller's outer step (400 Hz) in the paper's configuration
+    /// ([`BallbotControllerConfig::paper`]: traction-aware control and the balance point off):
+    /// safety, estimation, shaping, two LQR-PI planes and the spin plane, the kinematic mapping. Armed and balancing, following a velocity command,
     /// with IMU readings that change every step (as real ones do).
     fn ballbot_outer_step<T: nalgebra::RealField + Copy>(n: u64) -> Result<(), String> {
         use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, OuterInput};
@@ -127,7 +128,7 @@ mod three_d {
         use ballbot_core::estimation::{EncoderSample, ImuSample};
         use ballbot_core::safety::ModeRequest;
         let c = |x: f64| -> T { nalgebra::convert(x) };
-        let config = BallbotControllerConfig::design(&BallbotParams::<T>::miapure_60kg())
+        let config = BallbotControllerConfig::paper(&BallbotParams::<T>::miapure_60kg())
             .map_err(|e| e.to_string())?;
         let mut outer = BallbotController::new(config).map_err(|e| e.to_string())?;
         let command = Command::Velocity(VelocityCommand {
@@ -186,7 +187,7 @@ mod three_d {
         use ballbot_core::estimation::{EncoderSample, ImuSample};
         use ballbot_core::safety::ModeRequest;
         let robot = BallbotParams::<f64>::miapure_60kg();
-        let config = BallbotControllerConfig::design(&robot)
+        let config = BallbotControllerConfig::paper(&robot)
             .map_err(|e| e.to_string())?
             .with_traction_control();
         let kin = OmniKinematics::from_ballbot(&robot).map_err(|e| e.to_string())?;
@@ -267,7 +268,7 @@ mod three_d {
     pub(crate) fn motor_pi_step_f64(n: u64) -> Result<(), String> {
         use ballbot_core::ballbot::{BallbotControllerConfig, MotorSpeedPi};
         let robot = BallbotParams::<f64>::miapure_60kg();
-        let config = BallbotControllerConfig::design(&robot).map_err(|e| e.to_string())?;
+        let config = BallbotControllerConfig::paper(&robot).map_err(|e| e.to_string())?;
         let mut motor = MotorSpeedPi::new(config.motor, &robot.drivetrain.actuator)
             .map_err(|e| e.to_string())?;
         let speeds: [f64; 8] = core::array::from_fn(|i| 1.9 + i as f64 * 0.01);

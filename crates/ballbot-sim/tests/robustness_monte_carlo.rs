@@ -1,8 +1,11 @@
 //! Monte Carlo robustness (issue 15, section 3): the sampler's ranges, determinism and
 //! independence of the thread count, and that a sampled robot differs from the nominal one.
 
+use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_sim::rig::{NoFaults, WorldRobot};
+use ballbot_sim::studies::push::{PushParams, push_trial_with};
 use ballbot_sim::studies::robustness::{
-    Mismatch, MonteCarloSettings, run_monte_carlo, run_one, run_seed,
+    Mismatch, MonteCarloCount, MonteCarloSettings, run_monte_carlo, run_one, run_seed,
 };
 use ballbot_sim::world::WorldParams;
 
@@ -90,4 +93,34 @@ fn runs_do_not_depend_on_the_thread_count_and_rerun_from_their_seed() {
     assert_eq!(run_one(&nominal, &settings, 2).unwrap(), one.all_runs[2]);
     // A 40 N s push at the COM: every one of these robots stays up.
     assert_eq!(one.stayed_up, 3, "{:?}", one.all_runs);
+}
+
+#[test]
+fn counting_falls_relaxes_the_slip_and_lift_off_rules_only() {
+    // A push away from OW1 (180 deg) of 86 N s: beyond the 79 N s the lift-off stop rule
+    // allows (a wheel off the ball for more than 20 ms), below where the robot falls
+    // (about 95 N s with the rules relaxed).
+    let trial = |count: MonteCarloCount| {
+        let world = count.apply_to(WorldParams::miapure_60kg());
+        let config = BallbotControllerConfig::paper(&world.robot).unwrap();
+        let sim = WorldRobot::with_config(world, config).unwrap();
+        push_trial_with(
+            sim,
+            &mut NoFaults,
+            &PushParams::default(),
+            180.0,
+            86.0,
+            &mut |_| {},
+        )
+        .unwrap()
+    };
+    let by_rules = trial(MonteCarloCount::StopRules);
+    let by_falls = trial(MonteCarloCount::Falls);
+    println!("stop rules: {:?}; falls: {:?}", by_rules.outcome, by_falls.outcome);
+    assert!(!MonteCarloCount::StopRules.stayed_up(&by_rules));
+    assert!(MonteCarloCount::Falls.stayed_up(&by_falls));
+    // The tilt bound of the fall count is the world's 25 deg, which the rules keep.
+    let relaxed = MonteCarloCount::Falls.apply_to(WorldParams::miapure_60kg());
+    assert_eq!(relaxed.failure.max_tilt_rad, 25f64.to_radians());
+    assert!(relaxed.validate().is_ok());
 }

@@ -19,7 +19,8 @@ pub mod mismatch;
 pub mod monte_carlo;
 pub use mismatch::{Mismatch, SensorBias};
 pub use monte_carlo::{
-    LimitQuantiles, MonteCarlo, MonteCarloRun, MonteCarloSettings, Throughput, run_monte_carlo,
+    LimitQuantiles, MonteCarlo, MonteCarloCount, MonteCarloRun, MonteCarloSettings, Throughput,
+    run_monte_carlo,
     run_one, run_seed, wilson_interval_95,
 };
 pub mod fuzz;

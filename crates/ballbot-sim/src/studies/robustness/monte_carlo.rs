@@ -25,6 +25,8 @@ use std::time::Instant;
 pub struct MonteCarloSettings {
     /// The controller (designed for the nominal robot).
     pub controller: ControllerVariant,
+    /// What counts as not staying up: the world's stop rules, or falls only.
+    pub count: MonteCarloCount,
     /// Runs at the push impulse.
     pub runs: usize,
     /// Runs (the first ones) that also bisect their largest recovered push.
@@ -44,6 +46,65 @@ pub struct MonteCarloSettings {
     pub search: PushSearch,
 }
 
+/// What a Monte Carlo run counts as not staying up.
+///
+/// ```
+/// use ballbot_sim::studies::robustness::MonteCarloCount;
+/// assert_eq!(MonteCarloCount::Falls.as_str(), "falls");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MonteCarloCount {
+    /// The world's stop rules ([`crate::world::FailureParams`]): a wheel slipping for longer
+    /// than 0.1 s or off the ball for longer than 20 ms ends the run as a failure, as do the
+    /// falls below. A slip or a lift-off is not a fall, so this counts some recoveries as
+    /// failures.
+    StopRules,
+    /// Falls only: the slip and lift-off stop rules relaxed (their durations set beyond any
+    /// run), so a run fails only when the body tilts 25 deg from the vertical, touches the
+    /// floor, or a motor driver trips ([`crate::world::FailureParams`]'s other rules).
+    Falls,
+}
+
+impl MonteCarloCount {
+    /// Both, the published protocol first.
+    pub const ALL: [Self; 2] = [Self::StopRules, Self::Falls];
+
+    /// The canonical (snake_case) name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::StopRules => "stop_rules",
+            Self::Falls => "falls",
+        }
+    }
+
+    /// Whether `trial` stayed up under this count: with the stop rules, no failure and the
+    /// tilt below the push's 15 deg bound ([`PushTrial::stayed_up`]); counting falls, no
+    /// failure of the world (a lean beyond 15 deg that the robot recovers from is not a fall).
+    pub fn stayed_up(self, trial: &PushTrial) -> bool {
+        match self {
+            Self::StopRules => trial.stayed_up(),
+            Self::Falls => !matches!(trial.outcome, PushOutcome::Failed(_)),
+        }
+    }
+
+    /// `world` with this count's failure rules.
+    ///
+    /// ```
+    /// use ballbot_sim::studies::robustness::MonteCarloCount;
+    /// use ballbot_sim::world::WorldParams;
+    /// let world = MonteCarloCount::Falls.apply_to(WorldParams::miapure_60kg());
+    /// assert_eq!(world.failure.max_lift_off_duration_secs, f64::MAX);
+    /// ```
+    pub fn apply_to(self, mut world: WorldParams) -> WorldParams {
+        if self == Self::Falls {
+            world.failure.max_slip_duration_secs = f64::MAX;
+            world.failure.max_lift_off_duration_secs = f64::MAX;
+        }
+        world
+    }
+}
+
 impl MonteCarloSettings {
     /// The issue's size: 1,000 runs at 40 N s with +-20 % mismatch, 100 of them bisected.
     ///
@@ -54,6 +115,7 @@ impl MonteCarloSettings {
     pub fn full() -> Self {
         Self {
             controller: ControllerVariant::Design,
+            count: MonteCarloCount::StopRules,
             runs: 1000,
             limit_runs: 100,
             impulse_ns: 40.0,
@@ -168,8 +230,9 @@ pub struct MonteCarloRun {
     pub mismatch: Mismatch,
     /// How the push ended (`recovered`, `tilt_exceeded`, `failed`, `not_at_rest`).
     pub outcome: &'static str,
-    /// Whether it stayed up: no failure of the world, tilt below 15 deg (outcome `recovered`
-    /// or `not_at_rest`).
+    /// Whether it stayed up ([`MonteCarloCount::stayed_up`]): with the stop rules, no failure
+    /// of the world and the tilt below 15 deg (outcome `recovered` or `not_at_rest`); counting
+    /// falls, no failure of the world.
     pub stayed_up: bool,
     /// Whether it also came to rest: below 0.1 m/s and 3 deg from 3 s after the push on
     /// (outcome `recovered`).
@@ -271,7 +334,7 @@ pub fn run_one(
     let seed = run_seed(settings.seed, index);
     let mismatch = Mismatch::sample(seed, settings.fraction);
     let config = settings.controller.config(nominal)?;
-    let mut world = mismatch.apply(nominal);
+    let mut world = settings.count.apply_to(mismatch.apply(nominal));
     world.sensors.seed = seed;
     let params = settings.push_params();
     let mut trial_at = |impulse_ns: f64| -> Result<PushTrial, WorldError> {
@@ -291,7 +354,7 @@ pub fn run_one(
             &settings.search,
             mismatch.heading_deg,
             &mut trial_at,
-            &PushTrial::stayed_up,
+            &|trial: &PushTrial| settings.count.stayed_up(trial),
             &mut |_| {},
         )?;
         Some(search.largest_recovered_ns)
@@ -307,7 +370,7 @@ pub fn run_one(
         seed,
         mismatch,
         outcome: trial.outcome.label(),
-        stayed_up: trial.stayed_up(),
+        stayed_up: settings.count.stayed_up(&trial),
         recovered: trial.recovered(),
         failure,
         peak_tilt_deg: trial.peak_tilt_rad.to_degrees(),
