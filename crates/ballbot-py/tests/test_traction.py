@@ -1,5 +1,6 @@
-"""Traction-aware control from Python: ``WorldLoop(traction_control=True)``, its per-step
-report (``WorldLoop.traction``) and its envelope (``WorldLoop.traction_envelope()``)."""
+"""Traction-aware control from Python: ``WorldLoop(traction_control=True)`` (the default),
+its per-step report (``WorldLoop.traction``) and its envelope
+(``WorldLoop.traction_envelope()``)."""
 
 from __future__ import annotations
 
@@ -10,11 +11,15 @@ import numpy as np
 import ballbot
 
 
-def test_off_by_default() -> None:
+def test_on_by_default_and_off_on_request() -> None:
     loop = ballbot.WorldLoop()
     loop.run(400)
-    assert loop.traction is None
-    assert loop.traction_envelope() is None
+    assert loop.traction is not None
+    assert loop.traction_envelope() is not None
+    paper = ballbot.WorldLoop(traction_control=False, balance_point=False)
+    paper.run(400)
+    assert paper.traction is None
+    assert paper.traction_envelope() is None
 
 
 def test_envelope_is_weakest_towards_ow1() -> None:

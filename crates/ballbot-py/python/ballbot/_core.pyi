@@ -1600,7 +1600,8 @@ class WorldLoop:
         max_tilt_command_rad: Optional[float] = None,
         max_tilt_rate_command_rad_per_s: Optional[float] = None,
         wheel_mapping: Optional[Literal["rolling_ball", "upright"]] = None,
-        traction_control: bool = False,
+        traction_control: bool = True,
+        balance_point: bool = True,
     ) -> WorldLoop: ...
     @property
     def mode(self) -> Mode: ...

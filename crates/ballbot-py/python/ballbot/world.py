@@ -5,7 +5,8 @@ controller in the loop (``mode`` is a ``Mode``). Their parameters (``WorldParams
 parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``), failures
 (``Failure`` with a ``FailureKind``; wheels named ``"OW1"``..``"OW3"``) and run results
 (``WorldRun``, ``WorldLoopRun``); traction-aware control's report and envelope
-(``TractionStatus``, ``TractionEnvelope``; ``WorldLoop(traction_control=True)``).
+(``TractionStatus``, ``TractionEnvelope``; on by default, ``WorldLoop(traction_control=False)``
+turns it off).
 """
 
 from ballbot._core import (

@@ -33,17 +33,22 @@ pub(crate) struct Shaping {
     pub(crate) wheel_mapping: Option<WheelMapping>,
     /// Traction-aware control on (`BallbotControllerConfig::with_traction_control`).
     pub(crate) traction_control: bool,
+    /// Balance-point estimation on
+    /// (`BallbotControllerConfig::with_balance_point_estimation`).
+    pub(crate) balance_point: bool,
 }
 
 impl Shaping {
-    /// The controller designed from the robot with these overrides.
+    /// The controller designed from the robot with these overrides: the paper's configuration
+    /// (`BallbotControllerConfig::paper`) with the layers asked for; with both on, the shipped
+    /// default (`BallbotControllerConfig::design`).
     pub(crate) fn config(
         &self,
         py: Python<'_>,
         params: &WorldParams,
     ) -> PyResult<BallbotControllerConfig<f64>> {
         let mut config =
-            BallbotControllerConfig::design(&params.robot).map_err(|e| core_error(py, e))?;
+            BallbotControllerConfig::paper(&params.robot).map_err(|e| core_error(py, e))?;
         let shaping = &mut config.shaping;
         for (value, name, slot) in [
             (
@@ -94,6 +99,9 @@ impl Shaping {
         if self.traction_control {
             config = config.with_traction_control();
         }
+        if self.balance_point {
+            config = config.with_balance_point_estimation();
+        }
         Ok(config)
     }
 }
@@ -112,17 +120,21 @@ world_class! {
     /// simulated IMU and encoders, the per-motor speed PIs (8 kHz) drive the wheels. Every
     /// `World` method that inspects or disturbs the world is here too.
     ///
-    /// The controller is designed from the robot (`BallbotControllerConfig::design`); the
+    /// The controller is designed from the robot (`BallbotControllerConfig::design`, the
+    /// shipped default); the
     /// keyword arguments `max_speed_m_per_s`, `max_accel_m_per_s2`, `max_jerk_m_per_s3`,
     /// `max_tilt_command_rad`, `max_tilt_rate_command_rad_per_s` override its command
     /// shaping (defaults 2.0 m/s, 1.0 m/s^2, 2.0 m/s^3, 0.2 rad, 1.0 rad/s; `max_jerk_m_per_s3 =
     /// math.inf` removes the jerk limit). `wheel_mapping` chooses how the reference rates map to
     /// the wheels: `"rolling_ball"` (default) or `"upright"`, the paper's mapping, an ablation
     /// (`WheelMapping` in the core; with `max_jerk_m_per_s3 = math.inf` this is
-    /// `BallbotControllerConfig::with_paper_ablation`). `traction_control = True` turns on
-    /// traction-aware control (`BallbotControllerConfig::with_traction_control`: the
+    /// `BallbotControllerConfig::with_paper_ablation`). `traction_control` (default `True`)
+    /// is traction-aware control (`BallbotControllerConfig::with_traction_control`: the
     /// direction-dependent acceleration envelope, slip and lift-off detection); `traction`
     /// then reports each outer step and `traction_envelope()` gives the envelope.
+    /// `balance_point` (default `True`) is balance-point estimation
+    /// (`BallbotControllerConfig::with_balance_point_estimation`). With both `False` the
+    /// controller is the paper's configuration (`BallbotControllerConfig::paper`).
     PyWorldLoop("WorldLoop") {
         inner: WorldRobot,
         world: |this| this.inner.world(),
@@ -134,7 +146,7 @@ world_class! {
             params = None, *, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
             max_jerk_m_per_s3 = None, max_tilt_command_rad = None,
             max_tilt_rate_command_rad_per_s = None, wheel_mapping = None,
-            traction_control = false,
+            traction_control = true, balance_point = true,
         ))]
         #[allow(clippy::too_many_arguments)]
         fn py_new(
@@ -147,6 +159,7 @@ world_class! {
             max_tilt_rate_command_rad_per_s: Option<f64>,
             wheel_mapping: Option<&str>,
             traction_control: bool,
+            balance_point: bool,
         ) -> PyResult<Self> {
             let params = params_or_default(params);
             let wheel_mapping = wheel_mapping
@@ -168,6 +181,7 @@ world_class! {
                 max_tilt_rate_command_rad_per_s,
                 wheel_mapping,
                 traction_control,
+                balance_point,
             }
             .config(py, &params)?;
             let inner = WorldRobot::with_config(params, config).map_err(|e| world_error(py, e))?;
