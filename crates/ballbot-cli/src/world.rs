@@ -46,6 +46,15 @@ to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Si
 /// starts.
 const LIVE_SUBSCRIBE_WAIT: Duration = Duration::from_secs(5);
 
+/// The controller configuration `ballbot world --controller` runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ControllerChoice {
+    /// The shipped default (`BallbotControllerConfig::design`).
+    Design,
+    /// The paper's configuration (`BallbotControllerConfig::paper`).
+    Paper,
+}
+
 /// Arguments of `ballbot world`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct WorldArgs {
@@ -88,11 +97,17 @@ pub struct WorldArgs {
     /// Simulated time kept running after a failure, to see the fall (s, >= 0).
     #[arg(long, default_value_t = 0.25)]
     pub after_failure_secs: f64,
-    /// Time constant of the command shaper's reference filter (s, >= 0; 0, the core's
-    /// default, is off). About 0.3 s removes the speed overshoot of a velocity ramp
-    /// (`CommandShaperParams::reference_filter_secs`, docs/embedding.md).
-    #[arg(long, default_value_t = 0.0)]
-    pub reference_filter_secs: f64,
+    /// The controller configuration: `design`, the shipped default (traction-aware control
+    /// and balance-point estimation on), or `paper`, the configuration the paper's studies
+    /// pin (both off) (`BallbotControllerConfig::design` / `::paper`).
+    #[arg(long, value_enum, default_value_t = ControllerChoice::Design)]
+    pub controller: ControllerChoice,
+    /// Time constant of the command shaper's reference filter (s, >= 0; 0 is off). Default:
+    /// the controller's own (0.3 s in `design`, off in `paper`), which removes the speed
+    /// overshoot of a velocity ramp (`CommandShaperParams::reference_filter_secs`,
+    /// docs/embedding.md).
+    #[arg(long)]
+    pub reference_filter_secs: Option<f64>,
     /// The MCAP log to write (its folder is created).
     #[arg(long, default_value = "out/world.mcap")]
     pub out: PathBuf,
@@ -139,7 +154,8 @@ impl Default for WorldArgs {
             push_at_secs: 2.0,
             push_heading_deg: 90.0,
             after_failure_secs: 0.25,
-            reference_filter_secs: 0.0,
+            controller: ControllerChoice::Design,
+            reference_filter_secs: None,
             out: PathBuf::from("out/world.mcap"),
             decimate: 1,
             scene_hz: 50.0,
@@ -224,12 +240,14 @@ impl WorldArgs {
             "finite and >= 0",
             self.after_failure_secs,
         )?;
-        check(
-            finite(self.reference_filter_secs) && self.reference_filter_secs >= 0.0,
-            "--reference-filter-secs",
-            "finite and >= 0",
-            self.reference_filter_secs,
-        )?;
+        if let Some(filter_secs) = self.reference_filter_secs {
+            check(
+                finite(filter_secs) && filter_secs >= 0.0,
+                "--reference-filter-secs",
+                "finite and >= 0",
+                filter_secs,
+            )?;
+        }
         check(
             finite(self.scene_hz) && self.scene_hz > 0.0 && self.scene_hz <= 1000.0,
             "--scene-hz",
@@ -268,11 +286,17 @@ impl WorldArgs {
         &self,
         params: &WorldParams,
     ) -> anyhow::Result<BallbotControllerConfig<f64>> {
-        let mut config = BallbotControllerConfig::design(&params.robot).context(
+        let designed = match self.controller {
+            ControllerChoice::Design => BallbotControllerConfig::design(&params.robot),
+            ControllerChoice::Paper => BallbotControllerConfig::paper(&params.robot),
+        };
+        let mut config = designed.context(
             "cannot design the controller for this robot (--wheel-ball-friction/--com-height-m)",
         )?;
         let shaping = &mut config.shaping;
-        shaping.reference_filter_secs = self.reference_filter_secs;
+        if let Some(filter_secs) = self.reference_filter_secs {
+            shaping.reference_filter_secs = filter_secs;
+        }
         if self.top_speed_m_per_s > shaping.translation.max_value {
             shaping.translation.max_value = self.top_speed_m_per_s;
         }

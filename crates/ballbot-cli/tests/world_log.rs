@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::process::Command;
 
-use ballbot_cli::world::{WorldArgs, simulate};
+use ballbot_cli::world::{ControllerChoice, WorldArgs, simulate};
 use ballbot_sim::log::foxglove::{
     BallbotScene, FrameTransforms, JointStates, Log, LogLevel, Pose, SceneUpdate, pose,
     position_of, rotation_of,
@@ -333,7 +333,7 @@ fn bad_flags_are_named_in_the_error() {
         (
             "--reference-filter-secs",
             WorldArgs {
-                reference_filter_secs: -0.1,
+                reference_filter_secs: Some(-0.1),
                 ..base.clone()
             },
         ),
@@ -617,7 +617,9 @@ fn the_reference_filter_flag_removes_the_ramp_overshoot_in_the_world() {
             accel_m_per_s2: 1.0,
             top_speed_m_per_s: 1.5,
             duration_secs: 4.0,
-            reference_filter_secs: filter_secs,
+            // The filter's own effect, without traction-aware control's envelope.
+            controller: ControllerChoice::Paper,
+            reference_filter_secs: Some(filter_secs),
             decimate: 80,
             out: dir.path().join(name),
             ..WorldArgs::default()
