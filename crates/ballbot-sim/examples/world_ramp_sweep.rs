@@ -34,7 +34,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     for &accel_m_per_s2 in &accels {
         for &heading_deg in &heads {
             let params = WorldParams::miapure_60kg();
-            let mut config = BallbotControllerConfig::design(&params.robot)?;
+            let mut config = BallbotControllerConfig::paper(&params.robot)?;
             config.shaping.translation.max_value = 5.0;
             config.shaping.translation.max_rate_per_s = 20.0;
             if jerk > 0.0 {

@@ -34,7 +34,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let end_secs = env("TEND", 14.0)?;
     let every_secs = env("EVERY", 0.2)?;
     let params = WorldParams::miapure_60kg();
-    let mut config = BallbotControllerConfig::design(&params.robot)?;
+    let mut config = BallbotControllerConfig::paper(&params.robot)?;
     config.shaping.translation.max_value = top.max(5.0);
     config.shaping.translation.max_rate_per_s = 20.0;
     config.shaping.max_tilt_command_rad = 0.5;

@@ -398,7 +398,7 @@ fn accelerating_towards_ow1_slips_at_a_lower_acceleration_than_away_from_it() {
     use ballbot_sim::world::FailureKind;
     let run = |heading_deg: f64, accel_m_per_s2: f64| -> RampResult {
         let params = miapure();
-        let mut config = BallbotControllerConfig::design(&params.robot).unwrap();
+        let mut config = BallbotControllerConfig::paper(&params.robot).unwrap();
         config.shaping.translation.max_value = 5.0;
         config.shaping.translation.max_rate_per_s = 20.0;
         config.shaping.max_tilt_command_rad = 0.5;

@@ -29,7 +29,7 @@ struct Phase {
 
 fn ramp_phase(heading_deg: f64, accel_m_per_s2: f64) -> Phase {
     let params = WorldParams::ideal(BallbotParams::miapure_60kg());
-    let mut config = BallbotControllerConfig::design(&params.robot).unwrap();
+    let mut config = BallbotControllerConfig::paper(&params.robot).unwrap();
     ShaperLimits::default().apply(&mut config);
     let kin = OmniKinematics::from_ballbot(&params.robot).unwrap();
     let (p, _) = kin.normal_force_matrices();
@@ -178,7 +178,7 @@ fn contact_limit_ramp(
     params.robot.drivetrain.wheel_ball_friction = mu;
     params.sensors.seed = 1;
     params.failure.max_tilt_rad = 40f64.to_radians();
-    let mut config = BallbotControllerConfig::design(&params.robot).unwrap();
+    let mut config = BallbotControllerConfig::paper(&params.robot).unwrap();
     ShaperLimits::default().apply(&mut config);
     config.shaping.translation.max_jerk_per_s2 = 10.0;
     config.safety.tilt_limit_rad = 35f64.to_radians();

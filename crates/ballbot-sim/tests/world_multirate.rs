@@ -5,15 +5,23 @@
 
 use crate::world::free_flight;
 use ballbot_core::BallbotParams;
+use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_sim::rig::WorldRobot;
 use ballbot_sim::world::{BallbotWorld, WorldError, WorldParams};
 use nalgebra::Vector3;
 
+/// The world with the paper's controller configuration: these tests compare the world's
+/// stepping, with the controller the earlier measurements were made with.
+fn paper_robot(params: WorldParams) -> WorldRobot {
+    let config = BallbotControllerConfig::paper(&params.robot).unwrap();
+    WorldRobot::with_config(params, config).unwrap()
+}
+
 /// Drives the world with the core's controller through two velocity commands (2 s each, after
 /// 1 s at rest) and samples every 40th step: ball x, y, tilts, normal forces, OW1's speed.
 fn drive(params: WorldParams) -> Vec<[f64; 8]> {
-    let mut sim = WorldRobot::new(params).unwrap();
+    let mut sim = paper_robot(params);
     let mut samples = Vec::new();
     for k in 0..40_000_u32 {
         let (vx, vy, wz) = match k / 8000 {
@@ -127,7 +135,7 @@ fn a_push_between_rigid_steps_acts_at_once() {
     let run = |ratio: u32| {
         let mut p = WorldParams::ideal(BallbotParams::miapure_60kg());
         p.rigid_step_ratio = ratio;
-        let mut sim = WorldRobot::new(p).unwrap();
+        let mut sim = paper_robot(p);
         let hold = Command::Velocity(VelocityCommand::default());
         for _ in 0..8003 {
             sim.step(hold);

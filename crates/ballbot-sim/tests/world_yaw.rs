@@ -13,7 +13,7 @@ use ballbot_sim::world::WorldParams;
 /// failure was detected.
 fn hold_three_m_per_s(heading_deg: f64) -> (f64, f64, bool) {
     let params = WorldParams::miapure_60kg();
-    let mut config = BallbotControllerConfig::design(&params.robot).unwrap();
+    let mut config = BallbotControllerConfig::paper(&params.robot).unwrap();
     config.shaping.translation.max_value = 5.0;
     config.shaping.translation.max_rate_per_s = 20.0;
     config.shaping.max_tilt_command_rad = 0.5;
