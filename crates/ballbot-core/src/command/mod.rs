@@ -48,6 +48,8 @@ mod jerk;
 mod lean;
 mod limit;
 mod pending;
+#[cfg(test)]
+mod proptests;
 mod shaper;
 #[cfg(test)]
 mod tests;
@@ -120,7 +122,7 @@ impl<T: RealField + Copy> VelocityCommand<T> {
 ///     Command::Stop,
 ///     Command::Velocity(VelocityCommand { vx_m_per_s: 0.5, ..VelocityCommand::zero() }),
 ///     Command::Lean(LeanInput { towards_x_rad: 0.1, ..LeanInput::default() }),
-///     Command::Trajectory { trajectory: Trajectory::new(&samples, 0.01, 0.0)?, time_secs: 0.0 },
+///     Command::Trajectory { trajectory, time_secs: 0.0 },
 /// ];
 /// assert!(commands.iter().all(|c| c.is_finite()));
 /// # Ok::<(), ballbot_core::Error>(())
