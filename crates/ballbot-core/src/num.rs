@@ -154,7 +154,7 @@ mod norm_tests {
     use proptest::test_runner::RngSeed;
 
     /// The seed of these properties (proptest prints the failing case).
-    const SEED: u64 = 0x6e_6f72_6d;
+    const SEED: u64 = 0x6e6f_726d;
 
     fn config() -> ProptestConfig {
         ProptestConfig {

@@ -8,7 +8,7 @@ use crate::ballbot3d::{OUTER_US, Rig, velocity};
 use ballbot_core::ballbot::{
     BallbotController, BallbotControllerConfig, MotorSpeedLoop, OuterInput,
 };
-use ballbot_core::command::{Command, LeanInput, Trajectory, VelocityCommand};
+use ballbot_core::command::{Command, LeanInput, VelocityCommand};
 use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::safety::{Fault, Mode, ModeRequest};
 use ballbot_core::wip::{BALL_RATE, TILT};
@@ -314,8 +314,11 @@ fn follows_a_trajectory_command_to_rest() {
             )
         })
         .collect();
-    let traj = Trajectory::new(&samples, 0.01, core::f64::consts::PI).unwrap();
     let mut rig = cruising(-1.0);
+    let traj = rig
+        .outer
+        .accept_trajectory(&samples, 0.01, core::f64::consts::PI)
+        .unwrap();
     let mut peak_error: f64 = 0.0;
     for k in 0..2000 {
         let t = k as f64 * 0.0025;

@@ -39,12 +39,9 @@ impl<T: RealField + Copy> CommandShaper<T> {
         let tau = self.params.reference_filter_secs;
         let (fx, fy) = self.filtered_m_per_s;
         let (dx, dy) = (self.vx.value() - fx, self.vy.value() - fy);
-        if !(tau > T::zero()) {
-            return;
-        }
         // Scaled before squaring (see `crate::num::direction`): no overflow for any finite
         // difference.
-        let Some(((ux, uy), norm)) = direction(dx, dy) else {
+        let Some(((ux, uy), norm)) = direction(dx, dy).filter(|_| tau > T::zero()) else {
             return;
         };
         let braking = ux * fx + uy * fy < T::zero();

@@ -110,11 +110,11 @@ fn run<T: RealField + Copy>(p: &Problem, cap: u64) -> Result<Option<(u64, u64)>,
     let dt: T = to(p.dt);
     let target: T = to(p.target);
     let finite_positive = |x: T| x.is_finite() && x > T::zero();
-    if !(finite_positive(limits.max_value)
+    let valid = finite_positive(limits.max_value)
         && finite_positive(limits.max_rate_per_s)
-        && finite_positive(dt))
-        || !(limits.max_jerk_per_s2 > T::zero())
-    {
+        && finite_positive(dt)
+        && limits.max_jerk_per_s2 > T::zero();
+    if !valid {
         return Ok(None);
     }
     let mut limiter = JerkLimiter::<T>::at(T::zero());
