@@ -13,3 +13,4 @@ mod safety;
 mod spin;
 mod terms;
 mod traction;
+mod trajectories;

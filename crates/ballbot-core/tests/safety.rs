@@ -8,7 +8,7 @@ use crate::ballbot3d::{OUTER_US, Rig, velocity};
 use ballbot_core::ballbot::{
     BallbotController, BallbotControllerConfig, MotorSpeedLoop, OuterInput,
 };
-use ballbot_core::command::{Command, LeanInput, Trajectory, VelocityCommand};
+use ballbot_core::command::{Command, LeanInput, VelocityCommand};
 use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::safety::{Fault, Mode, ModeRequest};
 use ballbot_core::wip::{BALL_RATE, TILT};
@@ -319,10 +319,13 @@ fn braking_samples() -> Vec<WipState<f64>> {
 /// peak speed error and the speed at the end (m/s).
 fn follow_braking_trajectory(mut rig: Rig) -> (f64, f64) {
     let samples = braking_samples();
-    let traj = Trajectory::new(&samples, 0.01, core::f64::consts::PI).unwrap();
     let r = BallbotParams::<f64>::miapure_60kg().sagittal.ball_radius_m;
     rig.arm();
     rig.run(velocity(-1.0, 0.0, 0.0), 4.0);
+    let traj = rig
+        .outer
+        .accept_trajectory(&samples, 0.01, core::f64::consts::PI)
+        .unwrap();
     let mut peak_error: f64 = 0.0;
     for k in 0..2000 {
         let t = k as f64 * 0.0025;

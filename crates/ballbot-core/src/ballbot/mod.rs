@@ -90,6 +90,7 @@ mod outer;
 mod spin;
 #[cfg(test)]
 mod tests;
+mod trajectory_limits;
 
 pub use balance::{BalancePoint, BalancePointParams};
 pub use design::{BallbotControllerConfig, BallbotDesign, motor_speed_pi_gains};

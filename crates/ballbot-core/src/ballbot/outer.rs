@@ -4,7 +4,7 @@
 use super::feedforward::InputFeedforward;
 use super::{BalancePoint, BallbotControllerConfig, SpinOuter, WheelMapping};
 use crate::check::{lit, positive};
-use crate::command::{Command, CommandShaper, PlanarCommands};
+use crate::command::{Command, CommandShaper, PlanarCommands, Trajectory, TrajectoryLimits};
 use crate::control::{LqrPiOuter, StepStatus};
 use crate::estimation::{
     EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos,
@@ -251,6 +251,7 @@ pub struct BallbotController<T: RealField + Copy> {
     feedforward: InputFeedforward<T>,
     traction: Option<TractionControl<T>>,
     balance_point: Option<BalancePoint<T>>,
+    trajectory_limits: TrajectoryLimits<T>,
 }
 
 impl<T: RealField + Copy> BallbotController<T> {
@@ -294,7 +295,65 @@ impl<T: RealField + Copy> BallbotController<T> {
             feedforward: InputFeedforward::new(&config),
             traction,
             balance_point,
+            trajectory_limits: config.trajectory_limits()?,
         })
+    }
+
+    /// The bounds a trajectory must keep for this controller to follow it
+    /// ([`BallbotControllerConfig::trajectory_limits`]).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let outer = BallbotController::new(config)?;
+    /// assert_eq!(outer.trajectory_limits(), &config.trajectory_limits()?);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn trajectory_limits(&self) -> &TrajectoryLimits<T> {
+        &self.trajectory_limits
+    }
+
+    /// Accepts a trajectory for this controller: [`Trajectory::new`] against
+    /// [`Self::trajectory_limits`]. The error names the field and the bound it broke. Build
+    /// every trajectory the robot is to follow this way: [`Self::step`] follows any
+    /// [`Trajectory`] it is given, and one built against looser limits
+    /// ([`Trajectory::limits`], [`TrajectoryLimits::is_within`]) may ask for what the robot
+    /// cannot do.
+    ///
+    /// ```
+    /// use ballbot_core::{BallbotParams, Error};
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// use nalgebra::Vector4;
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// let outer = BallbotController::new(config)?;
+    /// // Leaning 0.1 rad over 1 s: the tilt rate is the tilt's derivative.
+    /// let lean = [
+    ///     Vector4::new(0.0, 0.0, 0.0, 0.0),
+    ///     Vector4::new(0.05, 0.0, 0.1, 0.0),
+    ///     Vector4::new(0.1, 0.0, 0.0, 0.0),
+    /// ];
+    /// assert!(outer.accept_trajectory(&lean, 0.5, 0.0).is_ok());
+    /// // A tilt near the largest double is refused, naming the samples.
+    /// let absurd = [Vector4::new(1e308, 0.0, 0.0, 0.0)];
+    /// assert!(matches!(
+    ///     outer.accept_trajectory(&absurd, 0.1, 0.0),
+    ///     Err(Error::InvalidParameter { field: "samples", .. })
+    /// ));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn accept_trajectory<'a>(
+        &self,
+        samples: &'a [WipState<T>],
+        sample_period_secs: T,
+        heading_rad: T,
+    ) -> Result<Trajectory<'a, T>, Error> {
+        Trajectory::new(
+            samples,
+            sample_period_secs,
+            heading_rad,
+            &self.trajectory_limits,
+        )
     }
 
     /// Traction-aware control (envelope, slip monitor), when enabled.

@@ -4,7 +4,7 @@
 use crate::Error;
 use crate::check::{lit, positive};
 use crate::control::dt_is_valid;
-use crate::num::{clamp_sym, min};
+use crate::num::{clamp_sym, hypot, min, smallest_normal};
 use nalgebra::RealField;
 
 /// Limits of one shaped axis: a bound on the value, on its rate of change and on the rate of
@@ -87,9 +87,11 @@ impl<T: RealField + Copy> AxisLimits<T> {
 /// falling by `j dt` per step the value moves `a (a + j dt) / (2 j)`, so the braking-limited
 /// rate is `a = sqrt((j dt)^2 / 4 + 2 j |e|) - j dt / 2` for an error `e`), caps it at the
 /// acceleration limit and at `|e| / dt` (no overshoot within a step), and moves the present
-/// acceleration towards it by at most `j dt`. A target beyond `max_value` is clamped; a
-/// non-finite target holds the present value; a non-finite or non-positive `dt_secs` leaves
-/// the state unchanged.
+/// acceleration towards it by at most `j dt`. Once the target is within one step's reach
+/// (`|e| <= dt min(j dt, A)`, the rate within `j dt` of the target's) it lands on it exactly,
+/// so it arrives from any finite state within [`Self::steps_to_rest_bound`] steps. A target
+/// beyond `max_value` is clamped; a non-finite target holds the present value; a non-finite or
+/// non-positive `dt_secs` leaves the state unchanged.
 ///
 /// ```
 /// use ballbot_core::command::{AxisLimits, JerkLimiter};
@@ -191,6 +193,106 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         } else {
             *self = Self::at(T::zero());
         }
+    }
+
+    /// An upper bound on the number of [`Self::step`]s of `dt_secs` towards the constant
+    /// `target` after which the limiter is at rest exactly on it (`value == target` clamped
+    /// to `max_value`, rate 0), from its present state; `None` for invalid limits or `dt_secs`,
+    /// a non-finite target, or a bound beyond `u64`.
+    ///
+    /// With `M`, `A`, `j` the limits, `J = j dt` the rate change of one step (`0` ratios below
+    /// when `j = inf`), `a = min(|rate|, A)` and `e = |target - clamp(value, M)|`:
+    ///
+    /// ```text
+    /// N = 4 + ceil(a / J) + 2 ceil(A / J) + ceil(E / (A dt)),   E = e + a dt (ceil(a / J) + 1)
+    /// ```
+    ///
+    /// Why: the first step brings the state within the limits (value and rate clamped). The
+    /// rate then reaches 0 or turns towards the target within `ceil(a / J)` steps, moving the
+    /// value by at most `a dt` per step, so the distance left is at most `E`. From there the
+    /// rate rises to at most `A` in `ceil(A / J)` steps, covers `E` at no less than the pace of
+    /// a full-acceleration cruise (`ceil(E / (A dt))` steps) and brakes along the braking curve
+    /// (`braking_rate`: the rate from which braking at `J` per step ends exactly on the
+    /// target) in `ceil(A / J)` steps. The last step lands exactly: once the distance left is
+    /// within one step's reach (`|e| <= dt min(J, A)` with the rate within `J` of the target's)
+    /// the value is set to the target and the rate to 0, so rounding cannot leave a residual
+    /// (the braking rate is also computed without cancellation, so it never rounds to 0 short
+    /// of the target). The constant 4 counts the clamping step, the switch between the
+    /// phases and the landing. Rounding: each step's update of the value may lose up to the
+    /// value's resolution `r_v = eps M + s` (`eps` the machine epsilon, `s` the smallest
+    /// subnormal), and of the rate `r_a = eps A + s`, so the step counts above use `J - r_a`
+    /// and `A dt - r_v` as the progress per step; the bound exists (`Some`) when one step's
+    /// reach `dt min(J, A)` is at least `2 r_v` and `J` at least `2 r_a`. Below that a step's
+    /// motion is not representable (e.g. `A dt` under the ulp of the value) and nothing
+    /// bounds the arrival. Checked by a property test over the whole finite range of `f32`
+    /// and `f64`, subnormals included.
+    ///
+    /// ```
+    /// use ballbot_core::command::{AxisLimits, JerkLimiter};
+    /// let limits = AxisLimits { max_value: 2.0, max_rate_per_s: 1.0, max_jerk_per_s2: 2.0 };
+    /// let dt = 0.0025;
+    /// // Cruising at 2 m/s, then a stop: at rest within the bound.
+    /// let mut limiter = JerkLimiter::at(2.0);
+    /// let bound = limiter.steps_to_rest_bound(0.0, &limits, dt).ok_or("no bound")?;
+    /// let mut steps = 0;
+    /// while (limiter.value(), limiter.rate_per_s()) != (0.0, 0.0) {
+    ///     limiter.step(0.0, &limits, dt);
+    ///     steps += 1;
+    /// }
+    /// assert!(steps <= bound, "{steps} > {bound}");
+    /// // About 2.5 s (1000 steps) at 1 m/s^2 and 2 m/s^3; the bound allows 1207.
+    /// assert!((990..=1010).contains(&steps), "{steps}");
+    /// assert_eq!(bound, 1207);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn steps_to_rest_bound(
+        &self,
+        target: T,
+        limits: &AxisLimits<T>,
+        dt_secs: T,
+    ) -> Option<u64> {
+        if limits.validate().is_err() || !dt_is_valid(dt_secs) || !target.is_finite() {
+            return None;
+        }
+        let f = |x: T| nalgebra::try_convert::<T, f64>(x);
+        let (m, a_max, j, dt) = (
+            f(limits.max_value)?,
+            f(limits.max_rate_per_s)?,
+            f(limits.max_jerk_per_s2)?,
+            f(dt_secs)?,
+        );
+        let (value, rate) = if self.value.is_finite() && self.rate_per_s.is_finite() {
+            (f(self.value)?, f(self.rate_per_s)?)
+        } else {
+            (0.0, 0.0)
+        };
+        let target = f(target)?.clamp(-m, m);
+        let a = rate.abs().min(a_max);
+        let e = (target - value.clamp(-m, m)).abs();
+        let jerk_step = j * dt;
+        // The resolutions of a value within `M` and of a rate within `A`: one rounding of a
+        // step's update may lose this much (relative, plus the smallest subnormal).
+        let eps = f(T::default_epsilon())?;
+        let subnormal = f(T::default_epsilon() * smallest_normal::<T>())?;
+        let (value_res, rate_res) = (eps * m + subnormal, eps * a_max + subnormal);
+        let reach = dt * jerk_step.min(a_max);
+        if !(reach >= 2.0 * value_res && (jerk_step.is_infinite() || jerk_step >= 2.0 * rate_res)) {
+            // A step's motion, or its change of rate, below the resolution: no bound.
+            return None;
+        }
+        let steps = |x: f64| {
+            if jerk_step.is_finite() {
+                ceil(x / (jerk_step - rate_res))
+            } else {
+                0.0
+            }
+        };
+        let turn = steps(a);
+        let distance: f64 = e + a * dt * (turn + 1.0);
+        let cruise = ceil(distance / (a_max * dt - value_res));
+        let n: f64 = 4.0 + turn + 2.0 * steps(a_max) + cruise;
+        // `as` saturates: reject what it would clip.
+        (n.is_finite() && n < 1.8e19).then_some(n as u64)
     }
 
     /// Advances one step of `dt_secs` towards a constant `target` and returns the new value.
@@ -312,12 +414,19 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         };
         let error = target - self.value;
         let jerk_step = jerk * dt_secs;
-        let half = jerk_step * lit(0.5);
-        // No jerk limit (infinite jerk): `inf - inf` is NaN and `min` (plain comparison)
-        // takes the other bound, so braking bounds nothing.
-        let braking = (half * half + lit::<T>(2.0) * jerk * error.abs()).sqrt() - half;
+        // Within one step's reach of the target (moving with it): land on it exactly. Without
+        // this, rounding leaves a residual error whose braking rate is below one ulp of the
+        // rate, and the limiter never arrives (the dead zone a stop used to wait in for ever).
+        if (self.rate_per_s - feed).abs() <= jerk_step
+            && error.abs() / dt_secs <= min(jerk_step, max_rate)
+        {
+            return self.settle(target + feed * dt_secs, feed, max_value, dt_secs);
+        }
         let correction_mag = min(
-            min(braking, lit::<T>(2.0) * max_rate),
+            min(
+                braking_rate(error.abs(), jerk, dt_secs),
+                lit::<T>(2.0) * max_rate,
+            ),
             error.abs() / dt_secs,
         );
         let correction = if error > T::zero() {
@@ -330,13 +439,25 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         let mut rate = clamp_sym(self.rate_per_s + change, max_rate);
         let mut value = self.value + rate * dt_secs;
         // Arrived (or stepped across the target with a rate the jerk limit can match to the
-        // target's in one step): settle exactly on it.
+        // target's in one step): settle exactly on it. The rate takes the target's at once
+        // only if that is within one jerk step of the rate before this step; otherwise the
+        // next step does it (the landing rule above), so the jerk limit holds on every step.
         let moved_target = target + feed * dt_secs;
-        let crossed = (moved_target - value) * error <= T::zero();
+        // Signs compared, not multiplied: the product of two tiny distances underflows to 0.
+        let remaining = moved_target - value;
+        let crossed = remaining == T::zero() || (remaining > T::zero()) != (error > T::zero());
         if crossed && (rate - feed).abs() <= jerk_step {
             value = moved_target;
-            rate = feed;
+            if (self.rate_per_s - feed).abs() <= jerk_step {
+                rate = feed;
+            }
         }
+        self.settle(value, rate, max_value, dt_secs)
+    }
+
+    /// Commits `value` (clamped to `max_value`) and `rate` when both are finite, with the jerk
+    /// that took the rate there; returns the (new) value.
+    fn settle(&mut self, value: T, rate: T, max_value: T, dt_secs: T) -> T {
         let value = clamp_sym(value, max_value);
         if value.is_finite() && rate.is_finite() {
             self.jerk_per_s2 = (rate - self.rate_per_s) / dt_secs;
@@ -345,4 +466,29 @@ impl<T: RealField + Copy> JerkLimiter<T> {
         }
         self.value
     }
+}
+
+/// The rate `a` from which, with the rate falling by `j dt` per step, the value comes to rest
+/// exactly `error_abs` further on: `a (a + j dt) / (2 j) = |e|`, i.e. `sqrt((j dt / 2)^2 + 2 j
+/// |e|) - j dt / 2`.
+///
+/// Computed without cancellation as `2 |e| / (dt / 2 + hypot(dt / 2, t_b))`, `t_b = sqrt(2 |e|
+/// / j)` the braking time (from square roots, so nothing overflows for finite inputs): the
+/// difference form rounds to 0 once `2 j |e|` is below one ulp of `(j dt / 2)^2`, which left
+/// a dead zone around the target. `+inf` jerk (no jerk limit) gives `2 |e| / dt`; a braking
+/// time beyond the largest finite number (a subnormal jerk) its limit `sqrt(2 j |e|)`.
+fn braking_rate<T: RealField + Copy>(error_abs: T, jerk: T, dt_secs: T) -> T {
+    let (root_error, root_jerk) = (error_abs.sqrt(), jerk.sqrt());
+    let sqrt_2: T = lit(core::f64::consts::SQRT_2);
+    let braking_secs = sqrt_2 * root_error / root_jerk;
+    if !braking_secs.is_finite() {
+        return sqrt_2 * root_error * root_jerk;
+    }
+    let half_dt = dt_secs * lit(0.5);
+    lit::<T>(2.0) * root_error * (root_error / (half_dt + hypot(half_dt, braking_secs)))
+}
+
+/// `x` rounded up (libm's, through nalgebra: the core has no `std`).
+fn ceil(x: f64) -> f64 {
+    nalgebra::ComplexField::ceil(x)
 }

@@ -4,6 +4,7 @@
 use super::VelocityCommand;
 use crate::Error;
 use crate::check::{lit, non_negative, positive};
+use crate::num::direction;
 use nalgebra::RealField;
 
 /// A rider's torso lean, measured relative to the robot's body (e.g. by a seat-back or
@@ -168,14 +169,16 @@ impl<T: RealField + Copy> LeanToDrive<T> {
     pub fn velocity(&self, lean: &LeanInput<T>) -> VelocityCommand<T> {
         let p = &self.params;
         let (lx, ly) = (lean.towards_x_rad, lean.towards_y_rad);
-        let magnitude = (lx * lx + ly * ly).sqrt();
         let mut out = VelocityCommand::zero();
-        if magnitude.is_finite() && magnitude > p.deadband_rad {
+        // Scaled before squaring (`crate::num::direction`): a huge lean is a large magnitude
+        // with a direction, not an overflow.
+        if let Some(((ux, uy), magnitude)) = direction(lx, ly)
+            && magnitude > p.deadband_rad
+        {
             let speed =
                 (p.gain_m_per_s_per_rad * (magnitude - p.deadband_rad)).min(p.max_speed_m_per_s);
-            let scale = speed / magnitude;
-            out.vx_m_per_s = lx * scale;
-            out.vy_m_per_s = ly * scale;
+            out.vx_m_per_s = ux * speed;
+            out.vy_m_per_s = uy * speed;
         }
         if lean.yaw_rate_rad_per_s.is_finite() {
             out.yaw_rate_rad_per_s = lean

@@ -7,7 +7,8 @@
 //!   command through a deadband, a gain and a speed limit;
 //! - **trajectory** ([`Trajectory`]): a sampled planar command state `s_c(t) = [theta, phi,
 //!   theta_dot, phi_dot]` (e.g. the optimal braking trajectory) borrowed from a slice, sampled
-//!   every `sample_period_secs`, linearly interpolated, and driven along a heading.
+//!   every `sample_period_secs`, linearly interpolated, and driven along a heading; checked
+//!   once when built against the [`TrajectoryLimits`] of the controller that will follow it.
 //!
 //! Every kind passes through the same per-axis [`JerkLimiter`]: speed, acceleration and jerk are
 //! bounded, so a step in the command (a dropped remote, a rider jerking forward) becomes a smooth
@@ -48,10 +49,13 @@ mod jerk;
 mod lean;
 mod limit;
 mod pending;
+#[cfg(test)]
+mod proptests;
 mod shaper;
 #[cfg(test)]
 mod tests;
 mod trajectory;
+mod trajectory_limits;
 
 pub use jerk::{AxisLimits, JerkLimiter};
 pub use lean::{LeanInput, LeanToDrive, LeanToDriveParams};
@@ -60,6 +64,7 @@ pub use shaper::{
     BodyMotion, BodyVelocity, CommandShaper, CommandShaperParams, PlanarCommands, ShapedCommand,
 };
 pub use trajectory::Trajectory;
+pub use trajectory_limits::TrajectoryLimits;
 
 use nalgebra::RealField;
 
@@ -113,14 +118,19 @@ impl<T: RealField + Copy> VelocityCommand<T> {
 /// What the robot is asked to do this step.
 ///
 /// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::BallbotControllerConfig;
 /// use ballbot_core::command::{Command, LeanInput, Trajectory, VelocityCommand};
 /// use nalgebra::Vector4;
+/// let limits = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?
+///     .trajectory_limits()?;
 /// let samples = [Vector4::new(0.0, 0.0, 0.0, 5.0)];
+/// let trajectory = Trajectory::new(&samples, 0.01, 0.0, &limits)?;
 /// let commands = [
 ///     Command::Stop,
 ///     Command::Velocity(VelocityCommand { vx_m_per_s: 0.5, ..VelocityCommand::zero() }),
 ///     Command::Lean(LeanInput { towards_x_rad: 0.1, ..LeanInput::default() }),
-///     Command::Trajectory { trajectory: Trajectory::new(&samples, 0.01, 0.0)?, time_secs: 0.0 },
+///     Command::Trajectory { trajectory, time_secs: 0.0 },
 /// ];
 /// assert!(commands.iter().all(|c| c.is_finite()));
 /// # Ok::<(), ballbot_core::Error>(())

@@ -2,7 +2,7 @@
 //! ([`CommandShaper::bound_pending_acceleration`]).
 
 use super::{AccelLimit, CommandShaper, JerkLimiter};
-use crate::num::clamp_sym;
+use crate::num::{clamp_sym, direction};
 use nalgebra::RealField;
 
 impl<T: RealField + Copy> CommandShaper<T> {
@@ -39,11 +39,11 @@ impl<T: RealField + Copy> CommandShaper<T> {
         let tau = self.params.reference_filter_secs;
         let (fx, fy) = self.filtered_m_per_s;
         let (dx, dy) = (self.vx.value() - fx, self.vy.value() - fy);
-        let norm = (dx * dx + dy * dy).sqrt();
-        if !(tau > T::zero() && norm > T::zero() && norm.is_finite()) {
+        // Scaled before squaring (see `crate::num::direction`): no overflow for any finite
+        // difference.
+        let Some(((ux, uy), norm)) = direction(dx, dy).filter(|_| tau > T::zero()) else {
             return;
-        }
-        let (ux, uy) = (dx / norm, dy / norm);
+        };
         let braking = ux * fx + uy * fy < T::zero();
         let allowed = limit.accel_limit_m_per_s2(ux, uy, braking);
         // NaN or negative: no acceleration.

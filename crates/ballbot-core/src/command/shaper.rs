@@ -6,7 +6,7 @@ use super::limit::NoLimit;
 use super::{AccelLimit, AxisLimits, Command, JerkLimiter, LeanToDrive, LeanToDriveParams};
 use crate::check::{lit, non_negative, positive};
 use crate::control::dt_is_valid;
-use crate::num::{clamp_sym, min};
+use crate::num::{clamp_sym, direction, hypot, min};
 use crate::spin::SpinState;
 use crate::wip::{BALL_RATE, TILT, TILT_RATE, WipState};
 use crate::{BallbotParams, Error, WipParams};
@@ -270,7 +270,7 @@ pub struct CommandShaper<T> {
     frontal: PlaneShaping<T>,
     pub(super) vx: JerkLimiter<T>,
     pub(super) vy: JerkLimiter<T>,
-    yaw_rate: JerkLimiter<T>,
+    pub(super) yaw_rate: JerkLimiter<T>,
     heading_rad: T,
     phi_x_rad: T,
     phi_y_rad: T,
@@ -407,14 +407,16 @@ impl<T: RealField + Copy> CommandShaper<T> {
     ///
     /// ```
     /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::BallbotControllerConfig;
     /// use ballbot_core::command::{Command, CommandShaper, CommandShaperParams, Trajectory};
     /// use nalgebra::Vector4;
     /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let limits = BallbotControllerConfig::design(&robot)?.trajectory_limits()?;
     /// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
     /// // A trajectory driven towards body +y (heading pi/2): it lands in the frontal plane with
     /// // the opposite sign (y = -r phi_x), and its own tilt is passed through.
     /// let samples = [Vector4::new(0.05, 0.0, 0.0, 0.0); 2];
-    /// let trajectory = Trajectory::new(&samples, 0.1, core::f64::consts::FRAC_PI_2)?;
+    /// let trajectory = Trajectory::new(&samples, 0.1, core::f64::consts::FRAC_PI_2, &limits)?;
     /// let shaped = shaper.step(&Command::Trajectory { trajectory, time_secs: 0.0 }, 0.0025);
     /// approx::assert_relative_eq!(shaped.planar.frontal[0], -0.05, epsilon = 1e-12);
     /// approx::assert_relative_eq!(shaped.planar.sagittal[0], 0.0, epsilon = 1e-12);
@@ -523,14 +525,15 @@ impl<T: RealField + Copy> CommandShaper<T> {
         if let Some(limit) = limit {
             let (vx0, vy0) = (self.vx.value(), self.vy.value());
             let (ex, ey) = (target_x - vx0, target_y - vy0);
-            // On target (cruising, standing): nothing to limit, no square root.
-            let norm = if ex == zero && ey == zero {
-                zero
+            // On target (cruising, standing): nothing to limit, no square root. The direction
+            // is scaled before squaring: a huge error (components beyond sqrt(T::MAX)) still
+            // has one, and the envelope still applies.
+            let unit = if ex == zero && ey == zero {
+                None
             } else {
-                (ex * ex + ey * ey).sqrt()
+                direction(ex, ey)
             };
-            if norm > zero && norm.is_finite() {
-                let (dx, dy) = (ex / norm, ey / norm);
+            if let Some(((dx, dy), _)) = unit {
                 let braking = dx * vx0 + dy * vy0 < zero;
                 let allowed = limit.accel_limit_m_per_s2(dx, dy, braking);
                 let allowed = if allowed >= zero { allowed } else { zero };
@@ -557,7 +560,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
                 accel_limit_m_per_s2.unwrap_or(zero),
                 translation.max_rate_per_s,
             );
-            (ax * ax + ay * ay).sqrt() >= rate * lit(0.999)
+            hypot(ax, ay) >= rate * lit(0.999)
         };
         if limited {
             // Held back: the trajectory's own lean belongs to an acceleration it no longer has.
@@ -652,13 +655,13 @@ impl<T: RealField + Copy> CommandShaper<T> {
     }
 }
 
-/// Scales `(x, y)` down to length `max` if longer.
+/// Scales `(x, y)` down to length `max` if longer, keeping its direction for every finite
+/// input (the direction is taken from the scaled components, [`direction`]: the plain `x^2 +
+/// y^2` overflowed from `1.3e154` in `f64`, `1.8e19` in `f32`, and the command then passed
+/// unclamped).
 fn clamp_norm<T: RealField + Copy>(x: T, y: T, max: T) -> (T, T) {
-    let norm2 = x * x + y * y;
-    if norm2 > max * max && norm2.is_finite() {
-        let scale = max / norm2.sqrt();
-        (x * scale, y * scale)
-    } else {
-        (x, y)
+    match direction(x, y) {
+        Some(((ux, uy), norm)) if norm > max => (ux * max, uy * max),
+        _ => (x, y),
     }
 }

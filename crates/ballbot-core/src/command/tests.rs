@@ -176,6 +176,13 @@ fn lean_to_drive_deadband_gain_speed_limit_and_direction() {
     assert_eq!(v.yaw_rate_rad_per_s, p.max_yaw_rate_rad_per_s);
 }
 
+/// The trajectory limits of the designed MiaPURE controller.
+fn design_limits() -> TrajectoryLimits<f64> {
+    crate::ballbot::BallbotControllerConfig::design(&BallbotParams::miapure_60kg())
+        .and_then(|c| c.trajectory_limits())
+        .unwrap()
+}
+
 fn shaper() -> CommandShaper<f64> {
     CommandShaper::new(
         CommandShaperParams::miapure(),
@@ -302,19 +309,25 @@ fn trajectory_interpolates_and_maps_along_its_heading() {
         Vector4::new(0.02, 0.1, 0.04, 0.4),
         Vector4::new(0.04, 0.3, 0.0, 0.8),
     ];
-    let traj = Trajectory::new(&samples, 0.5, 0.0).unwrap();
+    let traj = Trajectory::new(&samples, 0.5, 0.0, &design_limits()).unwrap();
     assert_relative_eq!(traj.sample(0.75), Vector4::new(0.03, 0.2, 0.02, 0.6));
     assert_eq!(traj.sample(-1.0), samples[0]);
     assert_eq!(traj.sample(f64::NAN), samples[2]);
     assert_eq!(traj.sample(1.0), samples[2]);
     assert_eq!(traj.duration_secs(), 1.0);
-    assert!(Trajectory::<f64>::new(&[], 0.5, 0.0).is_err());
-    assert!(Trajectory::new(&samples, 0.0, 0.0).is_err());
+    assert!(Trajectory::<f64>::new(&[], 0.5, 0.0, &design_limits()).is_err());
+    assert!(Trajectory::new(&samples, 0.0, 0.0, &design_limits()).is_err());
     let bad = [Vector4::new(0.0, f64::NAN, 0.0, 0.0)];
-    assert!(Trajectory::new(&bad, 0.1, 0.0).is_err());
+    assert!(Trajectory::new(&bad, 0.1, 0.0, &design_limits()).is_err());
 
     // Heading 90 deg (body +y): tilt goes to the frontal plane with a minus sign.
-    let traj = Trajectory::new(&samples, 0.5, core::f64::consts::FRAC_PI_2).unwrap();
+    let traj = Trajectory::new(
+        &samples,
+        0.5,
+        core::f64::consts::FRAC_PI_2,
+        &design_limits(),
+    )
+    .unwrap();
     let mut s = shaper();
     let shaped = s.step(
         &Command::Trajectory {
@@ -341,7 +354,7 @@ fn a_feasible_trajectory_passes_the_limiter_unchanged() {
         let v = 0.5 * (1.0 + (core::f64::consts::PI * t / 3.0).cos());
         Vector4::new(0.0, 0.0, 0.0, v / r)
     });
-    let traj = Trajectory::new(&samples, period, core::f64::consts::PI).unwrap();
+    let traj = Trajectory::new(&samples, period, core::f64::consts::PI, &design_limits()).unwrap();
     let mut s = shaper();
     s.vx.reset(-1.0, 0.0); // heading 180 deg: moving towards -x
     let mut worst: f64 = 0.0;

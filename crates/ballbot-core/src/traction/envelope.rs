@@ -4,7 +4,7 @@
 
 use super::TractionParams;
 use crate::check::lit;
-use crate::num::min;
+use crate::num::{hypot, min};
 use crate::{BallbotParams, Error, OmniKinematics, Wip, WipState};
 use nalgebra::{RealField, Vector3};
 
@@ -215,7 +215,7 @@ impl<T: RealField + Copy> TractionEnvelope<T> {
         dir_y: T,
         wheel_speeds_rad_per_s: &Vector3<T>,
     ) -> T {
-        let norm = (dir_x * dir_x + dir_y * dir_y).sqrt();
+        let norm = hypot(dir_x, dir_y);
         if !(norm > T::zero() && norm.is_finite()) {
             return T::zero();
         }

@@ -89,6 +89,7 @@ pub(super) const CHECKED: &[&str] = &[
     "command/lean.rs",
     "command/shaper.rs",
     "command/trajectory.rs",
+    "command/trajectory_limits.rs",
     "num.rs",
     "names.rs",
     "rates.rs",
@@ -99,6 +100,7 @@ pub(super) const CHECKED: &[&str] = &[
     "ballbot/motor.rs",
     "ballbot/outer.rs",
     "ballbot/spin.rs",
+    "ballbot/trajectory_limits.rs",
 ];
 
 pub(super) fn src_dir() -> PathBuf {

@@ -5,6 +5,7 @@ use super::*;
 use crate::rig::WorldRobot;
 use crate::world::failure::tilt_from_vertical_rad;
 use crate::world::telemetry::StepTelemetry;
+use ballbot_core::command::TrajectoryLimits;
 use nalgebra::{Rotation3, Vector3};
 
 /// `samples` (period `period_secs`) linearly interpolated at `t_secs`, held after the end.
@@ -179,8 +180,19 @@ pub fn fly_braking(
             }
         }
     }
-    let command_trajectory = CommandTrajectory::new(&states, period, heading_rad)
-        .map_err(|e| BrakingError::World(WorldError::Robot(e)))?;
+    // The protocol flies the plan as it is, also where the controller's trajectory limits
+    // would refuse it (a short braking time whose speed-up passes the shaper's speed clamp; the
+    // `Core` ablation, whose shifted tilts are not the integral of its tilt rates): such a plan
+    // is built against limits that only ask for the outer period, and the shaper's clamps apply
+    // as they always did. A robot binary accepts trajectories with
+    // `BallbotController::accept_trajectory` instead.
+    let robot_error = |e| BrakingError::World(WorldError::Robot(e));
+    let limits = config.trajectory_limits().map_err(robot_error)?;
+    let command_trajectory = match CommandTrajectory::new(&states, period, heading_rad, &limits) {
+        Ok(t) => t,
+        Err(_) => CommandTrajectory::new(&states, period, heading_rad, &protocol_limits(&limits))
+            .map_err(robot_error)?,
+    };
 
     let mut sim = WorldRobot::with_config(world_params, config)?;
     let (sin_h, cos_h) = heading_rad.sin_cos();
@@ -305,4 +317,20 @@ pub fn fly_braking(
     }
     run.peaks = peaks;
     Ok(run)
+}
+
+/// Limits that ask only for the controller's sample period (see [`fly_braking`]).
+fn protocol_limits(controller: &TrajectoryLimits<f64>) -> TrajectoryLimits<f64> {
+    TrajectoryLimits {
+        min_sample_period_secs: controller.min_sample_period_secs,
+        max_tilt_rad: f64::MAX,
+        max_tilt_rate_rad_per_s: f64::MAX,
+        max_ball_rate_rad_per_s: f64::MAX,
+        max_ball_accel_rad_per_s2: f64::MAX,
+        max_torque_nm: f64::MAX,
+        tilt_inertia_kg_m2: f64::MIN_POSITIVE,
+        ball_inertia_kg_m2: f64::MIN_POSITIVE,
+        lean_per_tilt_accel_s2: f64::MIN_POSITIVE,
+        lean_per_ball_accel_s2: f64::MIN_POSITIVE,
+    }
 }

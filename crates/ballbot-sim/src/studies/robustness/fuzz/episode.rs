@@ -5,7 +5,7 @@
 use super::hostile::{accepted_command, chance, hostile, index, request, symmetric, unit};
 use super::rig::{FuzzRig, INNER_PER_OUTER, InnerFault};
 use ballbot_core::ballbot::{BallbotControllerConfig, OuterInput};
-use ballbot_core::command::{Command, Trajectory};
+use ballbot_core::command::Command;
 use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::safety::{Fault, Mode, ModeRequest};
 use ballbot_core::wip::WipState;
@@ -182,7 +182,7 @@ pub fn run_episode_on(
         let traj;
         let cmd = match &trajectory {
             Some((samples, period, heading, start)) => {
-                traj = Trajectory::new(samples, *period, *heading);
+                traj = rig.controller.accept_trajectory(samples, *period, *heading);
                 match traj {
                     Ok(t) => Command::Trajectory {
                         trajectory: t,
