@@ -89,5 +89,5 @@ mod tests;
 
 pub use fault::{Fault, FaultSet, Severity};
 pub use mode::{Mode, ModeRequest};
-pub use params::SafetyParams;
+pub use params::{SafetyParams, tilt_from_vertical_rad};
 pub use supervisor::{SafetyInput, SafetyStatus, SafetySupervisor};
