@@ -20,7 +20,9 @@
 //!
 //! **Faults.** Failed device reads keep the last sample; the supervisor declares it stale
 //! after its timeout (an unrecoverable fault: motors off). A late or slow outer task is
-//! reported as [`Fault::LoopOverrun`] (recoverable: controlled stop). Every other fault comes
+//! reported as [`Fault::LoopOverrun`] (recoverable: controlled stop). The inner loop's encoder
+//! guards report [`Fault::EncoderImplausible`] (or [`Fault::EncoderStale`] once it lasts the
+//! encoder timeout; see [`ballbot_core::ballbot::SpeedGuard`]). Every other fault comes
 //! from the [`ballbot_core::safety::SafetySupervisor`] inside the controller. Failed motor
 //! writes are counted in [`DeviceErrorCounts`] for the application: there is nothing the
 //! controller can do about an actuator that does not answer.
@@ -283,10 +285,10 @@ where
 
     /// Whether `imu` shows the body within the supervisor's arming limits.
     fn upright_and_still(&self, imu: &ImuSample<T>) -> bool {
-        let p = self.controller.supervisor().params();
+        let supervisor = self.controller.supervisor();
+        let p = supervisor.params();
         imu.is_finite()
-            && imu.roll_rad.abs() <= p.arm_tilt_limit_rad
-            && imu.pitch_rad.abs() <= p.arm_tilt_limit_rad
+            && supervisor.within_arm_tilt(imu.roll_rad, imu.pitch_rad)
             && imu
                 .angular_velocity_rad_per_s
                 .iter()
@@ -381,6 +383,11 @@ where
             &self.last_encoders.wheel_speeds_rad_per_s,
             self.config.inner_dt_secs,
         );
+        // The drivers' encoder guards saw an encoder they cannot trust: the supervisor
+        // decides (a controlled stop, or the motors off once it lasts the encoder timeout).
+        if let Some(fault) = output.encoder_fault {
+            self.controller.report(fault);
+        }
         let applied = self.controller.mode().motors_enabled() && !output.timed_out;
         let result = if applied {
             self.motors.apply(&output.torque_nm)

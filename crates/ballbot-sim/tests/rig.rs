@@ -78,3 +78,54 @@ fn an_unrecoverable_fault_switches_the_motors_off_in_the_world() {
         assert_eq!(w.motor_torque_nm, 0.0);
     }
 }
+
+/// A wild 8 kHz encoder burst on OW1: from `from_us` for `len_us`, the drivers' encoder reads
+/// a speed that jumps between +-100 rad/s every sample (the outer tick's sample stays honest).
+struct WildEncoderBurst {
+    from_us: u64,
+    len_us: u64,
+    n: u64,
+}
+
+impl ballbot_sim::rig::Injector for WildEncoderBurst {
+    fn encoders(
+        &mut self,
+        now_us: u64,
+        mut sample: ballbot_core::estimation::EncoderSample<f64>,
+        outer: bool,
+    ) -> Option<ballbot_core::estimation::EncoderSample<f64>> {
+        if !outer && now_us >= self.from_us && now_us < self.from_us + self.len_us {
+            self.n += 1;
+            sample.wheel_speeds_rad_per_s[0] = if self.n.is_multiple_of(2) {
+                100.0
+            } else {
+                -100.0
+            };
+        }
+        Some(sample)
+    }
+}
+
+#[test]
+fn a_wild_encoder_burst_is_a_controlled_stop_not_a_torque_spike_in_the_world() {
+    let mut sim = WorldRobot::new(WorldParams::miapure_60kg()).unwrap();
+    let mut burst = WildEncoderBurst {
+        from_us: 1_000_000,
+        len_us: 5_000,
+        n: 0,
+    };
+    let mut peak_nm: f64 = 0.0;
+    for _ in 0..2 * 8000 {
+        let tel = sim.step_injected(Command::Stop, &mut burst);
+        if tel.time_secs > 0.99 {
+            peak_nm = peak_nm.max(tel.wheels[0].motor_torque_nm.abs());
+        }
+    }
+    // Without the guard's trajectory check it re-synchronised onto +-100 rad/s after 1 ms,
+    // and OW1 drove at up to 34.5 N m (checked by mutation).
+    assert!(peak_nm < 10.0, "OW1 peak {peak_nm} N m");
+    let latched = sim.robot().controller().supervisor().latched_faults();
+    assert!(latched.contains(Fault::EncoderImplausible), "{latched}");
+    assert_eq!(sim.mode(), Mode::ControlledStop);
+    assert!(sim.world().failure().is_none());
+}

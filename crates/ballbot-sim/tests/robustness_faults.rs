@@ -129,3 +129,41 @@ fn every_faulted_run_writes_a_log_that_reads_back_whole() {
         "{events:?}"
     );
 }
+
+/// The judge's tilt (the world body's z axis against the vertical) and the supervisor's (from
+/// the IMU's roll and pitch) are the same angle: a fall between the axes, 15 deg in roll and
+/// in pitch, is 21.1 deg from the vertical for both, and trips the 20 deg tilt limit.
+#[test]
+fn the_judge_and_the_supervisor_measure_the_same_tilt_from_the_vertical() {
+    use ballbot_core::command::Command;
+    use ballbot_core::safety::{Fault, Mode, tilt_from_vertical_rad as core_tilt};
+    use ballbot_sim::rig::WorldRobot;
+    use ballbot_sim::world::failure::tilt_from_vertical_rad as judge_tilt;
+    let mut sim = WorldRobot::new(WorldParams::miapure_60kg()).unwrap();
+    for _ in 0..800 {
+        sim.step(Command::Stop);
+    }
+    let r = 15f64.to_radians();
+    sim.world_mut().tilt_body([r, r]);
+    sim.step(Command::Stop);
+    let judge = judge_tilt(sim.world().telemetry());
+    assert!(
+        (judge - core_tilt(r, r)).abs() < 0.2f64.to_radians(),
+        "{}",
+        judge.to_degrees()
+    );
+    let m = sim.world_mut().measure();
+    let from_imu = core_tilt(m.tilt_rad[0], m.tilt_rad[1]);
+    assert!(
+        (judge - from_imu).abs() < 0.2f64.to_radians(),
+        "{}",
+        from_imu.to_degrees()
+    );
+    assert!(m.tilt_rad.iter().all(|t| t.abs() < 20f64.to_radians()));
+    for _ in 0..40 {
+        sim.step(Command::Stop);
+    }
+    assert_eq!(sim.mode(), Mode::Fault);
+    let latched = sim.robot().controller().supervisor().latched_faults();
+    assert!(latched.contains(Fault::TiltLimit), "{latched}");
+}

@@ -5,6 +5,7 @@ use super::{BallbotControllerConfig, MotorReferences, SpeedGuard};
 use crate::check::{lit, positive};
 use crate::control::{SpeedCommand, SpeedPi, SpeedPiGains};
 use crate::num::{max, min};
+use crate::safety::Fault;
 use crate::{ActuatorParams, Error};
 use nalgebra::{RealField, Vector3};
 
@@ -39,6 +40,13 @@ pub struct InnerOutput<T: nalgebra::Scalar> {
     pub reference_speed_rad_per_s: Vector3<T>,
     /// Whether the references were older than the timeout (torque 0, integrators cleared).
     pub timed_out: bool,
+    /// A fault of the encoders seen by the guards ([`SpeedGuard`]), for the supervisor
+    /// ([`crate::ballbot::BallbotController::report`]):
+    /// [`Fault::EncoderImplausible`] once a guard has held for longer than
+    /// [`SpeedGuard::RESYNC_STEPS`] without a plausible trajectory to follow,
+    /// [`Fault::EncoderStale`] once that has lasted the reference timeout (the supervisor's
+    /// encoder timeout, 20 ms). `None` otherwise.
+    pub encoder_fault: Option<Fault>,
 }
 
 /// The inner loop: one speed PI per omniwheel, as the motor drivers run it (see the module
@@ -247,6 +255,7 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             saturation_nm: Vector3::zeros(),
             reference_speed_rad_per_s: Vector3::zeros(),
             timed_out: false,
+            encoder_fault: None,
         };
         let timeout = self.outer_dt_secs * lit(Self::REFERENCE_TIMEOUT_PERIODS);
         out.timed_out = self.elapsed_secs > timeout;
@@ -268,6 +277,9 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
         for (i, (motor, guard)) in self.motors.iter_mut().zip(&mut self.guards).enumerate() {
             let reference = r.speed_rad_per_s[i] + r.accel_rad_per_s2[i] * t;
             let measured = wheel_speeds_rad_per_s[i];
+            // Just enabled: the guard starts from the outer loop's reference, not from
+            // whatever the encoder reads first.
+            guard.seed(reference);
             let guarded = guard.filter(measured, dt_secs);
             // The torque-speed line where the wheel is, if that is known; the error against
             // the guarded speed.
@@ -290,7 +302,24 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
         if step_ok {
             self.elapsed_secs = min(self.elapsed_secs + dt_secs, timeout + dt_secs);
         }
+        out.encoder_fault = self.encoder_fault(dt_secs, timeout);
         out
+    }
+
+    /// The guards' verdict on the encoders: implausible past the hold, stale past `timeout`.
+    fn encoder_fault(&self, dt_secs: T, timeout_secs: T) -> Option<Fault> {
+        let worst = self
+            .guards
+            .iter()
+            .filter(|g| g.implausible())
+            .map(SpeedGuard::rejected_steps)
+            .max()?;
+        let held_secs = nalgebra::convert::<f64, T>(f64::from(worst)) * dt_secs;
+        Some(if held_secs > timeout_secs {
+            Fault::EncoderStale
+        } else {
+            Fault::EncoderImplausible
+        })
     }
 }
 

@@ -4,6 +4,7 @@ use super::*;
 use crate::command::Command;
 use crate::control::{SpeedPiGains, StepStatus};
 use crate::estimation::{EncoderSample, ImuSample};
+use crate::safety::Fault;
 use crate::spin::SpinState;
 use crate::{BallbotParams, OmniKinematics, Spin, Wip};
 use approx::assert_relative_eq;
@@ -221,4 +222,126 @@ fn config_validation_reaches_every_piece() {
     let mut c = config();
     c.safety.imu_timeout_us = 0;
     assert!(BallbotController::new(c).is_err());
+}
+
+/// A small seeded generator (xorshift64*) for the encoder-guard tests: uniform in [-1, 1).
+struct Xorshift(u64);
+
+impl Xorshift {
+    fn next_unit(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let bits = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11;
+        bits as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// Zero reference speeds and no feedforward, motors enabled.
+const AT_REST: MotorReferences<f64> = MotorReferences {
+    enabled: true,
+    speed_rad_per_s: Vector3::new(0.0, 0.0, 0.0),
+    accel_rad_per_s2: Vector3::new(0.0, 0.0, 0.0),
+    feedforward_torque_nm: Vector3::new(0.0, 0.0, 0.0),
+};
+
+/// The inner loop just enabled, at rest.
+fn enabled_inner() -> MotorSpeedLoop<f64> {
+    let mut inner = MotorSpeedLoop::new(&config()).unwrap();
+    inner.set_references(&AT_REST);
+    inner
+}
+
+const INNER_DT: f64 = 1.25e-4;
+
+#[test]
+fn a_wild_first_reading_after_enable_does_not_reach_peak_torque() {
+    let c = config();
+    let peak = c.robot.drivetrain.actuator.peak_torque_nm;
+    for wild in [100.0, -100.0, 60.0, 120.0] {
+        let mut inner = enabled_inner();
+        // The first reading after enabling is wild, the wheel is at rest.
+        let mut largest = inner
+            .step(&Vector3::new(wild, 0.0, 0.0), INNER_DT)
+            .torque_nm
+            .amax();
+        for _ in 0..20 {
+            largest = largest.max(inner.step(&Vector3::zeros(), INNER_DT).torque_nm.amax());
+        }
+        assert!(largest < 0.05 * peak, "wild {wild}: {largest} N m");
+    }
+}
+
+#[test]
+fn a_long_wild_burst_does_not_resync_and_raises_a_fault() {
+    // Seed 0x5eed_2026 (the core's tests are no_std: it is printed in the failure messages).
+    let seed = 0x5eed_2026_u64;
+    let c = config();
+    let peak = c.robot.drivetrain.actuator.peak_torque_nm;
+    let range = c.safety.encoder_range_rad_per_s;
+    let mut rng = Xorshift(seed);
+    let mut inner = enabled_inner();
+    for _ in 0..10 {
+        inner.step(&Vector3::zeros(), INNER_DT);
+    }
+    // 200 wild samples (25 ms) on wheel 1, 10 rad/s or more from the truth, anywhere else
+    // within the encoder's range; the wheel is at rest. The guard never takes one: the
+    // torque stays small, and a fault is raised.
+    let mut faults = [None; 200];
+    for (i, fault) in faults.iter_mut().enumerate() {
+        if i % 20 == 0 {
+            inner.set_references(&AT_REST); // the outer loop, every 2.5 ms
+        }
+        let u = rng.next_unit();
+        let wild = (10.0 + (range - 10.0) * u.abs()).copysign(u);
+        let out = inner.step(&Vector3::new(wild, 0.0, 0.0), INNER_DT);
+        assert!(
+            out.torque_nm.amax() < 0.05 * peak,
+            "seed {seed:#x}: {} N m",
+            out.torque_nm.amax()
+        );
+        *fault = out.encoder_fault;
+    }
+    let implausible = SpeedGuard::<f64>::RESYNC_STEPS as usize;
+    assert!(faults[..implausible].iter().all(Option::is_none));
+    assert_eq!(faults[implausible], Some(Fault::EncoderImplausible));
+    // Past the 20 ms encoder timeout the encoder counts as stale (motors off).
+    // Past the 20 ms encoder timeout (160 steps) the encoder counts as stale (motors off).
+    assert_eq!(
+        faults[150],
+        Some(Fault::EncoderImplausible),
+        "seed {seed:#x}"
+    );
+    assert_eq!(faults[165], Some(Fault::EncoderStale), "seed {seed:#x}");
+    // Good readings again: accepted, no fault.
+    inner.set_references(&AT_REST);
+    let out = inner.step(&Vector3::new(0.2, 0.0, 0.0), INNER_DT);
+    assert_eq!(out.encoder_fault, None);
+}
+
+proptest! {
+    /// A wheel that really moves, within its acceleration, is followed exactly and raises no
+    /// fault; a step to a new speed held steady is followed after the hold.
+    #[test]
+    fn the_guard_follows_real_motion_and_real_jumps(
+        start in -50.0f64..50.0,
+        accel in -5_000.0f64..5_000.0,
+        jump in -60.0f64..60.0,
+    ) {
+        let mut guard = SpeedGuard::new(MotorSpeedLoop::<f64>::MAX_WHEEL_ACCEL_RAD_PER_S2, 124.0);
+        guard.seed(start);
+        let mut speed = start;
+        for _ in 0..80 {
+            speed += accel * INNER_DT;
+            prop_assert_eq!(guard.filter(speed, INNER_DT), speed);
+            prop_assert!(!guard.implausible());
+        }
+        let target = (speed + jump).clamp(-124.0, 124.0);
+        let mut seen = [0.0; 10];
+        for s in &mut seen {
+            *s = guard.filter(target, INNER_DT);
+        }
+        prop_assert_eq!(seen[9], target);
+        prop_assert!(!guard.implausible());
+    }
 }

@@ -65,7 +65,15 @@ pub enum Fault {
     /// An omniwheel kept slipping on the ball despite the traction reaction
     /// ([`crate::traction::SlipMonitor`]).
     WheelSlip = 14,
+    /// The monotonic clock did not advance between two outer steps.
+    ClockStalled = 15,
+    /// An encoder kept reading speeds no omniwheel can reach, without settling on a
+    /// physically continuous trajectory (the 8 kHz guard, [`crate::ballbot::SpeedGuard`]).
+    EncoderImplausible = 16,
 }
+
+// Every code fits a bit of `FaultSet`'s `u32`: the shifts below cannot overflow.
+const _: () = assert!(Fault::ALL.len() <= 32);
 
 impl Fault {
     /// Every fault, in code order.
@@ -75,7 +83,7 @@ impl Fault {
     /// // In code order, one entry per code.
     /// assert!(Fault::ALL.iter().enumerate().all(|(i, f)| usize::from(f.code()) == i));
     /// ```
-    pub const ALL: [Self; 15] = [
+    pub const ALL: [Self; 17] = [
         Self::ImuNonFinite,
         Self::ImuOutOfRange,
         Self::ImuStale,
@@ -91,6 +99,8 @@ impl Fault {
         Self::CommandNonFinite,
         Self::StateNonFinite,
         Self::WheelSlip,
+        Self::ClockStalled,
+        Self::EncoderImplausible,
     ];
 
     /// The fault's canonical name (snake_case), the one string form used by `Display`,
@@ -118,6 +128,8 @@ impl Fault {
             Self::CommandNonFinite => "command_non_finite",
             Self::StateNonFinite => "state_non_finite",
             Self::WheelSlip => "wheel_slip",
+            Self::ClockStalled => "clock_stalled",
+            Self::EncoderImplausible => "encoder_implausible",
         }
     }
 
@@ -154,7 +166,9 @@ impl Fault {
             | Self::ClockFault
             | Self::CommandLinkLost
             | Self::CommandNonFinite
-            | Self::WheelSlip => Severity::Recoverable,
+            | Self::WheelSlip
+            | Self::ClockStalled
+            | Self::EncoderImplausible => Severity::Recoverable,
         }
     }
 
@@ -181,6 +195,8 @@ impl Fault {
             Self::CommandNonFinite => "command is not finite",
             Self::StateNonFinite => "controller state is not finite",
             Self::WheelSlip => "omniwheel slip persisted",
+            Self::ClockStalled => "clock stalled",
+            Self::EncoderImplausible => "encoder readings implausible",
         }
     }
 }
@@ -232,7 +248,7 @@ impl<'de> serde::Deserialize<'de> for Fault {
 /// assert_eq!("command_link_lost,loop_overrun".parse(), Ok(faults));
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct FaultSet(u16);
+pub struct FaultSet(u32);
 
 impl FaultSet {
     /// No fault.
@@ -253,7 +269,7 @@ impl FaultSet {
     /// faults.insert(Fault::ImuStale); // code 2
     /// assert_eq!(faults.bits(), 0b100);
     /// ```
-    pub const fn bits(self) -> u16 {
+    pub const fn bits(self) -> u32 {
         self.0
     }
 
@@ -326,10 +342,10 @@ impl FaultSet {
         self.0 & mask != 0
     }
 
-    const UNRECOVERABLE: u16 = Self::mask_of(Severity::Unrecoverable);
-    const RECOVERABLE: u16 = Self::mask_of(Severity::Recoverable);
+    const UNRECOVERABLE: u32 = Self::mask_of(Severity::Unrecoverable);
+    const RECOVERABLE: u32 = Self::mask_of(Severity::Recoverable);
 
-    const fn mask_of(severity: Severity) -> u16 {
+    const fn mask_of(severity: Severity) -> u32 {
         let mut mask = 0;
         let mut i = 0;
         while i < Fault::ALL.len() {

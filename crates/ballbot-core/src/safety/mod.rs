@@ -34,21 +34,25 @@
 //! | fault | detected when | severity |
 //! |---|---|---|
 //! | `ImuNonFinite`, `ImuOutOfRange` | the IMU sample has a NaN/inf, or an angle or rate beyond its range | recoverable: the sample is rejected, the last good one held |
-//! | `ImuStale` | no valid IMU sample newer than `imu_timeout_us` | unrecoverable |
-//! | `ImuFrozen` | bit-identical IMU readings for `frozen_imu_timeout_us` | unrecoverable |
+//! | `ImuStale` | no valid IMU sample newer than `imu_timeout_us`, or none with a new timestamp for its ticks ([`SafetyParams::timeout_ticks`]) | unrecoverable |
+//! | `ImuFrozen` | bit-identical IMU readings for `frozen_imu_timeout_us` (or its ticks) | unrecoverable |
 //! | `EncoderNonFinite`, `EncoderOutOfRange` | as for the IMU | recoverable (sample rejected) |
-//! | `EncoderStale` | no valid encoder sample newer than `encoder_timeout_us` | unrecoverable |
-//! | `TiltLimit` | roll or pitch beyond `tilt_limit_rad` | unrecoverable |
+//! | `EncoderStale` | no valid encoder sample newer than `encoder_timeout_us` (or its ticks); or reported by the runtime: the 8 kHz guard held a wheel for as long | unrecoverable |
+//! | `TiltLimit` | the tilt from the vertical ([`tilt_from_vertical_rad`]) beyond `tilt_limit_rad` | unrecoverable |
 //! | `WheelSpeedLimit` | an omniwheel faster than `wheel_speed_limit_rad_per_s` | recoverable |
 //! | `LoopOverrun` | more than `max_loop_period_us` since the previous step, or reported | recoverable |
 //! | `ClockFault` | the clock went backwards | recoverable |
-//! | `CommandLinkLost` | no command newer than `command_timeout_us` | recoverable |
+//! | `CommandLinkLost` | no command newer than `command_timeout_us` (or its ticks) | recoverable |
 //! | `CommandNonFinite` | the command holds a NaN/inf | recoverable |
 //! | `StateNonFinite` | reported by the controller: its estimate or output went non-finite | unrecoverable |
 //! | `WheelSlip` | reported by the controller: a wheel kept slipping despite the traction reaction ([`crate::traction`]) | recoverable |
+//! | `ClockStalled` | the clock did not advance between two steps | recoverable (the tick watchdogs still run) |
+//! | `EncoderImplausible` | reported by the runtime from the 8 kHz guard ([`crate::ballbot::SpeedGuard`]): a wheel's samples rejected for longer than the hold, without a continuous trajectory | recoverable (the guard holds the last plausible speed) |
 //!
 //! A single bad sample therefore starts a controlled stop on held data; if no good sample
-//! follows within the timeout the data is stale and the motors are disabled.
+//! follows within the timeout the data is stale and the motors are disabled. Each step is a
+//! tick: staleness is counted in ticks as well as by the clock, so a clock that stalls or
+//! steps back cannot keep held data fresh.
 //!
 //! ```
 //! use ballbot_core::estimation::{EncoderSample, ImuSample};
@@ -89,5 +93,5 @@ mod tests;
 
 pub use fault::{Fault, FaultSet, Severity};
 pub use mode::{Mode, ModeRequest};
-pub use params::SafetyParams;
+pub use params::{SafetyParams, tilt_from_vertical_rad};
 pub use supervisor::{SafetyInput, SafetyStatus, SafetySupervisor};

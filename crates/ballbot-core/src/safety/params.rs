@@ -1,6 +1,7 @@
 //! The supervisor's limits and timeouts, [`SafetyParams`], validated once.
 
 use crate::check::{lit, positive};
+use crate::rates::OUTER_LOOP_PERIOD_US;
 use crate::{ActuatorParams, Error};
 use nalgebra::RealField;
 
@@ -29,9 +30,15 @@ pub struct SafetyParams<T> {
     pub command_timeout_us: Option<u64>,
     /// Longest time between two supervisor steps (us).
     pub max_loop_period_us: u64,
-    /// Largest roll or pitch from which balancing is still attempted (rad).
+    /// The outer loop's nominal period (us): one supervisor step per period. The watchdogs
+    /// also count steps (ticks): a sample not refreshed (its timestamp unchanged) for
+    /// `timeout / outer_period_us` ticks, rounded up, is stale whatever the clock says
+    /// ([`Self::timeout_ticks`]).
+    pub outer_period_us: u64,
+    /// Largest tilt from the vertical (the angle between the body's z axis and the world's,
+    /// [`tilt_from_vertical_rad`]) from which balancing is still attempted (rad).
     pub tilt_limit_rad: T,
-    /// Largest roll or pitch at which arming is allowed (rad).
+    /// Largest tilt from the vertical at which arming is allowed (rad).
     pub arm_tilt_limit_rad: T,
     /// Largest body rate (each gyro axis) at which arming is allowed (rad/s).
     pub arm_rate_limit_rad_per_s: T,
@@ -46,7 +53,7 @@ pub struct SafetyParams<T> {
 impl<T: RealField + Copy> SafetyParams<T> {
     /// Defaults for MiaPURE at a 400 Hz outer loop (engineering choices, not from the paper):
     /// IMU and encoder timeouts 20 ms (8 periods), frozen IMU 100 ms, command link 250 ms, loop
-    /// period 5 ms (2 periods), tilt limit 20 deg, arming within 3 deg and 0.2 rad/s, gyro range
+    /// period 5 ms (2 periods), outer period 2.5 ms, tilt limit 20 deg from the vertical, arming within 3 deg and 0.2 rad/s, gyro range
     /// 2000 deg/s, wheel-speed limit 90 % of the 62 rad/s no-load speed, encoder range twice
     /// the no-load speed.
     ///
@@ -84,6 +91,7 @@ impl<T: RealField + Copy> SafetyParams<T> {
             frozen_imu_timeout_us: Some(100_000),
             command_timeout_us: Some(250_000),
             max_loop_period_us: 5_000,
+            outer_period_us: OUTER_LOOP_PERIOD_US,
             tilt_limit_rad: lit::<T>(20.0) * deg,
             arm_tilt_limit_rad: lit::<T>(3.0) * deg,
             arm_rate_limit_rad_per_s: lit(0.2),
@@ -124,7 +132,17 @@ impl<T: RealField + Copy> SafetyParams<T> {
             nonzero(v, "command_timeout_us")?;
         }
         nonzero(self.max_loop_period_us, "max_loop_period_us")?;
+        nonzero(self.outer_period_us, "outer_period_us")?;
+        if self.outer_period_us > self.max_loop_period_us {
+            return Err(Error::invalid(
+                "outer_period_us",
+                "must not exceed max_loop_period_us",
+            ));
+        }
         positive(self.tilt_limit_rad, "tilt_limit_rad")?;
+        if self.tilt_limit_rad > T::pi() {
+            return Err(Error::invalid("tilt_limit_rad", "must not exceed pi"));
+        }
         positive(self.arm_tilt_limit_rad, "arm_tilt_limit_rad")?;
         if self.arm_tilt_limit_rad > self.tilt_limit_rad {
             return Err(Error::invalid(
@@ -147,4 +165,43 @@ impl<T: RealField + Copy> SafetyParams<T> {
         }
         Ok(())
     }
+
+    /// The number of outer steps (ticks) that `timeout_us` lasts at [`Self::outer_period_us`],
+    /// rounded up: a sample not refreshed for more ticks than this is stale even when the
+    /// clock says otherwise (a clock stepped back, or stalled). Saturates at `u32::MAX`.
+    ///
+    /// ```
+    /// use ballbot_core::safety::SafetyParams;
+    /// let p = SafetyParams::<f64>::miapure();
+    /// assert_eq!(p.timeout_ticks(p.imu_timeout_us), 8); // 20 ms at 2.5 ms
+    /// assert_eq!(p.timeout_ticks(2_501), 2); // rounded up
+    /// ```
+    pub fn timeout_ticks(&self, timeout_us: u64) -> u32 {
+        let ticks = timeout_us.div_ceil(self.outer_period_us.max(1));
+        u32::try_from(ticks).unwrap_or(u32::MAX)
+    }
+}
+
+/// The tilt of the body from the vertical (rad, in `[0, pi]`): the angle between the body's z
+/// axis and the world's, from the IMU's ZYX Euler angles ([`crate::estimation::ImuSample`]).
+/// The body's z axis in the world is `Rz(yaw) [sin(pitch) cos(roll), -sin(roll),
+/// cos(pitch) cos(roll)]`, so the angle is `acos(cos(roll) cos(pitch))`; it is computed as
+/// `atan2(hypot(sin(roll), cos(roll) sin(pitch)), cos(roll) cos(pitch))`, which is exact
+/// near 0 (where `acos` loses half the digits) and cannot overflow. A fall between the axes
+/// is seen whole: 15 deg of roll and 15 deg of pitch are 21.09 deg from the vertical.
+///
+/// ```
+/// use ballbot_core::safety::tilt_from_vertical_rad;
+/// let r = 15f64.to_radians();
+/// let tilt = tilt_from_vertical_rad(r, r).to_degrees();
+/// approx::assert_relative_eq!(tilt, 21.09, epsilon = 0.01);
+/// // Along one axis it is that axis's angle; tiny tilts keep their digits.
+/// approx::assert_relative_eq!(tilt_from_vertical_rad(0.0, 0.3), 0.3, epsilon = 1e-15);
+/// approx::assert_relative_eq!(tilt_from_vertical_rad(1e-9, 0.0), 1e-9, max_relative = 1e-12);
+/// ```
+pub fn tilt_from_vertical_rad<T: RealField + Copy>(roll_rad: T, pitch_rad: T) -> T {
+    let (sin_roll, cos_roll) = roll_rad.sin_cos();
+    let (sin_pitch, cos_pitch) = pitch_rad.sin_cos();
+    let horizontal = sin_roll.hypot(cos_roll * sin_pitch);
+    horizontal.atan2(cos_roll * cos_pitch)
 }

@@ -145,6 +145,57 @@ pub struct SafetySupervisor<T: nalgebra::Scalar> {
     /// The last valid IMU reading (roll, pitch, yaw, rates) and since when it is unchanged.
     last_imu_values: Option<[T; 6]>,
     imu_unchanged_since_us: u64,
+    /// `cos` of the tilt limits: a tilt from the vertical beyond a limit is a
+    /// `cos(roll) cos(pitch)` below its cosine (see [`tilt_from_vertical_rad`](super::tilt_from_vertical_rad)).
+    cos_tilt_limit: T,
+    cos_arm_tilt_limit: T,
+    /// The watchdogs counted in outer steps (ticks), whatever the timestamps say.
+    ticks: TickWatchdogs,
+}
+
+/// Staleness counted in outer steps: how many steps since each sample was last refreshed (a
+/// new timestamp), and the limits from the timeouts ([`SafetyParams::timeout_ticks`]). The
+/// counters saturate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct TickWatchdogs {
+    imu: TickCounter,
+    encoders: TickCounter,
+    command: TickCounter,
+    /// Steps since the IMU's values last changed.
+    imu_unchanged: u32,
+    imu_limit: u32,
+    encoder_limit: u32,
+    command_limit: Option<u32>,
+    frozen_limit: Option<u32>,
+}
+
+/// Steps since a sample's timestamp last changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct TickCounter {
+    stamp_us: Option<u64>,
+    ticks: u32,
+}
+
+impl TickCounter {
+    const NEW: Self = Self {
+        stamp_us: None,
+        ticks: 0,
+    };
+
+    /// One step: refreshed if `stamp_us` is a timestamp not seen in the previous refresh.
+    fn step(&mut self, stamp_us: Option<u64>) {
+        if stamp_us.is_some() && stamp_us != self.stamp_us {
+            self.stamp_us = stamp_us;
+            self.ticks = 0;
+        } else {
+            self.ticks = self.ticks.saturating_add(1);
+        }
+    }
+
+    /// Whether the sample went unrefreshed for more than `limit` steps.
+    fn stale(&self, limit: u32) -> bool {
+        self.ticks > limit
+    }
 }
 
 impl<T: RealField + Copy> SafetySupervisor<T> {
@@ -160,7 +211,22 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
     /// ```
     pub fn new(params: SafetyParams<T>) -> Result<Self, Error> {
         params.validate()?;
+        let ticks = TickWatchdogs {
+            imu: TickCounter::NEW,
+            encoders: TickCounter::NEW,
+            command: TickCounter::NEW,
+            imu_unchanged: 0,
+            imu_limit: params.timeout_ticks(params.imu_timeout_us),
+            encoder_limit: params.timeout_ticks(params.encoder_timeout_us),
+            command_limit: params.command_timeout_us.map(|t| params.timeout_ticks(t)),
+            frozen_limit: params
+                .frozen_imu_timeout_us
+                .map(|t| params.timeout_ticks(t)),
+        };
         Ok(Self {
+            cos_tilt_limit: params.tilt_limit_rad.cos(),
+            cos_arm_tilt_limit: params.arm_tilt_limit_rad.cos(),
+            ticks,
             params,
             mode: Mode::Idle,
             latched: FaultSet::empty(),
@@ -324,11 +390,57 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn step(&mut self, input: &SafetyInput<T>) -> SafetyStatus {
-        let p = &self.params;
-        let now = input.now_us;
         let mut faults = core::mem::take(&mut self.reported);
+        self.check_clock(input.now_us, &mut faults);
+        let imu_valid = self.check_imu(&input.imu, input.now_us, &mut faults);
+        let encoders_valid = self.check_encoders(&input.encoders, input.now_us, &mut faults);
+        self.check_command(input, &mut faults);
+        let previous_mode = self.mode;
+        self.transition(input, faults, imu_valid);
+        self.latched = self.latched.union(faults);
+        SafetyStatus {
+            mode: self.mode,
+            previous_mode,
+            faults,
+            imu_valid,
+            encoders_valid,
+        }
+    }
 
-        // Loop timing.
+    /// Whether a body at `roll_rad`, `pitch_rad` (ZYX Euler angles, as
+    /// [`ImuSample`]) is within the tilt limit from the vertical
+    /// ([`SafetyParams::tilt_limit_rad`], [`tilt_from_vertical_rad`](super::tilt_from_vertical_rad)).
+    ///
+    /// ```
+    /// use ballbot_core::safety::{SafetyParams, SafetySupervisor};
+    /// let sup = SafetySupervisor::new(SafetyParams::<f64>::miapure())?;
+    /// let deg = 15f64.to_radians();
+    /// assert!(sup.within_tilt_limit(0.0, deg));
+    /// // 15 deg in roll and in pitch: 21 deg from the vertical, beyond the 20 deg limit.
+    /// assert!(!sup.within_tilt_limit(deg, deg));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn within_tilt_limit(&self, roll_rad: T, pitch_rad: T) -> bool {
+        roll_rad.cos() * pitch_rad.cos() >= self.cos_tilt_limit
+    }
+
+    /// Whether a body at `roll_rad`, `pitch_rad` is upright enough to arm: within
+    /// [`SafetyParams::arm_tilt_limit_rad`] from the vertical.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{SafetyParams, SafetySupervisor};
+    /// let sup = SafetySupervisor::new(SafetyParams::<f64>::miapure())?;
+    /// let deg = 2.5f64.to_radians();
+    /// assert!(sup.within_arm_tilt(deg, 0.0));
+    /// assert!(!sup.within_arm_tilt(deg, deg)); // 3.5 deg from the vertical: beyond 3 deg
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn within_arm_tilt(&self, roll_rad: T, pitch_rad: T) -> bool {
+        roll_rad.cos() * pitch_rad.cos() >= self.cos_arm_tilt_limit
+    }
+
+    /// Loop timing: a clock that went backwards, stalled, or a step that came late.
+    fn check_clock(&mut self, now: u64, faults: &mut FaultSet) {
         if let Some(last) = self.last_step_us {
             if now < last {
                 faults.insert(Fault::ClockFault);
@@ -337,14 +449,20 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
                 self.last_valid_imu_us = self.last_valid_imu_us.map(|t| t.min(now));
                 self.last_valid_encoder_us = self.last_valid_encoder_us.map(|t| t.min(now));
                 self.imu_unchanged_since_us = self.imu_unchanged_since_us.min(now);
-            } else if now - last > p.max_loop_period_us {
+            } else if now == last {
+                // A whole outer period without a microsecond: the clock is not running, and
+                // every timeout measured with it is blind (the tick watchdogs are not).
+                faults.insert(Fault::ClockStalled);
+            } else if now - last > self.params.max_loop_period_us {
                 faults.insert(Fault::LoopOverrun);
             }
         }
         self.last_step_us = Some(now);
+    }
 
-        // IMU.
-        let imu = &input.imu;
+    /// The IMU sample: validity, tilt, frozen readings, staleness by time and by ticks.
+    /// Returns whether the sample may be used.
+    fn check_imu(&mut self, imu: &ImuSample<T>, now: u64, faults: &mut FaultSet) -> bool {
         let imu_valid = if !imu.is_finite() {
             faults.insert(Fault::ImuNonFinite);
             false
@@ -354,36 +472,51 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
         } else {
             true
         };
+        let ticks = &mut self.ticks;
+        ticks.imu.step(imu_valid.then_some(imu.timestamp_us));
+        ticks.imu_unchanged = ticks.imu_unchanged.saturating_add(1);
         if imu_valid {
             // A sample stamped in the future counts as taken now: one bad stamp must not hold
             // the stale check off until the clock reaches it.
             let stamp = imu.timestamp_us.min(now);
             self.last_valid_imu_us = Some(self.last_valid_imu_us.map_or(stamp, |t| t.max(stamp)));
-            // Roll and pitch each against the limit. (A body falling between the axes passes
-            // 25 deg from the vertical with 18 deg in each: the fault-injection matrix saw it
-            // with a stuck motor. Checking the tilt from the vertical instead moves more than 260
-            // figures of the full `reproduce`, which would have to be measured again: left.)
-            if imu.roll_rad.abs() > p.tilt_limit_rad || imu.pitch_rad.abs() > p.tilt_limit_rad {
+            // The tilt from the vertical, not roll and pitch each: a body falling between the
+            // axes passes 25 deg from the vertical with 18 deg in each.
+            if !self.within_tilt_limit(imu.roll_rad, imu.pitch_rad) {
                 faults.insert(Fault::TiltLimit);
             }
-            let w = imu.angular_velocity_rad_per_s;
-            let values = [imu.roll_rad, imu.pitch_rad, imu.yaw_rad, w[0], w[1], w[2]];
-            if self.last_imu_values != Some(values) {
-                self.last_imu_values = Some(values);
-                self.imu_unchanged_since_us = now;
-            }
-            if let Some(limit) = p.frozen_imu_timeout_us
-                && now.saturating_sub(self.imu_unchanged_since_us) > limit
-            {
-                faults.insert(Fault::ImuFrozen);
-            }
+            self.check_frozen(imu, now, faults);
         }
-        if is_stale(self.last_valid_imu_us, now, p.imu_timeout_us) {
+        if is_stale(self.last_valid_imu_us, now, self.params.imu_timeout_us)
+            || self.ticks.imu.stale(self.ticks.imu_limit)
+        {
             faults.insert(Fault::ImuStale);
         }
+        imu_valid
+    }
 
-        // Encoders.
-        let enc = &input.encoders;
+    /// Bit-identical IMU readings for longer than the frozen timeout, by time or by ticks.
+    fn check_frozen(&mut self, imu: &ImuSample<T>, now: u64, faults: &mut FaultSet) {
+        let w = imu.angular_velocity_rad_per_s;
+        let values = [imu.roll_rad, imu.pitch_rad, imu.yaw_rad, w[0], w[1], w[2]];
+        if self.last_imu_values != Some(values) {
+            self.last_imu_values = Some(values);
+            self.imu_unchanged_since_us = now;
+            self.ticks.imu_unchanged = 0;
+        }
+        if let (Some(limit_us), Some(limit_ticks)) =
+            (self.params.frozen_imu_timeout_us, self.ticks.frozen_limit)
+            && (now.saturating_sub(self.imu_unchanged_since_us) > limit_us
+                || self.ticks.imu_unchanged > limit_ticks)
+        {
+            faults.insert(Fault::ImuFrozen);
+        }
+    }
+
+    /// The encoder sample: validity, wheel-speed limit, staleness by time and by ticks.
+    /// Returns whether the sample may be used.
+    fn check_encoders(&mut self, enc: &EncoderSample<T>, now: u64, faults: &mut FaultSet) -> bool {
+        let p = &self.params;
         let speeds = enc.wheel_speeds_rad_per_s;
         let encoders_valid = if !enc.is_finite() {
             faults.insert(Fault::EncoderNonFinite);
@@ -394,6 +527,9 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
         } else {
             true
         };
+        self.ticks
+            .encoders
+            .step(encoders_valid.then_some(enc.timestamp_us));
         if encoders_valid {
             let stamp = enc.timestamp_us.min(now);
             self.last_valid_encoder_us =
@@ -405,29 +541,26 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
                 faults.insert(Fault::WheelSpeedLimit);
             }
         }
-        if is_stale(self.last_valid_encoder_us, now, p.encoder_timeout_us) {
+        if is_stale(self.last_valid_encoder_us, now, p.encoder_timeout_us)
+            || self.ticks.encoders.stale(self.ticks.encoder_limit)
+        {
             faults.insert(Fault::EncoderStale);
         }
+        encoders_valid
+    }
 
-        // Command link.
+    /// The command link: a non-finite command, no fresh command by time or by ticks.
+    fn check_command(&mut self, input: &SafetyInput<T>, faults: &mut FaultSet) {
         if !input.command_finite {
             faults.insert(Fault::CommandNonFinite);
         }
-        if let Some(timeout) = p.command_timeout_us
-            && is_stale(input.command_timestamp_us, now, timeout)
+        self.ticks.command.step(input.command_timestamp_us);
+        if let (Some(timeout), Some(limit)) =
+            (self.params.command_timeout_us, self.ticks.command_limit)
+            && (is_stale(input.command_timestamp_us, input.now_us, timeout)
+                || self.ticks.command.stale(limit))
         {
             faults.insert(Fault::CommandLinkLost);
-        }
-
-        let previous_mode = self.mode;
-        self.transition(input, faults, imu_valid);
-        self.latched = self.latched.union(faults);
-        SafetyStatus {
-            mode: self.mode,
-            previous_mode,
-            faults,
-            imu_valid,
-            encoders_valid,
         }
     }
 
@@ -450,8 +583,7 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
                 if request == ModeRequest::Arm && faults.is_empty() && imu_valid {
                     let p = &self.params;
                     let imu = &input.imu;
-                    let upright = imu.roll_rad.abs() <= p.arm_tilt_limit_rad
-                        && imu.pitch_rad.abs() <= p.arm_tilt_limit_rad;
+                    let upright = self.within_arm_tilt(imu.roll_rad, imu.pitch_rad);
                     let still = imu
                         .angular_velocity_rad_per_s
                         .iter()

@@ -299,3 +299,166 @@ fn params_validation_names_the_field() {
     p.imu_timeout_us = 0;
     assert!(SafetySupervisor::new(p).is_err());
 }
+
+/// A supervisor without the frozen-IMU check, armed (see `armed`).
+fn armed_without_frozen_check(t: &mut u64) -> SafetySupervisor<f64> {
+    let params = SafetyParams {
+        frozen_imu_timeout_us: None,
+        ..SafetyParams::miapure()
+    };
+    let mut sup = SafetySupervisor::new(params).unwrap();
+    sup.step(&healthy(*t));
+    *t += PERIOD_US;
+    let status = sup.step(&SafetyInput {
+        request: ModeRequest::Arm,
+        ..healthy(*t)
+    });
+    assert_eq!(status.mode, Mode::Balancing);
+    *t += PERIOD_US;
+    sup
+}
+
+#[test]
+fn a_fall_between_the_axes_trips_the_tilt_limit() {
+    let mut t = 0;
+    let mut sup = armed(&mut t);
+    // 15 deg in roll and in pitch: below the 20 deg limit in each, 21.1 deg from the vertical.
+    let mut input = healthy(t);
+    input.imu.roll_rad = 15f64.to_radians();
+    input.imu.pitch_rad = 15f64.to_radians();
+    let status = sup.step(&input);
+    assert!(
+        status.faults.contains(Fault::TiltLimit),
+        "{:?}",
+        status.faults
+    );
+    assert_eq!(status.mode, Mode::Fault);
+}
+
+#[test]
+fn arming_needs_the_body_upright_from_the_vertical() {
+    let mut sup = supervisor();
+    sup.step(&healthy(0));
+    // 2.5 deg in each: within the 3 deg arming limit per axis, 3.5 deg from the vertical.
+    let mut input = healthy(PERIOD_US);
+    input.imu.roll_rad = 2.5f64.to_radians();
+    input.imu.pitch_rad = 2.5f64.to_radians();
+    input.request = ModeRequest::Arm;
+    assert_eq!(sup.step(&input).mode, Mode::Idle);
+    input.now_us += PERIOD_US;
+    input.imu.roll_rad = 0.0;
+    assert_eq!(sup.step(&input).mode, Mode::Balancing);
+}
+
+proptest::proptest! {
+    /// The tilt limit trips exactly when the tilt from the vertical passes it (away from the
+    /// boundary by 1e-9 rad), whatever the split between roll and pitch.
+    #[test]
+    fn the_tilt_limit_is_the_tilt_from_the_vertical(
+        roll in -1.5f64..1.5,
+        pitch in -1.5f64..1.5,
+    ) {
+        let sup = supervisor();
+        let tilt = tilt_from_vertical_rad(roll, pitch);
+        let limit = sup.params().tilt_limit_rad;
+        proptest::prop_assume!((tilt - limit).abs() > 1e-9);
+        proptest::prop_assert_eq!(sup.within_tilt_limit(roll, pitch), tilt <= limit);
+        // And the angle is the one between the body's z axis and the world's.
+        let z = nalgebra::Rotation3::from_euler_angles(roll, pitch, 0.3) * Vector3::z();
+        proptest::prop_assert!((tilt - z.z.clamp(-1.0, 1.0).acos()).abs() < 1e-7);
+    }
+}
+
+#[test]
+fn a_clock_stepped_back_with_a_held_imu_is_stale_within_the_tick_limit() {
+    let mut t = 2_000_000;
+    let mut sup = armed_without_frozen_check(&mut t);
+    let held_imu = healthy(t).imu;
+    sup.step(&healthy(t));
+    // The clock steps back 1 s; the IMU keeps returning its last sample (stamp and values),
+    // the encoders and the command link stay fresh. By the clock the held sample is never
+    // old (it is stamped ahead of it), so only the ticks can see it.
+    let mut steps = 0;
+    for k in 1..=400u64 {
+        let mut input = healthy(t - 1_000_000 + k * PERIOD_US);
+        input.imu = held_imu;
+        steps = k;
+        if sup.step(&input).mode == Mode::Fault {
+            break;
+        }
+    }
+    assert_eq!(
+        sup.mode(),
+        Mode::Fault,
+        "motors still on after {steps} steps"
+    );
+    assert!(sup.latched_faults().contains(Fault::ImuStale));
+    assert!(sup.latched_faults().contains(Fault::ClockFault));
+    // 8 ticks (20 ms at 400 Hz) unrefreshed are allowed, the 9th is stale.
+    assert_eq!(steps, 9);
+}
+
+#[test]
+fn encoders_and_command_link_held_across_a_clock_step_back_are_stale_in_ticks() {
+    let mut t = 2_000_000;
+    let mut sup = armed(&mut t);
+    let held = healthy(t);
+    sup.step(&held);
+    let mut encoder_stale_at = None;
+    let mut link_lost_at = None;
+    for k in 1..=200u64 {
+        let mut input = healthy(t - 1_000_000 + k * PERIOD_US);
+        input.encoders = held.encoders;
+        input.command_timestamp_us = held.command_timestamp_us;
+        let faults = sup.step(&input).faults;
+        if faults.contains(Fault::EncoderStale) {
+            encoder_stale_at.get_or_insert(k);
+        }
+        if faults.contains(Fault::CommandLinkLost) {
+            link_lost_at.get_or_insert(k);
+        }
+    }
+    // 20 ms and 250 ms at 2.5 ms a tick: 8 and 100 ticks allowed.
+    assert_eq!(encoder_stale_at, Some(9));
+    assert_eq!(link_lost_at, Some(101));
+}
+
+#[test]
+fn a_stalled_clock_is_a_fault_and_its_samples_go_stale() {
+    let mut t = 0;
+    let mut sup = armed_without_frozen_check(&mut t);
+    sup.step(&healthy(t));
+    // The clock stops; the sensors, stamped with it, repeat its last time.
+    let status = sup.step(&healthy(t));
+    assert!(
+        status.faults.contains(Fault::ClockStalled),
+        "{:?}",
+        status.faults
+    );
+    assert_eq!(status.mode, Mode::ControlledStop);
+    let mut steps = 1;
+    while sup.mode() != Mode::Fault && steps < 400 {
+        sup.step(&healthy(t));
+        steps += 1;
+    }
+    assert_eq!(
+        sup.mode(),
+        Mode::Fault,
+        "motors still on after {steps} stalled steps"
+    );
+    assert!(sup.latched_faults().contains(Fault::ImuStale));
+    assert_eq!(steps, 9);
+    assert_eq!(Fault::ClockStalled.severity(), Severity::Recoverable);
+}
+
+#[test]
+fn a_running_clock_raises_no_clock_fault() {
+    let mut t = 0;
+    let mut sup = armed(&mut t);
+    for _ in 0..1000 {
+        let status = sup.step(&healthy(t));
+        assert!(status.faults.is_empty(), "{:?} at {t}", status.faults);
+        t += PERIOD_US;
+    }
+    assert_eq!(sup.mode(), Mode::Balancing);
+}
