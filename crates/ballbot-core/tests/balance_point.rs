@@ -7,7 +7,10 @@
 use crate::ballbot3d::{Rig, velocity};
 use ballbot_core::BallbotParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
-use ballbot_core::safety::ModeRequest;
+use ballbot_core::command::Command;
+use ballbot_core::estimation::PlanarStates;
+use ballbot_core::safety::{Fault, Mode, ModeRequest};
+use nalgebra::Vector2;
 
 const CROOKED_RAD: f64 = 0.05;
 
@@ -65,4 +68,52 @@ fn on_a_straight_imu_the_estimate_stays_near_zero_through_a_drive() {
     assert!(offset.amax() < 0.005, "{offset}");
     let (vx, vy) = rig.body_speed();
     assert!(vx.hypot(vy) < 0.02, "{vx} {vy}");
+}
+
+/// Puts the plant back upright and still (on its stand) and arms again.
+fn rearm(rig: &mut Rig) {
+    rig.plant.states = PlanarStates::zeros();
+    rig.arm();
+}
+
+/// Issue 26: the learnt balance point belongs to the payload on the ball, and is forgotten
+/// whenever the motors go off (disarm, unrecoverable fault; a reset follows a fault). A robot
+/// that learnt a payload off centre, was disarmed and re-armed without it (the rider stepped
+/// off), stands still on a stop command; a controlled stop keeps the estimate (checked by
+/// mutation: without the reset in the controller's motors-off path the re-armed robot drifts
+/// at 0.3 m/s and the offset survives the disarm and the fault).
+#[test]
+fn the_balance_point_is_forgotten_when_the_motors_go_off() {
+    let mut rig = rig(true);
+    let offset = |rig: &Rig| rig.outer.balance_point().unwrap().offset_rad();
+    stand_crooked(&mut rig, 15.0);
+    assert!(offset(&rig)[1] > 0.045, "{}", offset(&rig));
+    // A controlled stop keeps the motors on and the estimate.
+    rig.step(Command::Stop, ModeRequest::Stop);
+    assert_eq!(rig.outer.mode(), Mode::ControlledStop);
+    assert!(offset(&rig)[1] > 0.045, "{}", offset(&rig));
+    // Disarmed on the stand: forgotten.
+    rig.step(Command::Stop, ModeRequest::Disarm);
+    assert_eq!(rig.outer.mode(), Mode::Idle);
+    assert_eq!(offset(&rig), Vector2::zeros());
+    // Re-armed with the payload gone (the IMU reads the body straight): no drift.
+    rearm(&mut rig);
+    let mut peak: f64 = 0.0;
+    for _ in 0..2000 {
+        rig.step(Command::Stop, ModeRequest::None);
+        let (vx, vy) = rig.body_speed();
+        peak = peak.max(vx.hypot(vy));
+    }
+    assert!(peak < 0.02, "drifted at {peak} m/s after re-arming");
+    // Learnt again, then an unrecoverable fault turns the motors off: forgotten too, and a
+    // reset and a new arming start from zero.
+    stand_crooked(&mut rig, 15.0);
+    assert!(offset(&rig)[1] > 0.045, "{}", offset(&rig));
+    rig.outer.report(Fault::StateNonFinite);
+    rig.step(Command::Stop, ModeRequest::None);
+    assert_eq!(rig.outer.mode(), Mode::Fault);
+    assert_eq!(offset(&rig), Vector2::zeros());
+    rig.step(Command::Stop, ModeRequest::Reset);
+    rearm(&mut rig);
+    assert!(offset(&rig).amax() < 1e-3, "{}", offset(&rig));
 }

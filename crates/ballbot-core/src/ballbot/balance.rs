@@ -18,6 +18,18 @@
 //! learns only in steady motion (the shaped command's acceleration and the tilt rates small,
 //! the departure within a bound), slowly (seconds, against the balance's fraction of a second),
 //! and within a bound; [`BalancePointParams::off`] (the designed default) disables it.
+//!
+//! **Lifetime.** The offset is learnt for the payload on the ball now, and is forgotten
+//! ([`BalancePoint::reset`]) whenever the motors are off: after a disarm, a fault, a reset,
+//! and before the first arming. With the motors off the robot stands supported, and its
+//! payload can change without the controller seeing it (a rider steps off, a load is moved):
+//! an offset kept from before is a bias of up to `max_offset_rad` in a direction nobody
+//! knows, and it made a re-armed robot drift at up to about 0.3 m/s on a stop command until it
+//! had relearnt (issue 26). Zero is the calibrated upright, the one point that does not depend
+//! on the payload; an off-centre payload then costs what it costs at the first arming (a
+//! drift for about `time_constant_secs` while the estimate learns it). With the motors on
+//! (balancing or in a controlled stop, whose fault kept them on) the payload is the one the
+//! robot is balancing, and the estimate keeps following it.
 
 use crate::check::{lit, positive};
 use crate::error::Error;
@@ -141,6 +153,26 @@ impl<T: RealField + Copy> BalancePoint<T> {
             params,
             offset_rad: Vector2::zeros(),
         })
+    }
+
+    /// Forgets the learnt offset: the estimate starts again from zero, the calibrated
+    /// upright. The controller calls it whenever the motors are off (disarmed, faulted,
+    /// reset, or not yet armed; see the module docs for why).
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams};
+    /// use nalgebra::Vector2;
+    /// let mut bp = BalancePoint::new(BalancePointParams::<f64>::recommended())?;
+    /// for _ in 0..4000 {
+    ///     bp.update(Vector2::new(0.0, 0.05), Vector2::zeros(), Vector2::zeros(), 0.0, 0.0025);
+    /// }
+    /// assert!(bp.offset_rad()[1] > 0.04);
+    /// bp.reset();
+    /// assert_eq!(bp.offset_rad(), Vector2::zeros());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn reset(&mut self) {
+        self.offset_rad = Vector2::zeros();
     }
 
     /// The learnt offset `[frontal, sagittal]` of the tilt command (rad).

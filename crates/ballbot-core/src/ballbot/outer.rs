@@ -689,7 +689,11 @@ impl<T: RealField + Copy> BallbotController<T> {
             commands: shaped.planar,
             reference_torque_nm: saturation.planar_torque_nm,
             reference_rate_rad_per_s: reference_rate,
-            stopped: safety.mode == Mode::ControlledStop && self.shaper.is_at_rest(),
+            // Not while a slip is flagged: its correction may hold the estimate at rest while
+            // the ball moves (the monitor bounds how long, `TractionParams::max_coast_secs`).
+            stopped: safety.mode == Mode::ControlledStop
+                && self.shaper.is_at_rest()
+                && !traction.is_some_and(|t| t.slip.any_slipping()),
             traction,
         }
     }
@@ -700,6 +704,11 @@ impl<T: RealField + Copy> BallbotController<T> {
         self.frontal.reset();
         self.sagittal.reset();
         self.spin.reset();
+        // Motors off: the robot is supported and its payload may change (a rider steps off);
+        // the next arming starts from the calibrated upright (see `BalancePoint`).
+        if let Some(bp) = &mut self.balance_point {
+            bp.reset();
+        }
         let traction = self.traction.as_mut().map(|t| {
             t.monitor_mut().reset();
             t.finish_step(None, false)

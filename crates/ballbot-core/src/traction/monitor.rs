@@ -96,9 +96,21 @@ impl<T: RealField + Copy> SlipStatus<T> {
 ///   IMU's yaw rate ([`crate::estimation::ball_body_z_rate_per_ball_rate`]).
 ///
 /// The three errors form a relative-rate error `e_rel`; the wheel speed map turns it into
-/// each wheel's slip, `r_W J e_rel` (m/s at the rim). While any wheel slips the observers
-/// coast (`L = 0`): the residual then holds the whole slip instead of forgetting it, and falls
-/// back to zero by itself when the wheel grips again.
+/// each wheel's slip evidence, `r_W J e_rel` (m/s at the rim).
+///
+/// **A push is not a slip** (docs/traction.md section 3). `L (p - p_hat)` is the observers'
+/// estimate of an external torque: a push moves the momentum residuals, never the no-spin
+/// part, and its wheel slips sum to zero. Evidence above the threshold flags a wheel only
+/// where a slip is supported: kinematically (the slips' sum, the no-spin part, above the
+/// threshold with the wheel's sign) or dynamically (before the evidence came, the wheel's
+/// predicted friction-cone use was at least a quarter and its torque drove it the way it now
+/// slips: a slip follows a demand, the torque a push brings follows the push); otherwise it is
+/// an external force, which the observers follow. A flag needs supported evidence in two updates running
+/// (one outlier sample sets none), and stays while its wheel's evidence lasts; the observers
+/// coast (`L = 0`) meanwhile, and on the first update of any evidence: the residual then holds
+/// the whole slip instead of forgetting it, and falls back to zero by itself when the wheel
+/// grips again. They coast for at most [`TractionParams::max_coast_secs`], then take the
+/// measured momentum again: on consistent data every flag falls within that bound.
 ///
 /// **Lift-off.** The contact model ([`OmniKinematics::decoupled_contact_forces`]) predicts the
 /// normal forces for the measured state and the reference torque (in the 3D controller from
@@ -106,8 +118,9 @@ impl<T: RealField + Copy> SlipStatus<T> {
 /// from the torque given to [`Self::record_torque`]); the next update acts on it.
 ///
 /// **Reaction** (the controller applies it when [`TractionParams::enabled`]): while a wheel
-/// slips the controller takes the ball-rate error off its estimate (the encoders of a
-/// spinning wheel report a ball that is not there), and while a wheel slips or a lift-off is
+/// slips the controller takes the flagged wheels' ball-rate error off its estimate (the
+/// encoders of a spinning wheel report a ball that is not there; the rest of the residual,
+/// an external force's, is real motion), and while a wheel slips or a lift-off is
 /// imminent the envelope is scaled by
 /// [`TractionParams::slip_accel_scale`], and afterwards restored over
 /// [`TractionParams::recovery_secs`]; a slip lasting [`TractionParams::slip_fault_secs`] asks
@@ -139,9 +152,22 @@ impl<T: RealField + Copy> SlipStatus<T> {
 /// let rel = kin.relative_rate_rad_per_s(&spinning);
 /// states.frontal[3] = rel[0];
 /// states.sagittal[3] = rel[1];
+/// // One sample proves nothing; the second confirms it, on OW1 alone.
+/// let (status, _) = monitor.update(&kin, &states, &rel, 0.0025);
+/// assert!(!status.any_slipping());
 /// let (status, _) = monitor.update(&kin, &states, &rel, 0.0025);
 /// assert_eq!(status.slipping, [true, false, false]);
 /// approx::assert_relative_eq!(status.slip_speed_m_per_s[0], 0.125, epsilon = 1e-9);
+/// // The same ball-rate change on all wheels alike (as a push would make it, the ball rolling
+/// // at 3 rad/s) with no wheel working hard: an external force, no slip.
+/// let mut monitor = SlipMonitor::new(&robot, TractionParams::recommended(&robot))?;
+/// let mut rolling = still;
+/// rolling.sagittal[3] = 3.0;
+/// monitor.update(&kin, &still, &Vector3::zeros(), 0.0025);
+/// for _ in 0..10 {
+///     let (status, _) = monitor.update(&kin, &rolling, &Vector3::new(0.0, 3.0, 0.0), 0.0025);
+///     assert!(!status.any_slipping());
+/// }
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -158,6 +184,15 @@ pub struct SlipMonitor<T: RealField + Copy> {
     predicted_wheel_torques_nm: Vector3<T>,
     /// How long the present slip has lasted (s; 0 without slip).
     slip_secs: T,
+    /// How long the observers have coasted on the present flags (s; 0 without slip).
+    coast_secs: T,
+    /// Which wheels had supported slip evidence in the last update (see [`Self::support`]).
+    previous_support: [bool; WHEEL_COUNT],
+    /// Whether any wheel's slip estimate was above the threshold in the last update.
+    previous_evidence: bool,
+    /// Which wheels were working hard before the present episode of evidence
+    /// ([`Self::worked_hard`]).
+    hard_before: [bool; WHEEL_COUNT],
     /// While a wheel slips: the ball-rate error the encoders report, `[frontal, sagittal]`
     /// (rad/s; the momentum residuals), to take off the estimate; 0 otherwise.
     ball_rate_correction_rad_per_s: [T; 2],
@@ -190,6 +225,10 @@ impl<T: RealField + Copy> SlipMonitor<T> {
             last_torque_nm: Vector3::zeros(),
             predicted_wheel_torques_nm: Vector3::zeros(),
             slip_secs: T::zero(),
+            coast_secs: T::zero(),
+            previous_support: [false; WHEEL_COUNT],
+            previous_evidence: false,
+            hard_before: [false; WHEEL_COUNT],
             ball_rate_correction_rad_per_s: [T::zero(); 2],
             status: SlipStatus::quiet(mu),
         })
@@ -220,10 +259,14 @@ impl<T: RealField + Copy> SlipMonitor<T> {
     /// let robot = BallbotParams::<f64>::miapure_60kg();
     /// let kin = OmniKinematics::from_ballbot(&robot)?;
     /// let mut monitor = SlipMonitor::new(&robot, TractionParams::recommended(&robot))?;
+    /// // OW1 spins at 2 rad/s that the ball does not have, for two samples: a slip.
+    /// let rel = kin.relative_rate_rad_per_s(&Vector3::new(2.0, 0.0, 0.0));
     /// let mut spinning = PlanarStates::zeros();
-    /// spinning.sagittal[3] = 3.0; // the wheels say the ball rolls; the momentum says no
+    /// spinning.frontal[3] = rel[0];
+    /// spinning.sagittal[3] = rel[1];
     /// monitor.update(&kin, &PlanarStates::zeros(), &Vector3::zeros(), 0.0025);
-    /// monitor.update(&kin, &spinning, &Vector3::new(0.0, 3.0, 0.0), 0.0025);
+    /// monitor.update(&kin, &spinning, &rel, 0.0025);
+    /// monitor.update(&kin, &spinning, &rel, 0.0025);
     /// assert!(monitor.status().any_slipping());
     /// monitor.reset();
     /// assert!(!monitor.status().any_slipping() && monitor.status().slip_events == 1);
@@ -237,6 +280,10 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         self.status.slip_speed_m_per_s = Vector3::zeros();
         self.status.slipping = [false; WHEEL_COUNT];
         self.slip_secs = T::zero();
+        self.coast_secs = T::zero();
+        self.previous_support = [false; WHEEL_COUNT];
+        self.previous_evidence = false;
+        self.hard_before = [false; WHEEL_COUNT];
         self.ball_rate_correction_rad_per_s = [T::zero(); 2];
         self.status.accel_scale = T::one();
         self.status.lift_off_imminent = false;
@@ -292,7 +339,8 @@ impl<T: RealField + Copy> SlipMonitor<T> {
     ///     }
     /// }
     /// assert!(monitor.status().slipping.iter().all(|&s| s));
-    /// assert_eq!(asked, Some(119)); // the 120th update: 0.3 s at 400 Hz
+    /// // Confirmed at the second update, then 0.3 s at 400 Hz.
+    /// assert_eq!(asked, Some(120));
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn update(
@@ -380,19 +428,9 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         ];
         let estimate = self.momentum_estimate.unwrap_or(measured);
         let residual = [measured[0] - estimate[0], measured[1] - estimate[1]];
-        // Coast while slipping: the residual keeps the slip.
-        let gain = if self.status.any_slipping() {
-            T::zero()
-        } else {
-            p.observer_gain_per_s
-        };
         let rates = [
             self.frontal.momentum_rate(fro, sin_cos_x.0),
             self.sagittal.momentum_rate(sag, sin_cos_y.0),
-        ];
-        let next = [
-            estimate[0] + (rates[0] + gain * residual[0]) * dt_secs,
-            estimate[1] + (rates[1] + gain * residual[1]) * dt_secs,
         ];
         let expected_z = k[0] * fro[BALL_RATE] + k[1] * sag[BALL_RATE] - states.spin[1];
         let rate_error = Vector3::new(
@@ -402,16 +440,63 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         );
         let rim_m = kinematics.drivetrain().wheel_radius_m;
         let slip = kinematics.wheel_speeds_rad_per_s(&rate_error) * rim_m;
+        let threshold = p.slip_speed_threshold_m_per_s;
+        let evidence: [bool; WHEEL_COUNT] = core::array::from_fn(|i| slip[i].abs() > threshold);
+        let any_evidence = evidence.iter().any(|&e| e);
+        let support = if any_evidence {
+            if !self.previous_evidence {
+                self.hard_before = self.worked_hard(kinematics, &slip);
+            }
+            support(&slip, threshold, self.hard_before)
+        } else {
+            [false; WHEEL_COUNT]
+        };
+        // A flag needs supported evidence in two updates running (one sample proves nothing),
+        // and stays while the wheel's evidence lasts.
+        let was = self.status.slipping;
+        let previous = self.previous_support;
+        let mut slipping: [bool; WHEEL_COUNT] =
+            core::array::from_fn(|i| evidence[i] && (was[i] || (support[i] && previous[i])));
+        let mut any = slipping.iter().any(|&s| s);
+        // The observers coast while a wheel slips (the residual keeps the slip), while the
+        // evidence is supported and waits for its confirmation, and on the first update of any
+        // evidence (an outlier must not be learnt); unsupported evidence that lasts is an
+        // external force, which they follow.
+        let hold = any || (any_evidence && (!self.previous_evidence || support.iter().any(|&s| s)));
+        let gain = if hold {
+            T::zero()
+        } else {
+            p.observer_gain_per_s
+        };
+        let mut next = [
+            estimate[0] + (rates[0] + gain * residual[0]) * dt_secs,
+            estimate[1] + (rates[1] + gain * residual[1]) * dt_secs,
+        ];
         // Non-finite inputs (or a non-positive period) change nothing: NaN anywhere reaches
-        // the slip or the next estimate.
+        // the slip or the next estimate (and a NaN slip is no evidence).
         let finite = slip.iter().chain(next.iter()).all(|x| x.is_finite());
         if !(finite && dt_secs > T::zero()) {
             return false;
         }
+        self.coast_secs = if any {
+            self.coast_secs + dt_secs
+        } else {
+            T::zero()
+        };
+        if self.coast_secs > p.max_coast_secs {
+            // Coasted for as long as a slip may be held: whatever the residual holds now, the
+            // observers take the measured momentum again and the flags fall.
+            next = [
+                measured[0] + rates[0] * dt_secs,
+                measured[1] + rates[1] * dt_secs,
+            ];
+            slipping = [false; WHEEL_COUNT];
+            any = false;
+            self.coast_secs = T::zero();
+        }
         self.momentum_estimate = Some(next);
-        let threshold = p.slip_speed_threshold_m_per_s;
-        let slipping = core::array::from_fn(|i| slip[i].abs() > threshold);
-        let any = slipping.iter().any(|&s| s);
+        self.previous_support = support;
+        self.previous_evidence = any_evidence;
         let onset = any && !self.status.any_slipping();
         let mu = self.mu;
         let status = &mut self.status;
@@ -444,7 +529,11 @@ impl<T: RealField + Copy> SlipMonitor<T> {
             T::zero()
         };
         self.ball_rate_correction_rad_per_s = if any {
-            [rate_error.x, rate_error.y]
+            // Only the flagged wheels' slip: what the residual holds besides (an external
+            // force's momentum, the other wheels' ripple) is real ball motion.
+            let flagged = Vector3::from_fn(|i, _| if slipping[i] { slip[i] } else { T::zero() });
+            let error = kinematics.relative_rate_rad_per_s(&(flagged / rim_m));
+            [error.x, error.y]
         } else {
             [T::zero(); 2]
         };
@@ -457,6 +546,26 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         status.slip_speed_m_per_s = slip;
         status.slipping = slipping;
         self.slip_secs > p.slip_fault_secs
+    }
+
+    /// At the first update of an episode of evidence, which wheels were working hard before it
+    /// the way they now slip: the prediction of the update before (made before the evidence
+    /// came), a friction-cone use of at least [`MIN_USE_FOR_ESTIMATE`] and the wheel's torque
+    /// driving it the way it slips (a rim slides the way its torque pushes it, driving or
+    /// braking). See [`support`].
+    fn worked_hard(
+        &self,
+        kinematics: &OmniKinematics<T>,
+        slip: &Vector3<T>,
+    ) -> [bool; WHEEL_COUNT] {
+        let normal = &self.status.predicted_normal_force_n;
+        let torques = &self.predicted_wheel_torques_nm;
+        core::array::from_fn(|i| {
+            let cone_use = kinematics
+                .wheel_contact(normal[i], torques[i])
+                .friction_utilisation;
+            cone_use >= lit(MIN_USE_FOR_ESTIMATE) && slip[i] * torques[i] > T::zero()
+        })
     }
 
     /// The factor on the envelope's friction part: `accel_scale * friction_estimate / mu`.
@@ -484,4 +593,28 @@ impl<T: RealField + Copy> SlipMonitor<T> {
     pub(crate) fn min_braking_decel_m_per_s2(&self) -> T {
         self.params.min_braking_decel_m_per_s2
     }
+}
+
+/// Which wheels' slip evidence `slip` (m/s at the rim) a slip can explain and an external force
+/// cannot (see [`SlipMonitor`] and docs/traction.md section 3):
+///
+/// - **kinematically**: an external force on the body or the ball changes the ball's rolling
+///   and the body's motion alike, never the relation of the wheels to a ball that does not spin
+///   about the vertical. It moves the momentum residuals only, whose wheel slips
+///   `r_W J [e_x, e_y, 0]` sum to zero (the wheels' `u_i` sum to a vertical vector). The sum
+///   of the three slips is the no-spin part alone; one wheel slipping by `s` makes it `s`.
+///   Evidence with the sign of a sum above the threshold is supported;
+/// - **dynamically** (`hard_before`, [`SlipMonitor::worked_hard`] at the episode's start): a
+///   slip that the wheels share so that the sum stays zero (OW2 and OW3 spinning alike
+///   towards OW1) is, for the IMU and the encoders, the same as a push near the centre of
+///   mass. It is supported only on a wheel that was working hard the way it slips before the
+///   evidence came: a slip follows a demand, while the torque a push brings follows the push.
+fn support<T: RealField + Copy>(
+    slip: &Vector3<T>,
+    threshold: T,
+    hard_before: [bool; WHEEL_COUNT],
+) -> [bool; WHEEL_COUNT] {
+    let sum = slip.x + slip.y + slip.z;
+    let kinematic = sum.abs() > threshold;
+    core::array::from_fn(|i| (kinematic && slip[i] * sum > T::zero()) || hard_before[i])
 }

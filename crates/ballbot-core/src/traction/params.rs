@@ -59,6 +59,14 @@ pub struct TractionParams<T> {
     /// supervisor's controlled stop (s, > 0). Default 0.3: three times the world's definition
     /// of a sustained slip, time for the halved envelope to end it.
     pub slip_fault_secs: T,
+    /// The observers coast on a slip for at most this long (s, > `slip_fault_secs`): then
+    /// they take the measured momentum again and the flags fall, whatever the residual holds.
+    /// This bounds how long any flag, and the correction of the ball-rate estimate it brings,
+    /// can outlast consistent data. Default 0.5: longer than `slip_fault_secs`, so that a
+    /// slip that goes on raises the fault first, and short enough that a false flag (an
+    /// external force the detector took for a slip) leaves the estimate within half a
+    /// second.
+    pub max_coast_secs: T,
     /// Whether a detected slip lowers the friction estimate the envelope uses.
     pub estimate_friction: bool,
     /// The friction estimate never falls below this (> 0). Default 0.1.
@@ -91,6 +99,7 @@ impl<T: RealField + Copy> TractionParams<T> {
             slip_accel_scale: lit(0.5),
             recovery_secs: T::one(),
             slip_fault_secs: lit(0.3),
+            max_coast_secs: lit(0.5),
             estimate_friction: true,
             min_friction: lit(0.1),
             friction_recovery_secs: lit(5.0),
@@ -146,6 +155,12 @@ impl<T: RealField + Copy> TractionParams<T> {
         }
         positive(self.recovery_secs, "recovery_secs")?;
         positive(self.slip_fault_secs, "slip_fault_secs")?;
+        if !(self.max_coast_secs.is_finite() && self.max_coast_secs > self.slip_fault_secs) {
+            return Err(Error::invalid(
+                "max_coast_secs",
+                "must be finite and > slip_fault_secs",
+            ));
+        }
         positive(self.min_friction, "min_friction")?;
         positive(self.friction_recovery_secs, "friction_recovery_secs")
     }
