@@ -65,6 +65,13 @@ pub enum Fault {
     /// An omniwheel kept slipping on the ball despite the traction reaction
     /// ([`crate::traction::SlipMonitor`]).
     WheelSlip = 14,
+    /// A motor driver delivers no torque while one is commanded
+    /// ([`crate::safety::MotorHealthMonitor`]).
+    MotorDead = 15,
+    /// A motor driver's torque does not follow its command.
+    MotorStuck = 16,
+    /// A motor driver reports an error ([`crate::hal::DriverErrors`]).
+    MotorTripped = 17,
 }
 
 impl Fault {
@@ -75,7 +82,7 @@ impl Fault {
     /// // In code order, one entry per code.
     /// assert!(Fault::ALL.iter().enumerate().all(|(i, f)| usize::from(f.code()) == i));
     /// ```
-    pub const ALL: [Self; 15] = [
+    pub const ALL: [Self; 18] = [
         Self::ImuNonFinite,
         Self::ImuOutOfRange,
         Self::ImuStale,
@@ -91,6 +98,9 @@ impl Fault {
         Self::CommandNonFinite,
         Self::StateNonFinite,
         Self::WheelSlip,
+        Self::MotorDead,
+        Self::MotorStuck,
+        Self::MotorTripped,
     ];
 
     /// The fault's canonical name (snake_case), the one string form used by `Display`,
@@ -118,6 +128,9 @@ impl Fault {
             Self::CommandNonFinite => "command_non_finite",
             Self::StateNonFinite => "state_non_finite",
             Self::WheelSlip => "wheel_slip",
+            Self::MotorDead => "motor_dead",
+            Self::MotorStuck => "motor_stuck",
+            Self::MotorTripped => "motor_tripped",
         }
     }
 
@@ -144,7 +157,10 @@ impl Fault {
             | Self::ImuFrozen
             | Self::EncoderStale
             | Self::TiltLimit
-            | Self::StateNonFinite => Severity::Unrecoverable,
+            | Self::StateNonFinite
+            | Self::MotorDead
+            | Self::MotorStuck
+            | Self::MotorTripped => Severity::Unrecoverable,
             Self::ImuNonFinite
             | Self::ImuOutOfRange
             | Self::EncoderNonFinite
@@ -181,6 +197,9 @@ impl Fault {
             Self::CommandNonFinite => "command is not finite",
             Self::StateNonFinite => "controller state is not finite",
             Self::WheelSlip => "omniwheel slip persisted",
+            Self::MotorDead => "motor driver delivers no torque",
+            Self::MotorStuck => "motor torque does not follow its command",
+            Self::MotorTripped => "motor driver reports an error",
         }
     }
 }
@@ -232,7 +251,7 @@ impl<'de> serde::Deserialize<'de> for Fault {
 /// assert_eq!("command_link_lost,loop_overrun".parse(), Ok(faults));
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct FaultSet(u16);
+pub struct FaultSet(u32);
 
 impl FaultSet {
     /// No fault.
@@ -253,7 +272,7 @@ impl FaultSet {
     /// faults.insert(Fault::ImuStale); // code 2
     /// assert_eq!(faults.bits(), 0b100);
     /// ```
-    pub const fn bits(self) -> u16 {
+    pub const fn bits(self) -> u32 {
         self.0
     }
 
@@ -326,10 +345,10 @@ impl FaultSet {
         self.0 & mask != 0
     }
 
-    const UNRECOVERABLE: u16 = Self::mask_of(Severity::Unrecoverable);
-    const RECOVERABLE: u16 = Self::mask_of(Severity::Recoverable);
+    const UNRECOVERABLE: u32 = Self::mask_of(Severity::Unrecoverable);
+    const RECOVERABLE: u32 = Self::mask_of(Severity::Recoverable);
 
-    const fn mask_of(severity: Severity) -> u16 {
+    const fn mask_of(severity: Severity) -> u32 {
         let mut mask = 0;
         let mut i = 0;
         while i < Fault::ALL.len() {

@@ -46,6 +46,7 @@
 //! | `CommandNonFinite` | the command holds a NaN/inf | recoverable |
 //! | `StateNonFinite` | reported by the controller: its estimate or output went non-finite | unrecoverable |
 //! | `WheelSlip` | reported by the controller: a wheel kept slipping despite the traction reaction ([`crate::traction`]) | recoverable |
+//! | `MotorDead`, `MotorStuck`, `MotorTripped` | reported by the robot loop's 8 kHz task: a driver's feedback shows no torque, a torque that does not follow the command, or an error flag ([`MotorHealthMonitor`]) | unrecoverable |
 //!
 //! A single bad sample therefore starts a controlled stop on held data; if no good sample
 //! follows within the timeout the data is stale and the motors are disabled.
@@ -82,6 +83,7 @@
 
 mod fault;
 mod mode;
+mod motor_health;
 mod params;
 mod supervisor;
 #[cfg(test)]
@@ -89,5 +91,9 @@ mod tests;
 
 pub use fault::{Fault, FaultSet, Severity};
 pub use mode::{Mode, ModeRequest};
+pub use motor_health::{
+    MIAPURE_NOMINAL_BUS_VOLTAGE_V, MotorHealthMonitor, MotorHealthParams, MotorVerdict,
+    ODRIVE_CURRENT_BANDWIDTH_RAD_PER_S, ODRIVE_MAX_MODULATION,
+};
 pub use params::SafetyParams;
 pub use supervisor::{SafetyInput, SafetyStatus, SafetySupervisor};

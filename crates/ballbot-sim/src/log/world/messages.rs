@@ -113,7 +113,7 @@ pub struct WorldControllerMsg {
     /// Whether the motors are driven.
     pub motors_enabled: bool,
     /// Faults raised this step, one bit per `ballbot_core::safety::Fault` code.
-    pub fault_bits: u16,
+    pub fault_bits: u32,
     /// In a controlled stop, whether the shaped command has come to rest.
     pub stopped: bool,
     /// Reference omniwheel speeds `psi_dot_r` sent to the motor drivers (rad/s).
