@@ -235,8 +235,12 @@ fn a_healthy_motor_at_its_torque_limit_is_not_flagged() {
         (0.0, 22.5),
         (15.0, 22.5),
         (55.0, BUS_V),
+        (54.6, 22.5),
+        (-54.6, 22.5),
     ] {
-        for command in [43.2, -43.2, 30.0, -30.0, 8.0] {
+        // 0 N m too: beyond the back-EMF speed the motor brakes whatever it is told (a
+        // regression: the first band admitted that only for a command beyond the envelope).
+        for command in [43.2, -43.2, 30.0, -30.0, 8.0, 0.0] {
             let mut m = monitor();
             let out = run(
                 &mut m,
