@@ -83,7 +83,7 @@
 
 mod fault;
 mod mode;
-mod motor_health;
+pub mod motor_health;
 mod params;
 mod supervisor;
 #[cfg(test)]
