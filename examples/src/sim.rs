@@ -13,7 +13,7 @@
 
 use ballbot_core::estimation::{EncoderSample, ImuSample, PlanarStates, synthesize_sensors};
 use ballbot_core::hal::{
-    DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders,
+    DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorFeedback, MotorTorques, WheelEncoders,
 };
 use ballbot_core::kinematics::relative_rate_from_planar;
 use ballbot_core::wip::{BALL_RATE, TILT_RATE};
@@ -159,6 +159,9 @@ impl SimPlant {
     }
 }
 
+/// The demo drivers' bus voltage (V): MiaPURE's 45 V.
+const DEMO_BUS_VOLTAGE_V: f64 = 45.0;
+
 /// The simulated IMU.
 #[derive(Clone, Copy, Debug)]
 pub struct SimImu<'a>(pub &'a RefCell<SimPlant>);
@@ -206,11 +209,21 @@ impl WheelEncoders<f64> for SimEncoders<'_> {
 
 impl MotorTorques<f64> for SimMotors<'_> {
     type Error = SimError;
-    fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<(), SimError> {
+    /// Returns what the drivers delivered in the last plant step (the reply to the previous
+    /// setpoint, as over a bus), at the demo's 45 V bus.
+    fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<[MotorFeedback<f64>; 3], SimError> {
         let mut p = self.0.try_borrow_mut().map_err(|_| SimError::Busy)?;
+        let delivered = if p.motors_enabled {
+            p.torque_nm
+        } else {
+            Vector3::zeros()
+        };
+        let speeds = p.wheel_speeds_rad_per_s();
+        let feedback =
+            [0, 1, 2].map(|i| MotorFeedback::healthy(delivered[i], speeds[i], DEMO_BUS_VOLTAGE_V));
         p.torque_nm = *torque_nm;
         p.motors_enabled = true;
-        Ok(())
+        Ok(feedback)
     }
     fn disable(&mut self) -> Result<(), SimError> {
         let mut p = self.0.try_borrow_mut().map_err(|_| SimError::Busy)?;

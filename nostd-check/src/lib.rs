@@ -78,7 +78,9 @@ pub extern "C" fn ballbot_nostd_robot_loop_f32(pitch_rad: f32, now_us: u64) -> f
     use ballbot_core::ballbot::BallbotControllerConfig;
     use ballbot_core::command::Command;
     use ballbot_core::estimation::{EncoderSample, ImuSample};
-    use ballbot_core::hal::{DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders};
+    use ballbot_core::hal::{
+        DeviceErrorKind, Imu, MonotonicClock, MotorFeedback, MotorTorques, WheelEncoders,
+    };
     use ballbot_core::safety::ModeRequest;
     use ballbot_runtime::{LoopConfig, OperatorInput, RobotLoop};
     use nalgebra::Vector3;
@@ -104,9 +106,18 @@ pub extern "C" fn ballbot_nostd_robot_loop_f32(pitch_rad: f32, now_us: u64) -> f
     }
     impl MotorTorques<f32> for Motors {
         type Error = DeviceErrorKind;
-        fn apply(&mut self, torque_nm: &Vector3<f32>) -> Result<(), DeviceErrorKind> {
+        fn apply(
+            &mut self,
+            torque_nm: &Vector3<f32>,
+        ) -> Result<[MotorFeedback<f32>; 3], DeviceErrorKind> {
+            // The reply to the previous setpoint, as over a bus: OW1's torque, the others idle.
+            let feedback = [
+                MotorFeedback::healthy(self.0, 0.0, 45.0),
+                MotorFeedback::healthy(0.0, 0.0, 45.0),
+                MotorFeedback::healthy(0.0, 0.0, 45.0),
+            ];
             self.0 = torque_nm[0];
-            Ok(())
+            Ok(feedback)
         }
         fn disable(&mut self) -> Result<(), DeviceErrorKind> {
             self.0 = 0.0;

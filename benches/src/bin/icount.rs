@@ -281,11 +281,29 @@ mod three_d {
         black_box(acc);
         Ok(())
     }
+
+    /// The motor-health monitor's 8 kHz step over the three drivers' feedback (healthy drivers
+    /// following a varying setpoint, so every check runs to the end).
+    pub(crate) fn motor_health_step_f64(n: u64) -> Result<(), String> {
+        use ballbot_core::hal::MotorFeedback;
+        use ballbot_core::safety::{MotorHealthMonitor, MotorHealthParams};
+        let mut monitor = MotorHealthMonitor::new(MotorHealthParams::<f64>::miapure(), 1.25e-4)
+            .map_err(|e| e.to_string())?;
+        let mut flagged = 0_u64;
+        for i in 0..n {
+            let c = 5.0 + (i & 7) as f64 * 0.01;
+            let command = Vector3::new(c, -c, 0.5 * c);
+            let fb = [0, 1, 2].map(|w| MotorFeedback::healthy(command[w], w as f64, 45.0));
+            flagged += u64::from(monitor.step(black_box(&command), black_box(&fb)).is_some());
+        }
+        black_box(flagged);
+        Ok(())
+    }
 }
 
 use three_d::{
     ballbot_outer_step_f32, ballbot_outer_step_f64, ballbot_outer_step_traction_f64,
-    command_shaper_step_f64, motor_pi_step_f64,
+    command_shaper_step_f64, motor_health_step_f64, motor_pi_step_f64,
 };
 
 const OPERATIONS: &[Operation] = &[
@@ -328,6 +346,10 @@ const OPERATIONS: &[Operation] = &[
     Operation {
         name: "command_shaper_step_f64",
         run: command_shaper_step_f64,
+    },
+    Operation {
+        name: "motor_health_step_f64",
+        run: motor_health_step_f64,
     },
     Operation {
         name: "motor_pi_step_f64",

@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | [`Imu`] | one [`ImuSample`] (attitude, body rates, timestamp) | the 400 Hz outer task |
 //! | [`WheelEncoders`] | one [`EncoderSample`] (three omniwheel speeds, timestamp) | both tasks |
-//! | [`MotorTorques`] | apply three omniwheel torques, or switch the motors off | the 8 kHz inner task |
+//! | [`MotorTorques`] | apply three omniwheel torques (returning the drivers' [`MotorFeedback`]), or switch the motors off | the 8 kHz inner task |
 //! | [`MonotonicClock`] | microseconds since an arbitrary start, never decreasing | both tasks |
 //!
 //! Units are those of the controller: angles in rad, rates in rad/s, torques in N m **at the
@@ -201,22 +201,27 @@ pub trait WheelEncoders<T: nalgebra::Scalar> {
 /// The three motor drivers, commanded in torque.
 ///
 /// `apply` receives torques already within the actuator's torque-speed limits (the inner loop
-/// clamps them); the driver converts to current (`torque / (gear ratio x torque constant)`).
-/// `disable` must leave the motors unpowered (coasting, or shorted if the hardware brakes) and
-/// is called on every inner step while the controller is not balancing, so it must be cheap
-/// and idempotent.
+/// clamps them); the driver converts to current (`torque / (gear ratio x torque constant)`) and
+/// returns what each driver last reported ([`MotorFeedback`]: measured torque, speed, bus
+/// voltage, error flags), as an ODrive reports it. The feedback may be one period old (the
+/// reply to the previous setpoint, as over a bus); the motor-health monitor
+/// ([`crate::safety::MotorHealthMonitor`]) allows for that. `disable` must leave the motors
+/// unpowered (coasting, or shorted if the hardware brakes) whatever the drivers' state (a
+/// safe-torque-off line or the power stage's enable, not only a bus message), and is called on
+/// every inner step while the controller is not balancing, so it must be cheap and idempotent.
 ///
 /// ```
-/// use ballbot_core::hal::MotorTorques;
+/// use ballbot_core::hal::{MotorFeedback, MotorTorques};
 /// use core::convert::Infallible;
 /// use nalgebra::Vector3;
+/// /// Drivers that deliver exactly what they are told, at 45 V, the wheels at rest.
 /// #[derive(Default)]
 /// struct Recorder { last_nm: Option<Vector3<f64>> }
 /// impl MotorTorques<f64> for Recorder {
 ///     type Error = Infallible;
-///     fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<(), Infallible> {
+///     fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<[MotorFeedback<f64>; 3], Infallible> {
 ///         self.last_nm = Some(*torque_nm);
-///         Ok(())
+///         Ok([0, 1, 2].map(|i| MotorFeedback::healthy(torque_nm[i], 0.0, 45.0)))
 ///     }
 ///     fn disable(&mut self) -> Result<(), Infallible> {
 ///         self.last_nm = None;
@@ -224,8 +229,9 @@ pub trait WheelEncoders<T: nalgebra::Scalar> {
 ///     }
 /// }
 /// let mut m = Recorder::default();
-/// m.apply(&Vector3::new(1.0, -2.0, 0.5))?;
+/// let feedback = m.apply(&Vector3::new(1.0, -2.0, 0.5))?;
 /// assert_eq!(m.last_nm, Some(Vector3::new(1.0, -2.0, 0.5)));
+/// assert_eq!(feedback[1].torque_nm, -2.0);
 /// m.disable()?;
 /// assert_eq!(m.last_nm, None);
 /// # Ok::<(), Infallible>(())
@@ -234,11 +240,126 @@ pub trait MotorTorques<T: nalgebra::Scalar> {
     /// The driver's error.
     type Error: DeviceError;
 
-    /// Applies `torque_nm[i]` (N m, at the omniwheel) to omniwheel `i` until the next call.
-    fn apply(&mut self, torque_nm: &Vector3<T>) -> Result<(), Self::Error>;
+    /// Applies `torque_nm[i]` (N m, at the omniwheel) to omniwheel `i` until the next call, and
+    /// returns the drivers' latest feedback, wheel `i` at index `i`.
+    fn apply(&mut self, torque_nm: &Vector3<T>) -> Result<[MotorFeedback<T>; 3], Self::Error>;
 
     /// Switches the motors off.
     fn disable(&mut self) -> Result<(), Self::Error>;
+}
+
+/// A motor driver's error flags, a bit set modelled on the ODrive's error classes (firmware
+/// 0.5.x: `ODrive.error`, `axis.error`, `axis.motor.error`, `axis.encoder.error`,
+/// `axis.controller.error`). A driver maps its own codes onto these once, at the edge; any
+/// flag means the driver cannot be trusted to deliver the commanded torque.
+///
+/// | flag | ODrive errors it stands for |
+/// |---|---|
+/// | [`Self::OVER_CURRENT`] | `motor.error` `CURRENT_LIMIT_VIOLATION`, `CURRENT_SENSE_SATURATION`; `ODrive.error` `DC_BUS_OVER_CURRENT`, `DC_BUS_OVER_REGEN_CURRENT` |
+/// | [`Self::BUS_UNDER_VOLTAGE`] | `ODrive.error` `DC_BUS_UNDER_VOLTAGE` |
+/// | [`Self::BUS_OVER_VOLTAGE`] | `ODrive.error` `DC_BUS_OVER_VOLTAGE` |
+/// | [`Self::ENCODER`] | any `encoder.error` (`CPR_POLEPAIRS_MISMATCH`, `NO_RESPONSE`, `ILLEGAL_HALL_STATE`, `ABS_SPI_*`) |
+/// | [`Self::DRIVER_FAULT`] | `motor.error` `DRV_FAULT` (gate driver), `MODULATION_IS_NAN`, `CONTROL_DEADLINE_MISSED` |
+/// | [`Self::OVER_TEMPERATURE`] | `motor.error` `MOTOR_THERMISTOR_OVER_TEMP`, `FET_THERMISTOR_OVER_TEMP` |
+/// | [`Self::OVERSPEED`] | `controller.error` `OVERSPEED` |
+/// | [`Self::DISARMED`] | the axis left `AXIS_STATE_CLOSED_LOOP_CONTROL` without being told to (any other `axis.error`, e.g. `WATCHDOG_TIMER_EXPIRED`) |
+///
+/// ```
+/// use ballbot_core::hal::DriverErrors;
+/// let flags = DriverErrors::OVERSPEED.union(DriverErrors::DISARMED);
+/// assert!(flags.contains(DriverErrors::OVERSPEED) && !flags.is_empty());
+/// assert!(!flags.contains(DriverErrors::ENCODER));
+/// assert_eq!(DriverErrors::from_bits(flags.bits()), flags);
+/// assert!(DriverErrors::NONE.is_empty());
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct DriverErrors(u16);
+
+impl DriverErrors {
+    /// No error.
+    pub const NONE: Self = Self(0);
+    /// Over-current: the motor or bus current beyond its limit and margin.
+    pub const OVER_CURRENT: Self = Self(1 << 0);
+    /// The DC bus voltage below the driver's undervoltage trip.
+    pub const BUS_UNDER_VOLTAGE: Self = Self(1 << 1);
+    /// The DC bus voltage above the driver's overvoltage trip.
+    pub const BUS_OVER_VOLTAGE: Self = Self(1 << 2);
+    /// The driver's encoder failed (no response, lost calibration, illegal state).
+    pub const ENCODER: Self = Self(1 << 3);
+    /// The power stage failed (gate-driver fault, non-finite modulation, missed deadline).
+    pub const DRIVER_FAULT: Self = Self(1 << 4);
+    /// The motor or power stage is too hot.
+    pub const OVER_TEMPERATURE: Self = Self(1 << 5);
+    /// The motor turned faster than the driver's velocity limit and tolerance.
+    pub const OVERSPEED: Self = Self(1 << 6);
+    /// The driver left closed-loop control on its own: it applies no torque.
+    pub const DISARMED: Self = Self(1 << 7);
+
+    /// The flags from their bits (bits without a flag are kept: a driver may report more).
+    pub const fn from_bits(bits: u16) -> Self {
+        Self(bits)
+    }
+
+    /// The flags as bits (for telemetry).
+    pub const fn bits(self) -> u16 {
+        self.0
+    }
+
+    /// Whether no flag is set.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Whether every flag of `other` is set.
+    pub const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// Both sets of flags.
+    pub const fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+}
+
+/// What one motor driver reports, converted at the edge to the controller's units (at the
+/// omniwheel, after the gearbox, as [`MotorTorques`]).
+///
+/// An ODrive gives `motor.current_control.Iq_measured` (A), `encoder.vel_estimate` (turn/s of
+/// the rotor), `vbus_voltage` (V) and its error registers; the driver multiplies the current by
+/// `gear ratio x torque constant` (the ODrive's `8.27 / KV`) and the speed by `2 pi / gear
+/// ratio`, and maps the errors onto [`DriverErrors`].
+///
+/// ```
+/// use ballbot_core::hal::{DriverErrors, MotorFeedback};
+/// // 10 A measured on MiaPURE's motor (K_t = 8.27 / 98.68 N m/A, ratio 7.5): 6.29 N m at the wheel.
+/// let kt = 8.27 / 98.68;
+/// let fb = MotorFeedback::healthy(10.0 * 7.5 * kt, 3.0, 45.0);
+/// approx::assert_relative_eq!(fb.torque_nm, 6.286, epsilon = 1e-3);
+/// assert!(fb.errors.is_empty());
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MotorFeedback<T> {
+    /// Torque the driver measures it delivers (N m at the omniwheel): the measured q-axis
+    /// current times gear ratio and torque constant.
+    pub torque_nm: T,
+    /// The driver's own speed estimate (rad/s at the omniwheel).
+    pub speed_rad_per_s: T,
+    /// The driver's DC bus voltage (V).
+    pub bus_voltage_v: T,
+    /// The driver's error flags.
+    pub errors: DriverErrors,
+}
+
+impl<T: Copy> MotorFeedback<T> {
+    /// A report without errors.
+    pub const fn healthy(torque_nm: T, speed_rad_per_s: T, bus_voltage_v: T) -> Self {
+        Self {
+            torque_nm,
+            speed_rad_per_s,
+            bus_voltage_v,
+            errors: DriverErrors::NONE,
+        }
+    }
 }
 
 /// A monotonic clock in microseconds (a free-running hardware timer, extended to 64 bits).

@@ -21,7 +21,7 @@
 //! use ballbot_core::ballbot::BallbotControllerConfig;
 //! use ballbot_core::command::Command;
 //! use ballbot_core::estimation::{EncoderSample, ImuSample};
-//! use ballbot_core::hal::{Imu, MonotonicClock, MotorTorques, WheelEncoders};
+//! use ballbot_core::hal::{Imu, MonotonicClock, MotorFeedback, MotorTorques, WheelEncoders};
 //! use ballbot_core::safety::{Mode, ModeRequest};
 //! use ballbot_runtime::{LoopConfig, OperatorInput, Phase, RobotLoop};
 //! use core::convert::Infallible;
@@ -50,9 +50,11 @@
 //! struct Motors(Vector3<f64>);
 //! impl MotorTorques<f64> for Motors {
 //!     type Error = Infallible;
-//!     fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<(), Infallible> {
+//!     fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<[MotorFeedback<f64>; 3], Infallible> {
+//!         // Drivers that deliver what they are told, at 45 V, the wheels still.
+//!         let feedback = [0, 1, 2].map(|i| MotorFeedback::healthy(self.0[i], 0.0, 45.0));
 //!         self.0 = *torque_nm;
-//!         Ok(())
+//!         Ok(feedback)
 //!     }
 //!     fn disable(&mut self) -> Result<(), Infallible> {
 //!         self.0 = Vector3::zeros();

@@ -7,7 +7,8 @@
 //!   [`BallbotController`] (supervisor, estimation, command shaping, LQR-PI planes, kinematics)
 //!   and hands the new [`ballbot_core::ballbot::MotorReferences`] to the inner loop.
 //! - [`RobotLoop::inner_task`] at 8 kHz: reads the encoders, runs the three motor speed PIs
-//!   ([`MotorSpeedLoop`]) and applies the torques, or switches the motors off.
+//!   ([`MotorSpeedLoop`]) and applies the torques, or switches the motors off; checks the
+//!   drivers' feedback ([`MotorHealthMonitor`]).
 //! - [`RobotLoop::shutdown`]: a controlled stop, then disarm once at rest.
 //!
 //! **Start-up.** The loop starts in [`Phase::StartingUp`]: it requests
@@ -23,7 +24,12 @@
 //! reported as [`Fault::LoopOverrun`] (recoverable: controlled stop). The inner loop's encoder
 //! guards report [`Fault::EncoderImplausible`] (or [`Fault::EncoderStale`] once it lasts the
 //! encoder timeout; see [`ballbot_core::ballbot::SpeedGuard`]). Every other fault comes
-//! from the [`ballbot_core::safety::SafetySupervisor`] inside the controller. Failed motor
+//! from the [`ballbot_core::safety::SafetySupervisor`] inside the controller, except the
+//! motor-health faults: the inner task compares each driver's reported torque with its
+//! setpoint ([`MotorHealthMonitor`], [`LoopConfig::motor_health`]) and reports a dead, stuck or
+//! tripped driver ([`Fault::MotorDead`], [`Fault::MotorStuck`], [`Fault::MotorTripped`]) at
+//! once: the motors go off at the next inner step (a protective stop: a 3-wheel ballbot with a
+//! wheel gone cannot balance; docs/robustness.md measures the alternatives). Failed motor
 //! writes are counted in [`DeviceErrorCounts`] for the application: there is nothing the
 //! controller can do about an actuator that does not answer.
 //!
@@ -38,10 +44,12 @@ use ballbot_core::ballbot::{
 use ballbot_core::command::Command;
 use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::hal::{
-    DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorTorques, WheelEncoders,
+    DeviceError, DeviceErrorKind, Imu, MonotonicClock, MotorFeedback, MotorTorques, WheelEncoders,
 };
 use ballbot_core::rates::{INNER_LOOP_DT_SECS, OUTER_LOOP_PERIOD_US};
-use ballbot_core::safety::{Fault, Mode, ModeRequest};
+use ballbot_core::safety::{
+    Fault, Mode, ModeRequest, MotorHealthMonitor, MotorHealthParams, MotorVerdict,
+};
 use ballbot_core::wip::BALL_RATE;
 use nalgebra::RealField;
 
@@ -57,16 +65,20 @@ pub struct LoopConfig<T> {
     /// Shutdown disarms only once the estimated ball speed in both planes is below this
     /// (m/s), the body upright and still, and the shaped command at rest.
     pub rest_speed_m_per_s: T,
+    /// The motor-health monitor's model of the drivers and its thresholds.
+    pub motor_health: MotorHealthParams<T>,
 }
 
 impl<T: RealField + Copy> LoopConfig<T> {
-    /// MiaPURE: a 400 Hz outer and an 8 kHz inner loop, arming after 0.25 s upright and still.
+    /// MiaPURE: a 400 Hz outer and an 8 kHz inner loop, arming after 0.25 s upright and still;
+    /// ODrive v3.6 drivers on MiaPURE's actuator ([`MotorHealthParams::miapure`]).
     pub fn miapure() -> Self {
         Self {
             outer_period_us: OUTER_LOOP_PERIOD_US,
             inner_dt_secs: nalgebra::convert(INNER_LOOP_DT_SECS),
             settle_us: 250_000,
             rest_speed_m_per_s: nalgebra::convert(0.02),
+            motor_health: MotorHealthParams::miapure(),
         }
     }
 }
@@ -131,6 +143,10 @@ pub struct InnerReport<T: nalgebra::Scalar> {
     pub applied: bool,
     /// The motor driver's error, if the write failed.
     pub motor_error: Option<DeviceErrorKind>,
+    /// The drivers' feedback, when torque was applied and the write succeeded.
+    pub motor_feedback: Option<[MotorFeedback<T>; 3]>,
+    /// The motor-health verdict of this step (reported to the supervisor), if any.
+    pub motor_verdict: Option<MotorVerdict>,
 }
 
 /// The robot's control loop (see the module docs).
@@ -138,6 +154,7 @@ pub struct InnerReport<T: nalgebra::Scalar> {
 pub struct RobotLoop<T: RealField + Copy, I, E, M, C> {
     controller: BallbotController<T>,
     inner: MotorSpeedLoop<T>,
+    health: MotorHealthMonitor<T>,
     config: LoopConfig<T>,
     imu: I,
     encoders: E,
@@ -185,6 +202,7 @@ where
         Ok(Self {
             controller: BallbotController::new(controller)?,
             inner: MotorSpeedLoop::new(&controller)?,
+            health: MotorHealthMonitor::new(config.motor_health, config.inner_dt_secs)?,
             config,
             imu,
             encoders,
@@ -376,7 +394,8 @@ where
         }
     }
 
-    /// The 8 kHz task: encoders, motor speed PIs, torques (or motors off).
+    /// The 8 kHz task: encoders, motor speed PIs, torques (or motors off), the drivers'
+    /// health.
     pub fn inner_task(&mut self) -> InnerReport<T> {
         self.read_encoders();
         let output = self.inner.step(
@@ -389,20 +408,40 @@ where
             self.controller.report(fault);
         }
         let applied = self.controller.mode().motors_enabled() && !output.timed_out;
-        let result = if applied {
-            self.motors.apply(&output.torque_nm)
+        let (motor_feedback, motor_error) = if applied {
+            match self.motors.apply(&output.torque_nm) {
+                Ok(feedback) => (Some(feedback), None),
+                Err(e) => (None, Some(e.kind())),
+            }
         } else {
-            self.motors.disable()
+            self.health.reset();
+            (None, self.motors.disable().err().map(|e| e.kind()))
         };
-        let motor_error = result.err().map(|e| e.kind());
         if let Some(kind) = motor_error {
             self.errors.motors = self.errors.motors.saturating_add(1);
             self.note(kind);
         }
+        let motor_verdict = self.check_motors(&output.torque_nm, motor_feedback.as_ref());
         InnerReport {
             output,
             applied,
             motor_error,
+            motor_feedback,
+            motor_verdict,
         }
+    }
+
+    /// Checks the drivers' feedback against the setpoints; a verdict goes to the supervisor
+    /// at once (the motors go off at the next inner step).
+    fn check_motors(
+        &mut self,
+        torque_nm: &nalgebra::Vector3<T>,
+        feedback: Option<&[MotorFeedback<T>; 3]>,
+    ) -> Option<MotorVerdict> {
+        let verdict = self.health.step(torque_nm, feedback?);
+        if let Some(v) = verdict {
+            self.controller.report(v.fault);
+        }
+        verdict
     }
 }

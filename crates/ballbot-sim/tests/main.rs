@@ -6,6 +6,7 @@
 mod balance;
 mod gym;
 mod log;
+mod motor_health;
 mod piptb;
 mod piptb_stop;
 mod planar_plant;

@@ -70,6 +70,13 @@ pub enum Fault {
     /// An encoder kept reading speeds no omniwheel can reach, without settling on a
     /// physically continuous trajectory (the 8 kHz guard, [`crate::ballbot::SpeedGuard`]).
     EncoderImplausible = 16,
+    /// A motor driver delivers no torque while one is commanded
+    /// ([`crate::safety::MotorHealthMonitor`]).
+    MotorDead = 17,
+    /// A motor driver's torque does not follow its command.
+    MotorStuck = 18,
+    /// A motor driver reports an error ([`crate::hal::DriverErrors`]).
+    MotorTripped = 19,
 }
 
 // Every code fits a bit of `FaultSet`'s `u32`: the shifts below cannot overflow.
@@ -83,7 +90,7 @@ impl Fault {
     /// // In code order, one entry per code.
     /// assert!(Fault::ALL.iter().enumerate().all(|(i, f)| usize::from(f.code()) == i));
     /// ```
-    pub const ALL: [Self; 17] = [
+    pub const ALL: [Self; 20] = [
         Self::ImuNonFinite,
         Self::ImuOutOfRange,
         Self::ImuStale,
@@ -101,6 +108,9 @@ impl Fault {
         Self::WheelSlip,
         Self::ClockStalled,
         Self::EncoderImplausible,
+        Self::MotorDead,
+        Self::MotorStuck,
+        Self::MotorTripped,
     ];
 
     /// The fault's canonical name (snake_case), the one string form used by `Display`,
@@ -130,6 +140,9 @@ impl Fault {
             Self::WheelSlip => "wheel_slip",
             Self::ClockStalled => "clock_stalled",
             Self::EncoderImplausible => "encoder_implausible",
+            Self::MotorDead => "motor_dead",
+            Self::MotorStuck => "motor_stuck",
+            Self::MotorTripped => "motor_tripped",
         }
     }
 
@@ -156,7 +169,10 @@ impl Fault {
             | Self::ImuFrozen
             | Self::EncoderStale
             | Self::TiltLimit
-            | Self::StateNonFinite => Severity::Unrecoverable,
+            | Self::StateNonFinite
+            | Self::MotorDead
+            | Self::MotorStuck
+            | Self::MotorTripped => Severity::Unrecoverable,
             Self::ImuNonFinite
             | Self::ImuOutOfRange
             | Self::EncoderNonFinite
@@ -197,6 +213,9 @@ impl Fault {
             Self::WheelSlip => "omniwheel slip persisted",
             Self::ClockStalled => "clock stalled",
             Self::EncoderImplausible => "encoder readings implausible",
+            Self::MotorDead => "motor driver delivers no torque",
+            Self::MotorStuck => "motor torque does not follow its command",
+            Self::MotorTripped => "motor driver reports an error",
         }
     }
 }

@@ -48,6 +48,7 @@
 //! | `WheelSlip` | reported by the controller: a wheel kept slipping despite the traction reaction ([`crate::traction`]) | recoverable |
 //! | `ClockStalled` | the clock did not advance between two steps | recoverable (the tick watchdogs still run) |
 //! | `EncoderImplausible` | reported by the runtime from the 8 kHz guard ([`crate::ballbot::SpeedGuard`]): a wheel's samples rejected for longer than the hold, without a continuous trajectory | recoverable (the guard holds the last plausible speed) |
+//! | `MotorDead`, `MotorStuck`, `MotorTripped` | reported by the robot loop's 8 kHz task: a driver's feedback shows no torque, a torque that does not follow the command, or an error flag ([`MotorHealthMonitor`]) | unrecoverable |
 //!
 //! A single bad sample therefore starts a controlled stop on held data; if no good sample
 //! follows within the timeout the data is stale and the motors are disabled. Each step is a
@@ -86,6 +87,7 @@
 
 mod fault;
 mod mode;
+pub mod motor_health;
 mod params;
 mod supervisor;
 #[cfg(test)]
@@ -93,5 +95,9 @@ mod tests;
 
 pub use fault::{Fault, FaultSet, Severity};
 pub use mode::{Mode, ModeRequest};
+pub use motor_health::{
+    MIAPURE_NOMINAL_BUS_VOLTAGE_V, MotorHealthMonitor, MotorHealthParams, MotorVerdict,
+    ODRIVE_CURRENT_BANDWIDTH_RAD_PER_S, ODRIVE_MAX_MODULATION,
+};
 pub use params::{SafetyParams, tilt_from_vertical_rad};
 pub use supervisor::{SafetyInput, SafetyStatus, SafetySupervisor};

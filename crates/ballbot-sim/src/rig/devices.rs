@@ -3,12 +3,13 @@
 //! A simulator cannot hand a device a reference to the world it is stepping, so each device is
 //! a port: [`WorldRobot`](super::WorldRobot) writes the world's sample into it before a task
 //! (the IMU and encoders as [`BallbotWorld::measure`](crate::world::BallbotWorld::measure) and
-//! the encoder speed estimate give them, the clock as the world's time) and reads the motor
-//! drivers' torque back after the inner task. The loop reads and writes them through the
-//! `hal` traits exactly as on the robot. The simulated devices never fail.
+//! the encoder speed estimate give them, the clock as the world's time), reads the motor
+//! drivers' torque back after the inner task and writes their feedback after the physics
+//! step. The loop reads and writes them through the `hal` traits exactly as on the robot. The
+//! simulated devices never fail to answer (a failing motor shows in its feedback).
 
 use ballbot_core::estimation::{EncoderSample, ImuSample};
-use ballbot_core::hal::{Imu, MonotonicClock, MotorTorques, WheelEncoders};
+use ballbot_core::hal::{Imu, MonotonicClock, MotorFeedback, MotorTorques, WheelEncoders};
 use core::convert::Infallible;
 use nalgebra::Vector3;
 
@@ -76,15 +77,20 @@ impl WheelEncoders<f64> for WorldEncoders {
     }
 }
 
-/// The world's motor drivers: the torque the loop applied, zero while disabled.
+/// The world's motor drivers: the torque the loop applied, zero while disabled, and what the
+/// drivers reported after the last physics step ([`WorldRobot`](super::WorldRobot) writes it:
+/// the world's driver model's delivered torque, the wheel's encoder speed, the bus voltage and
+/// the driver's trips), which the next `apply` returns, as a bus reply would.
 ///
 /// ```
-/// use ballbot_core::hal::MotorTorques;
+/// use ballbot_core::hal::{MotorFeedback, MotorTorques};
 /// use ballbot_sim::rig::WorldMotors;
 /// use nalgebra::Vector3;
 /// let mut motors = WorldMotors::default();
-/// motors.apply(&Vector3::new(1.0, -2.0, 0.5)).unwrap();
+/// motors.feedback[1] = MotorFeedback::healthy(-2.0, 0.0, 45.0);
+/// let feedback = motors.apply(&Vector3::new(1.0, -2.0, 0.5)).unwrap();
 /// assert!(motors.enabled);
+/// assert_eq!(feedback[1].torque_nm, -2.0);
 /// motors.disable().unwrap();
 /// assert_eq!((motors.torque_nm, motors.enabled), (Vector3::zeros(), false));
 /// ```
@@ -94,15 +100,17 @@ pub struct WorldMotors {
     pub torque_nm: Vector3<f64>,
     /// Whether the drivers are enabled.
     pub enabled: bool,
+    /// The drivers' latest report, returned by the next `apply`.
+    pub feedback: [MotorFeedback<f64>; 3],
 }
 
 impl MotorTorques<f64> for WorldMotors {
     type Error = Infallible;
 
-    fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<(), Infallible> {
+    fn apply(&mut self, torque_nm: &Vector3<f64>) -> Result<[MotorFeedback<f64>; 3], Infallible> {
         self.torque_nm = *torque_nm;
         self.enabled = true;
-        Ok(())
+        Ok(self.feedback)
     }
 
     fn disable(&mut self) -> Result<(), Infallible> {

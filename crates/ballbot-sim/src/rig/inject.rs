@@ -1,6 +1,6 @@
 //! Fault injection between the world and the robot loop: an [`Injector`] sees every sample the
-//! world's devices hand the loop, every outer tick, the command link and the torque the motor
-//! drivers apply, and may change, delay, drop or skip them.
+//! world's devices hand the loop, every outer tick, the command link, the torque the motor
+//! drivers apply and what they report, and may change, delay, drop or skip them.
 //! [`WorldRobot::step_injected`](super::WorldRobot::step_injected) runs a step through one;
 //! [`NoFaults`] changes nothing.
 //!
@@ -8,6 +8,7 @@
 //! failing device, a late task or a dead link would on the robot.
 
 use ballbot_core::estimation::{EncoderSample, ImuSample};
+use ballbot_core::hal::MotorFeedback;
 use nalgebra::Vector3;
 
 /// What happens at an outer tick.
@@ -77,7 +78,8 @@ pub trait Injector {
     }
 
     /// The omniwheel torques the motor drivers apply, given the loop's (N m) and the wheel
-    /// speeds the drivers measure (rad/s).
+    /// speeds the drivers measure (rad/s). Called only while the drivers are enabled: a
+    /// disabled driver's power stage is off (the HAL's `disable`), whatever the fault.
     fn torques(
         &mut self,
         now_us: u64,
@@ -86,6 +88,18 @@ pub trait Injector {
     ) -> Vector3<f64> {
         let _ = (now_us, wheel_speeds_rad_per_s);
         torque_nm
+    }
+
+    /// What the motor drivers report after a physics step (the world's driver model's
+    /// delivered torque, speed, bus voltage and trips): a fault that changes what a driver
+    /// measures, such as a sagging bus, changes it here.
+    fn feedback(
+        &mut self,
+        now_us: u64,
+        feedback: [MotorFeedback<f64>; 3],
+    ) -> [MotorFeedback<f64>; 3] {
+        let _ = now_us;
+        feedback
     }
 }
 

@@ -2,11 +2,13 @@
 
 use super::devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
 use super::inject::{Injector, NoFaults, Tick};
+use crate::world::driver::DriverFault;
 use crate::world::{BallbotWorld, StepTelemetry, WorldError, WorldParams};
 use ballbot_core::ballbot::{BallbotControllerConfig, OuterOutput};
 use ballbot_core::command::Command;
 use ballbot_core::estimation::{EncoderSample, ImuSample};
-use ballbot_core::safety::{Mode, ModeRequest};
+use ballbot_core::hal::{DriverErrors, MotorFeedback};
+use ballbot_core::safety::{Mode, ModeRequest, MotorHealthParams};
 use ballbot_runtime::{LoopConfig, OperatorInput, Phase, RobotLoop};
 use nalgebra::Vector3;
 
@@ -77,6 +79,7 @@ impl WorldRobot {
             outer_period_us: outer_period_us as u64,
             inner_dt_secs: params.dt_secs,
             settle_us: 0,
+            motor_health: MotorHealthParams::for_actuator(&config.robot.drivetrain.actuator),
             ..LoopConfig::miapure()
         };
         let robot = RobotLoop::new(
@@ -84,7 +87,10 @@ impl WorldRobot {
             loop_config,
             WorldImu::default(),
             WorldEncoders::default(),
-            WorldMotors::default(),
+            WorldMotors {
+                feedback: [MotorFeedback::healthy(0.0, 0.0, params.driver.bus_voltage_v); 3],
+                ..WorldMotors::default()
+            },
             WorldClock::default(),
         )?;
         Ok(Self {
@@ -187,7 +193,39 @@ impl WorldRobot {
             self.robot.devices_mut().1.sample = sample;
         }
         self.robot.inner_task();
-        let torque = faults.torques(now_us, self.robot.devices().2.torque_nm, speeds);
-        self.world.step([torque.x, torque.y, torque.z])
+        let motors = self.robot.devices().2;
+        let torque = if motors.enabled {
+            faults.torques(now_us, motors.torque_nm, speeds)
+        } else {
+            Vector3::zeros()
+        };
+        self.world.step([torque.x, torque.y, torque.z]);
+        let feedback = faults.feedback(now_us, self.driver_feedback());
+        self.robot.devices_mut().2.feedback = feedback;
+        self.world.telemetry()
+    }
+
+    /// What the world's motor drivers report after the step just taken: the torque their
+    /// model delivered (its current times `N K_t`), the wheel's encoder speed, the bus voltage,
+    /// and a trip as the ODrive's error flags.
+    fn driver_feedback(&self) -> [MotorFeedback<f64>; 3] {
+        let tel = self.world.telemetry();
+        let speeds = self.world.encoder_speeds_rad_per_s();
+        let bus_v = self.world.params().driver.bus_voltage_v;
+        let trips = self.world.driver_faults();
+        [0, 1, 2].map(|i| MotorFeedback {
+            torque_nm: tel.wheels[i].motor_torque_nm,
+            speed_rad_per_s: speeds[i],
+            bus_voltage_v: bus_v,
+            errors: match trips[i] {
+                None => DriverErrors::NONE,
+                Some(DriverFault::Overspeed) => {
+                    DriverErrors::OVERSPEED.union(DriverErrors::DISARMED)
+                }
+                Some(DriverFault::CurrentLimitViolation) => {
+                    DriverErrors::OVER_CURRENT.union(DriverErrors::DISARMED)
+                }
+            },
+        })
     }
 }

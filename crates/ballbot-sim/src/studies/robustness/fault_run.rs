@@ -453,7 +453,23 @@ impl CellRun {
         let tel = sim.world().telemetry();
         let t = tel.time_secs;
         let Some(out) = sim.last_outer() else { return };
-        let raised = out.safety.faults;
+        // The motor-health faults are raised in the 8 kHz task and take effect at once: seen in
+        // the supervisor's latched set at the step they are raised, not at the next outer step.
+        let mut raised = out.safety.faults;
+        for f in sim
+            .robot()
+            .controller()
+            .supervisor()
+            .latched_faults()
+            .iter()
+        {
+            if matches!(
+                f,
+                Fault::MotorDead | Fault::MotorStuck | Fault::MotorTripped
+            ) {
+                raised.insert(f);
+            }
+        }
         if !self.struck {
             for f in raised.iter() {
                 if !self.before.contains(&f) {
@@ -473,7 +489,9 @@ impl CellRun {
         if self.first_detect_secs.is_none() && !raised.is_empty() {
             self.first_detect_secs = Some(t);
         }
-        if out.safety.mode == Mode::Fault && self.detected.first() != Some(&Fault::TiltLimit) {
+        if (out.safety.mode == Mode::Fault || sim.mode() == Mode::Fault)
+            && self.detected.first() != Some(&Fault::TiltLimit)
+        {
             self.protective_stop_before_fall = true;
         }
         self.distance_m += tel.ball_velocity_m_per_s.xy().norm() * dt_secs;

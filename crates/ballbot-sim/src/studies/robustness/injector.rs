@@ -6,6 +6,7 @@ use super::faults::{FaultClass, FaultMagnitudes};
 use crate::rig::{Injector, Tick};
 use ballbot_core::ActuatorParams;
 use ballbot_core::estimation::{EncoderSample, ImuSample};
+use ballbot_core::hal::MotorFeedback;
 use nalgebra::Vector3;
 use std::collections::VecDeque;
 
@@ -225,6 +226,22 @@ impl Injector for FaultInjector {
             _ => {}
         }
         out
+    }
+
+    /// A sagging bus shows in every driver's reported bus voltage.
+    fn feedback(
+        &mut self,
+        now_us: u64,
+        feedback: [MotorFeedback<f64>; 3],
+    ) -> [MotorFeedback<f64>; 3] {
+        if self.class != FaultClass::TorqueSaturation || !self.active(now_us) {
+            return feedback;
+        }
+        let f = self.magnitudes.bus_voltage_fraction;
+        feedback.map(|fb| MotorFeedback {
+            bus_voltage_v: f * fb.bus_voltage_v,
+            ..fb
+        })
     }
 }
 
