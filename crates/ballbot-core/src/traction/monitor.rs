@@ -443,26 +443,31 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         let threshold = p.slip_speed_threshold_m_per_s;
         let evidence: [bool; WHEEL_COUNT] = core::array::from_fn(|i| slip[i].abs() > threshold);
         let any_evidence = evidence.iter().any(|&e| e);
-        let support = if any_evidence {
+        // Without evidence nothing is flagged and the observers follow (the quiet path).
+        let mut slipping = [false; WHEEL_COUNT];
+        let mut support = [false; WHEEL_COUNT];
+        let mut hard_before = self.hard_before;
+        let mut hold = false;
+        if any_evidence {
             if !self.previous_evidence {
-                self.hard_before = self.worked_hard(kinematics, &slip);
+                hard_before = self.worked_hard(kinematics, &slip);
             }
-            support(&slip, threshold, self.hard_before)
-        } else {
-            [false; WHEEL_COUNT]
-        };
-        // A flag needs supported evidence in two updates running (one sample proves nothing),
-        // and stays while the wheel's evidence lasts.
-        let was = self.status.slipping;
-        let previous = self.previous_support;
-        let mut slipping: [bool; WHEEL_COUNT] =
-            core::array::from_fn(|i| evidence[i] && (was[i] || (support[i] && previous[i])));
+            support = support_of(&slip, threshold, hard_before);
+            // A flag needs supported evidence in two updates running (one sample proves
+            // nothing), and stays while the wheel's evidence lasts.
+            let was = self.status.slipping;
+            let previous = self.previous_support;
+            slipping =
+                core::array::from_fn(|i| evidence[i] && (was[i] || (support[i] && previous[i])));
+            // The observers coast while a wheel slips (the residual keeps the slip), while the
+            // evidence is supported and waits for its confirmation, and on the first update of
+            // any evidence (an outlier must not be learnt); unsupported evidence that lasts is
+            // an external force, which they follow.
+            hold = slipping.iter().any(|&s| s)
+                || !self.previous_evidence
+                || support.iter().any(|&s| s);
+        }
         let mut any = slipping.iter().any(|&s| s);
-        // The observers coast while a wheel slips (the residual keeps the slip), while the
-        // evidence is supported and waits for its confirmation, and on the first update of any
-        // evidence (an outlier must not be learnt); unsupported evidence that lasts is an
-        // external force, which they follow.
-        let hold = any || (any_evidence && (!self.previous_evidence || support.iter().any(|&s| s)));
         let gain = if hold {
             T::zero()
         } else {
@@ -478,25 +483,26 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         if !(finite && dt_secs > T::zero()) {
             return false;
         }
-        self.coast_secs = if any {
-            self.coast_secs + dt_secs
+        if any {
+            self.coast_secs += dt_secs;
+            if self.coast_secs > p.max_coast_secs {
+                // Coasted for as long as a slip may be held: whatever the residual holds now,
+                // the observers take the measured momentum again and the flags fall.
+                next = [
+                    measured[0] + rates[0] * dt_secs,
+                    measured[1] + rates[1] * dt_secs,
+                ];
+                slipping = [false; WHEEL_COUNT];
+                any = false;
+                self.coast_secs = T::zero();
+            }
         } else {
-            T::zero()
-        };
-        if self.coast_secs > p.max_coast_secs {
-            // Coasted for as long as a slip may be held: whatever the residual holds now, the
-            // observers take the measured momentum again and the flags fall.
-            next = [
-                measured[0] + rates[0] * dt_secs,
-                measured[1] + rates[1] * dt_secs,
-            ];
-            slipping = [false; WHEEL_COUNT];
-            any = false;
             self.coast_secs = T::zero();
         }
         self.momentum_estimate = Some(next);
         self.previous_support = support;
         self.previous_evidence = any_evidence;
+        self.hard_before = hard_before;
         let onset = any && !self.status.any_slipping();
         let mu = self.mu;
         let status = &mut self.status;
@@ -552,7 +558,7 @@ impl<T: RealField + Copy> SlipMonitor<T> {
     /// the way they now slip: the prediction of the update before (made before the evidence
     /// came), a friction-cone use of at least [`MIN_USE_FOR_ESTIMATE`] and the wheel's torque
     /// driving it the way it slips (a rim slides the way its torque pushes it, driving or
-    /// braking). See [`support`].
+    /// braking). See [`support_of`].
     fn worked_hard(
         &self,
         kinematics: &OmniKinematics<T>,
@@ -596,7 +602,7 @@ impl<T: RealField + Copy> SlipMonitor<T> {
 }
 
 /// Which wheels' slip evidence `slip` (m/s at the rim) a slip can explain and an external force
-/// cannot (see [`SlipMonitor`] and docs/traction.md section 3):
+/// cannot, its *support* (see [`SlipMonitor`] and docs/traction.md section 3):
 ///
 /// - **kinematically**: an external force on the body or the ball changes the ball's rolling
 ///   and the body's motion alike, never the relation of the wheels to a ball that does not spin
@@ -609,7 +615,7 @@ impl<T: RealField + Copy> SlipMonitor<T> {
 ///   towards OW1) is, for the IMU and the encoders, the same as a push near the centre of
 ///   mass. It is supported only on a wheel that was working hard the way it slips before the
 ///   evidence came: a slip follows a demand, while the torque a push brings follows the push.
-fn support<T: RealField + Copy>(
+fn support_of<T: RealField + Copy>(
     slip: &Vector3<T>,
     threshold: T,
     hard_before: [bool; WHEEL_COUNT],
