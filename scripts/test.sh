@@ -77,7 +77,7 @@ step "reliability campaign smoke run (ballbot robustness --quick)"
 cargo run -q -p ballbot-cli --bin ballbot -- robustness --quick --out target/robustness-quick
 python3 scripts/check-robustness.py target/robustness-quick/robustness.json
 
-step "Python package: pip install into a fresh venv (with the gym, dask and mcap extras), mypy.stubtest, mypy --strict, pytest"
+step "Python package: pip install into a fresh venv (with the gym, dask, mcap and mujoco extras), mypy.stubtest, mypy --strict, pytest"
 bash scripts/test-python.sh
 
 

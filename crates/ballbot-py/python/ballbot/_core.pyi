@@ -1671,6 +1671,12 @@ def max_speed_ramp(
     max_tilt_rate_command_rad_per_s: Optional[float] = None,
 ) -> RampRun: ...
 
+def export(
+    format: Literal["mjcf", "urdf"],
+    params: Optional[WorldParams] = None,
+    path: Optional[_Path] = None,
+) -> str: ...
+
 def slow_ramp_trial(
     params: Optional[WorldParams] = None, *, heading_deg: float = 0.0, seed: int = 1
 ) -> SlowRampTrial: ...

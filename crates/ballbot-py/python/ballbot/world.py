@@ -5,7 +5,8 @@ controller in the loop (``mode`` is a ``Mode``). Their parameters (``WorldParams
 parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``), failures
 (``Failure`` with a ``FailureKind``; wheels named ``"OW1"``..``"OW3"``) and run results
 (``WorldRun``, ``WorldLoopRun``); traction-aware control's report and envelope
-(``TractionStatus``, ``TractionEnvelope``; ``WorldLoop(traction_control=True)``).
+(``TractionStatus``, ``TractionEnvelope``; ``WorldLoop(traction_control=True)``); the world's
+robot as MJCF (MuJoCo) or URDF (``export``).
 """
 
 from ballbot._core import (
@@ -23,6 +24,7 @@ from ballbot._core import (
     World,
     WorldLoop,
     WorldParams,
+    export,
 )
 from ballbot._enums import FailureKind, Mode
 from ballbot._results import TractionEnvelope, TractionStatus, WorldLoopRun, WorldRun
@@ -48,4 +50,5 @@ __all__ = [
     "WorldLoopRun",
     "WorldParams",
     "WorldRun",
+    "export",
 ]
