@@ -93,6 +93,7 @@ __all__ = [
     "WipParams",
     "closed_loop_rollout",
     "expm",
+    "export",
     "min_braking_time",
     "piptb_experiment",
     "planar_torque_at_heading",
