@@ -24,10 +24,10 @@ fi
 echo "built ${built[0]##*/}"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps \
     "${built[0]}"
-# What `pip install "ballbot[gym,dask,mcap]"` adds, read from the installed wheel's own metadata
-# (so the extras the README names are the ones tested): the base dependencies and the `gym`,
-# `dask` and `mcap` extras.
-mapfile -t requirements < <("$venv/bin/python" scripts/extra-requirements.py ballbot gym dask mcap)
+# What `pip install "ballbot[gym,dask,mcap,mujoco]"` adds, read from the installed wheel's own
+# metadata (so the extras the README names are the ones tested): the base dependencies and the
+# `gym`, `dask`, `mcap` and `mujoco` extras (MuJoCo loads the exported MJCF in test_export.py).
+mapfile -t requirements < <("$venv/bin/python" scripts/extra-requirements.py ballbot gym dask mcap mujoco)
 "$venv/bin/python" -m pip install -q --disable-pip-version-check "${requirements[@]}"
 # The tests must see the installed wheel, not the sources under crates/ballbot-py/python.
 (cd "$target" && "$venv/bin/python" -c "

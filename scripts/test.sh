@@ -30,6 +30,14 @@ python3 scripts/check-cycles.py --self-test && python3 scripts/check-cycles.py
 step "docs (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 
+step "crates.io: ballbot-core and ballbot-runtime package, and build from their packages (cargo package)"
+# Both at once: cargo resolves ballbot-runtime's `ballbot-core = "0.1.0"` against the packaged
+# ballbot-core of the same run (not crates.io, where it is not published yet), then builds
+# each .crate unpacked on its own (the verify step), so a file missing from a package or a path
+# outside it fails here (the READMEs' examples are the crates' docs, run by `cargo test --doc`
+# below). Needs crates.io's index only. --allow-dirty: packages the work tree as it is.
+cargo package -p ballbot-core -p ballbot-runtime --allow-dirty
+
 step "no_std: ballbot-core pulls in no std or alloc feature"
 if cargo tree -p ballbot-core -e normal,features --target all | grep -E 'feature "(std|alloc)"'; then
     echo "ballbot-core must not enable std or alloc in any dependency" >&2
@@ -69,7 +77,7 @@ step "reliability campaign smoke run (ballbot robustness --quick)"
 cargo run -q -p ballbot-cli --bin ballbot -- robustness --quick --out target/robustness-quick
 python3 scripts/check-robustness.py target/robustness-quick/robustness.json
 
-step "Python package: pip install into a fresh venv (with the gym, dask and mcap extras), mypy.stubtest, mypy --strict, pytest"
+step "Python package: pip install into a fresh venv (with the gym, dask, mcap and mujoco extras), mypy.stubtest, mypy --strict, pytest"
 bash scripts/test-python.sh
 
 

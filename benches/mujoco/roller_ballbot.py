@@ -9,6 +9,11 @@ rolling direction, with MuJoCo's elliptic friction cones. Masses, inertias, geom
 come from ``world_speed params`` (the default MiaPURE world): the wheels' and rollers' masses are
 taken out of the body's, the rotor's reflected inertia is the hub hinge's armature.
 
+The project's own MJCF of the robot is ``ballbot export --format mjcf`` (``ballbot_sim::export``,
+docs/export.md): barrel rollers on the world's roller count, the body split so that chassis, hubs
+and rollers keep the world body's inertia. This bench keeps its own 24-roller capsule model so
+that the speed comparison it measured stays the same.
+
 Usage: ``python roller_ballbot.py PARAMS.json > ballbot.xml``.
 """
 

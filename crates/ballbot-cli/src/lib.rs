@@ -16,8 +16,11 @@
 //! - `ballbot brake [--preset miapure|piptb] [--json]`: a minimum-effort braking trajectory.
 //! - `ballbot world [--heading-deg D --accel-m-per-s2 A ...] --out FILE.mcap`: one 3D world run
 //!   with the core's controller; prints the outcome and writes an MCAP log for Foxglove.
+//! - `ballbot export --format mjcf|urdf [--world FILE] --out PATH`: the world's robot in
+//!   MuJoCo's or the URDF format, from the same parameters.
 
 pub mod brake;
+pub mod export;
 pub mod params;
 pub mod reproduce;
 pub mod robustness;
@@ -62,6 +65,9 @@ pub enum Command {
     /// Parameter files (robot, scenario, world): write their JSON Schemas, check a file,
     /// print a preset with comments, list the keys two files differ in.
     Params(params::ParamsArgs),
+    /// Write the world's robot (ball, body, omniwheels with rollers, actuators, inertias) as
+    /// MJCF (MuJoCo) or URDF, from the same parameters the 3D world runs on.
+    Export(export::ExportArgs),
 }
 
 /// Runs a parsed command line; the exit code is 0 unless the command says otherwise
@@ -75,6 +81,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Brake(args) => brake::run(&args),
         Command::World(args) => world::run(&args),
         Command::Params(args) => return params::run(&args),
+        Command::Export(args) => export::run(&args),
     };
     done.map(|()| ExitCode::SUCCESS)
 }

@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod brake;
+mod export;
 mod params;
 mod simulate;
 mod sweep;

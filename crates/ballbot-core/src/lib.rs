@@ -1,21 +1,6 @@
-//! # ballbot-core
-//!
-//! Models and controllers of a ballbot drivetrain (ball-balancing robot), written to run inside
-//! a robot's firmware loop: `#![no_std]`, no allocation, no panics, bounded time, generic over
-//! `f32` and `f64`.
-//!
-//! It implements "Design and Control of a Ballbot Drivetrain with High Agility, Minimal
-//! Footprint, and High Payload" (MiaPURE, PIPTB): the planar wheeled-inverted-pendulum and spin
-//! models, the omniwheel kinematics, LQR synthesis, and the LQR, cascaded PI-PD and cascaded
-//! LQR-PI controllers.
-//!
-//! ```
-//! use ballbot_core::{Wip, WipParams};
-//! let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
-//! // Open-loop poles 0, 0, +-8.04 rad/s for MiaPURE with 60 kg.
-//! approx::assert_relative_eq!(wip.upright_unstable_pole_rad_per_s(), 8.04, epsilon = 0.01);
-//! # Ok::<(), ballbot_core::Error>(())
-//! ```
+// The crate documentation is the crate's README (crates.io shows the same text), so its first
+// example is compiled and run as a doctest and cannot rot.
+#![doc = include_str!("../README.md")]
 #![no_std]
 #![forbid(unsafe_code)]
 

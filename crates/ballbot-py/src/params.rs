@@ -145,6 +145,24 @@ fn overlay(
             )
         })?;
         let path = format!("{prefix}{key}");
+        // A dotted key (`robot.drivetrain.wheel_ball_friction`, as sweeps and parameter-file
+        // errors name fields) sets that field of the nested struct.
+        if let Some((head, rest)) = key.split_once('.') {
+            let Some(Value::Table(inner)) = base.get_mut(head) else {
+                return Err(error(
+                    py,
+                    Kind::Parameter,
+                    format!(
+                        "unknown parameter `{path}` for {owner}: `{prefix}{head}` is not a \
+                         nested parameter struct"
+                    ),
+                ));
+            };
+            let one = PyDict::new(py);
+            one.set_item(rest, &value)?;
+            overlay(py, inner, &one, owner, &format!("{prefix}{head}."))?;
+            continue;
+        }
         let Some(slot) = base.get_mut(&key) else {
             let known: Vec<&str> = base.keys().map(String::as_str).collect();
             return Err(error(
@@ -377,7 +395,9 @@ macro_rules! py_params {
                 Self::PRESETS.to_vec()
             }
 
-            /// A copy with some fields replaced (validated).
+            /// A copy with some fields replaced (validated). Nested fields take a parameter
+            /// object, a dict of some of its fields, or a dotted key as sweeps name them:
+            /// `replace(**{"robot.drivetrain.wheel_ball_friction": 0.5})`.
             #[pyo3(signature = (**kwargs))]
             fn replace(&self, py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
                 Ok(Self { inner: with_fields(py, &self.inner, kwargs)? })

@@ -43,6 +43,29 @@ def test_nested_fields_accept_objects_and_partial_dicts() -> None:
     assert np.degrees(d.wheel_azimuths_rad) == pytest.approx([10.0, 130.0, 250.0])
 
 
+def test_replace_accepts_the_dotted_keys_of_sweeps() -> None:
+    w = ballbot.WorldParams.preset("miapure_60kg")
+    dotted = w.replace(
+        **{"robot.drivetrain.wheel_ball_friction": 0.5, "contact.rollers.count": 8},
+        wheel_inertia_kg_m2=1.1e-3,
+    )
+    nested = w.replace(
+        robot={"drivetrain": {"wheel_ball_friction": 0.5}},
+        contact={"rollers": {"count": 8}},
+        wheel_inertia_kg_m2=1.1e-3,
+    )
+    assert dotted == nested
+    assert dotted.robot.drivetrain.wheel_ball_friction == 0.5
+    assert dotted.contact.rollers.count == 8
+    assert dotted.robot.drivetrain.wheel_radius_m == w.robot.drivetrain.wheel_radius_m
+    with pytest.raises(ballbot.ParameterError, match="unknown parameter `robot.drivetrain.nope`"):
+        w.replace(**{"robot.drivetrain.nope": 1.0})
+    with pytest.raises(ballbot.ParameterError, match="`wheel_inertia_kg_m2` is not a nested"):
+        w.replace(**{"wheel_inertia_kg_m2.x": 1.0})
+    with pytest.raises(ballbot.ParameterError, match="wheel_ball_friction"):
+        w.replace(**{"robot.drivetrain.wheel_ball_friction": -1.0})
+
+
 def test_nested_roundtrip_through_dict_and_toml(tmp_path: Path) -> None:
     p = ballbot.BallbotParams.preset("miapure_unloaded").replace(
         spin={"damping_nm_s_per_rad": 2.5}

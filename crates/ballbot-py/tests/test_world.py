@@ -188,6 +188,17 @@ def test_ramp_unloads_driving_wheels_more_towards_ow1() -> None:
     assert min_driving_normal_n(0.0) < min_driving_normal_n(180.0) - 5.0
 
 
+def test_max_speed_ramp_is_not_capped_by_the_controllers_speed_limit() -> None:
+    """By default the shaper's speed cap is the ramp's top, not the designed 2.0 m/s that ended
+    every ramp at about 2.07 m/s whatever the heading."""
+    ramp = {"accel_m_per_s2": 1.0, "max_command_m_per_s": 2.4, "settle_secs": 0.1}
+    free = ballbot.max_speed_ramp(**ramp)
+    capped = ballbot.max_speed_ramp(**ramp, max_speed_m_per_s=2.0)
+    assert float(np.max(capped.shaped_command_m_per_s)) <= 2.0 + 1e-9
+    assert float(np.max(free.shaped_command_m_per_s)) > 2.2, free.failure
+    assert free.max_speed_m_per_s > capped.max_speed_m_per_s + 0.1
+
+
 def test_falling_robot_fails_and_the_run_stops_there() -> None:
     world = ballbot.World()
     world.tilt_body((0.0, 0.05))
@@ -255,6 +266,13 @@ def test_bad_world_input_raises_documented_errors() -> None:
         world.run(10, bad)
     with pytest.raises(ballbot.ParameterError, match="record_every"):
         world.run(10, record_every=0)
+    # A negative count is a ValueError naming the argument (pyo3's OverflowError named none).
+    with pytest.raises(ballbot.ParameterError, match=r"`n_steps`: must be >= 0, got -5"):
+        world.run(-5)
+    with pytest.raises(ballbot.ParameterError, match=r"`record_every`: must be >= 1, got -1"):
+        world.run(10, record_every=-1)
+    with pytest.raises(ValueError, match="`n_steps`"):
+        ballbot.WorldLoop().run(-5)
     with pytest.raises(ballbot.ParameterError, match="impulse_ns"):
         world.push_body([float("nan"), 0.0, 0.0])
     with pytest.raises(ballbot.ParameterError, match="friction"):

@@ -7,10 +7,12 @@
 //! - [`studies`]: the paper's experiments on that physics, with one shared job runner;
 //! - [`report`]: their JSON, tables and figures (figures behind the `plot` feature);
 //! - [`log`]: MCAP logging and reading; [`scenario`]: scenario files; [`params_file`]: every
-//!   parameter file's schema, checks, presets and differences (`ballbot params`).
+//!   parameter file's schema, checks, presets and differences (`ballbot params`);
+//!   [`export`]: the world's robot as MJCF and URDF (`ballbot export`).
 //!
 //! The `ballbot` command line is the `ballbot-cli` crate.
 
+pub mod export;
 pub mod gym;
 pub mod log;
 pub mod params_file;

@@ -140,6 +140,7 @@ from ballbot.world import (
     WorldLoopRun,
     WorldParams,
     WorldRun,
+    export,
 )
 
 __all__ = [
@@ -239,6 +240,7 @@ __all__ = [
     "braking_study",
     "closed_loop_rollout",
     "expm",
+    "export",
     "failing_acceleration",
     "max_speed_ramp",
     "max_speed_study",

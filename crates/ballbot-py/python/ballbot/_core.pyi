@@ -93,6 +93,7 @@ __all__ = [
     "WipParams",
     "closed_loop_rollout",
     "expm",
+    "export",
     "min_braking_time",
     "piptb_experiment",
     "planar_torque_at_heading",
@@ -1671,6 +1672,12 @@ def max_speed_ramp(
     max_tilt_command_rad: Optional[float] = None,
     max_tilt_rate_command_rad_per_s: Optional[float] = None,
 ) -> RampRun: ...
+
+def export(
+    format: Literal["mjcf", "urdf"],
+    params: Optional[WorldParams] = None,
+    path: Optional[_Path] = None,
+) -> str: ...
 
 def slow_ramp_trial(
     params: Optional[WorldParams] = None, *, heading_deg: float = 0.0, seed: int = 1

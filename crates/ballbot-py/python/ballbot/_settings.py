@@ -199,8 +199,9 @@ class PushSettings(_Settings):
 @dataclasses.dataclass(frozen=True)
 class RampSettings(_Settings):
     """One maximum-speed ramp in the 3D world (``max_speed_ramp``) and the controller's
-    command-shaping overrides (``None`` keeps the designed cap: 2.0 m/s, 1.0 m/s^2,
-    2.0 m/s^3, 0.2 rad, 1.0 rad/s)."""
+    command-shaping overrides (``None`` keeps the designed cap: 1.0 m/s^2, 2.0 m/s^3, 0.2 rad,
+    1.0 rad/s; the speed cap ``None`` is the ramp's top ``max_command_m_per_s``, not the
+    designed 2.0 m/s, so that the ramp can find a speed above it)."""
 
     accel_m_per_s2: float = 0.25
     """Ramp acceleration (m/s^2)."""
@@ -211,7 +212,7 @@ class RampSettings(_Settings):
     sample_every_secs: float = 0.01
     """Sampling period of the returned series (s)."""
     max_speed_m_per_s: Optional[float] = None
-    """The shaper's speed cap (m/s)."""
+    """The shaper's speed cap (m/s); ``None``: ``max_command_m_per_s``."""
     max_accel_m_per_s2: Optional[float] = None
     """The shaper's acceleration cap (m/s^2)."""
     max_jerk_m_per_s3: Optional[float] = None

@@ -6,7 +6,7 @@ parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``
 (``Failure`` with a ``FailureKind``; wheels named ``"OW1"``..``"OW3"``) and run results
 (``WorldRun``, ``WorldLoopRun``); traction-aware control's report and envelope
 (``TractionStatus``, ``TractionEnvelope``; on by default, ``WorldLoop(traction_control=False)``
-turns it off).
+turns it off); the world's robot as MJCF (MuJoCo) or URDF (``export``).
 """
 
 from ballbot._core import (
@@ -24,6 +24,7 @@ from ballbot._core import (
     World,
     WorldLoop,
     WorldParams,
+    export,
 )
 from ballbot._enums import FailureKind, Mode
 from ballbot._results import TractionEnvelope, TractionStatus, WorldLoopRun, WorldRun
@@ -49,4 +50,5 @@ __all__ = [
     "WorldLoopRun",
     "WorldParams",
     "WorldRun",
+    "export",
 ]

@@ -269,16 +269,16 @@ world_class! {
         fn run<'py>(
             &mut self,
             py: Python<'py>,
-            n_steps: usize,
+            n_steps: i64,
             torque_nm: Option<Arr<'py>>,
-            record_every: usize,
+            record_every: i64,
             stop_on_failure: bool,
             log_path: Option<PathBuf>,
             log_compact: bool,
             live: Option<PyRef<'py, PyLiveView>>,
         ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
-            let inputs = step_rows(py, torque_nm, n_steps, "torque_nm")?;
+            let inputs = step_rows(py, torque_nm, options.n_steps(), "torque_nm")?;
             let trace = Trace::with_capacity(options.records())?;
             let mut log = logger(
                 py,

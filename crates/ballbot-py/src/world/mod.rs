@@ -4,6 +4,7 @@
 //! return dicts of numpy arrays, so Python threads run several worlds in parallel.
 
 mod class;
+mod export;
 mod live;
 mod ramp;
 mod telemetry;
@@ -18,6 +19,7 @@ use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 pub(crate) use class::*;
+pub(crate) use export::*;
 pub(crate) use live::*;
 pub(crate) use ramp::*;
 pub(crate) use telemetry::*;
@@ -121,5 +123,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyWorldLoop>()?;
     m.add_class::<PyLiveView>()?;
     m.add_function(wrap_pyfunction!(max_speed_ramp, m)?)?;
+    m.add_function(wrap_pyfunction!(py_export, m)?)?;
     Ok(())
 }

@@ -51,8 +51,10 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
 /// velocity ramp towards `heading_deg` (body frame; 0 is towards OW1) after `settle_secs`, rising
 /// at `accel_m_per_s2` to `max_command_m_per_s`, until the world detects a failure or the top
 /// speed has been held for 1 s. Runs in Rust without the GIL. The shaping keywords lift the
-/// controller's caps as in `WorldLoop` (by default the shaper caps the command at 2.0 m/s
-/// and 1.0 m/s^2).
+/// controller's caps as in `WorldLoop`; the speed cap `max_speed_m_per_s` defaults to the
+/// ramp's top `max_command_m_per_s` (not the designed 2.0 m/s, which would end every ramp at
+/// about 2.07 m/s whatever the heading), the others keep the designed caps (1.0 m/s^2,
+/// 2.0 m/s^3, 0.2 rad, 1.0 rad/s).
 ///
 /// Returns a `RampRun`: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
 /// before failure), `failure` (`Failure` or `None` if the ramp ended first),
@@ -83,18 +85,6 @@ pub(crate) fn max_speed_ramp<'py>(
     max_tilt_rate_command_rad_per_s: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params_or_default(params);
-    let config = Shaping {
-        max_speed_m_per_s,
-        max_accel_m_per_s2,
-        max_jerk_m_per_s3,
-        max_tilt_command_rad,
-        max_tilt_rate_command_rad_per_s,
-        wheel_mapping: None,
-        // The paper's configuration, as the Rust ramp study (`studies::ramp`) pins it.
-        traction_control: false,
-        balance_point: false,
-    }
-    .config(py, &params)?;
     finite(py, &[heading_deg], "heading_deg")?;
     for (value, name) in [
         (accel_m_per_s2, "accel_m_per_s2"),
@@ -110,6 +100,18 @@ pub(crate) fn max_speed_ramp<'py>(
         }
     }
     non_negative(py, settle_secs, "settle_secs")?;
+    // The study looks for the highest speed: the shaper's speed cap (2.0 m/s as designed)
+    // must not end the ramp first, so by default it is the ramp's top.
+    let config = Shaping {
+        max_speed_m_per_s: max_speed_m_per_s.or(Some(max_command_m_per_s)),
+        max_accel_m_per_s2,
+        max_jerk_m_per_s3,
+        max_tilt_command_rad,
+        max_tilt_rate_command_rad_per_s,
+        wheel_mapping: None,
+        traction_control: false,
+    }
+    .config(py, &params)?;
     let ramp = RampParams {
         accel_m_per_s2,
         max_command_m_per_s,

@@ -164,24 +164,37 @@ pub(crate) struct RunOptions {
 }
 
 impl RunOptions {
+    /// Checks the counts as Python passed them (any int): `n_steps >= 0`, `record_every >= 1`;
+    /// a `ParameterError` (a `ValueError`) naming the argument otherwise, rather than pyo3's
+    /// `OverflowError` for a negative int that names nothing.
     pub(crate) fn new(
         py: Python<'_>,
-        n_steps: usize,
-        record_every: usize,
+        n_steps: i64,
+        record_every: i64,
         stop_on_failure: bool,
     ) -> PyResult<Self> {
-        if record_every == 0 {
-            return Err(error(
-                py,
-                Kind::Parameter,
-                "invalid parameter `record_every`: must be >= 1",
-            ));
-        }
+        let count = |value: i64, name: &str, min: i64| {
+            usize::try_from(value)
+                .ok()
+                .filter(|_| value >= min)
+                .ok_or_else(|| {
+                    error(
+                        py,
+                        Kind::Parameter,
+                        format!("invalid parameter `{name}`: must be >= {min}, got {value}"),
+                    )
+                })
+        };
         Ok(Self {
-            n_steps,
-            record_every,
+            n_steps: count(n_steps, "n_steps", 0)?,
+            record_every: count(record_every, "record_every", 1)?,
             stop_on_failure,
         })
+    }
+
+    /// The number of steps asked for.
+    pub(crate) fn n_steps(&self) -> usize {
+        self.n_steps
     }
 
     pub(crate) fn records(&self) -> usize {

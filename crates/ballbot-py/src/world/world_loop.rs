@@ -248,16 +248,16 @@ world_class! {
         fn run<'py>(
             &mut self,
             py: Python<'py>,
-            n_steps: usize,
+            n_steps: i64,
             command: Option<Arr<'py>>,
-            record_every: usize,
+            record_every: i64,
             stop_on_failure: bool,
             log_path: Option<PathBuf>,
             log_compact: bool,
             live: Option<PyRef<'py, PyLiveView>>,
         ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
-            let inputs = step_rows(py, command, n_steps, "command")?;
+            let inputs = step_rows(py, command, options.n_steps(), "command")?;
             let trace = Trace::with_capacity(options.records())?;
             let params = *self.inner.world().params();
             let mut log = logger(py, log_path.as_deref(), live.as_deref(), &params, log_compact)?;
