@@ -109,7 +109,9 @@ pub(crate) fn max_speed_ramp<'py>(
         max_tilt_command_rad,
         max_tilt_rate_command_rad_per_s,
         wheel_mapping: None,
+        // The paper's configuration, as the Rust ramp study (`studies::ramp`) pins it.
         traction_control: false,
+        balance_point: false,
     }
     .config(py, &params)?;
     let ramp = RampParams {
