@@ -83,20 +83,21 @@ impl FuzzSettings {
         }
     }
 
-    /// The CI size: 1.6 x 10^5 outer steps (3.2 x 10^6 motor-loop steps).
+    /// The CI size: 10^5 outer steps (2 x 10^6 motor-loop steps), every kind of episode with
+    /// and without traction-aware control.
     ///
     /// ```
     /// use ballbot_sim::studies::robustness::FuzzSettings;
-    /// assert_eq!(FuzzSettings::quick().planned_outer_steps(), 160_000);
+    /// assert_eq!(FuzzSettings::quick().planned_outer_steps(), 100_800);
     /// ```
     pub fn quick() -> Self {
         Self {
             seed: 1,
-            hostile_episodes: 8,
+            hostile_episodes: 4,
             accepted_episodes: 4,
             f32_episodes: 2,
             runtime_episodes: 2,
-            outer_steps_per_episode: 10_000,
+            outer_steps_per_episode: 8_400,
             planar_steps: 20_000,
             parser_files: 2_000,
         }

@@ -207,6 +207,11 @@ impl FuzzRig {
                 _ => {}
             }
             let (torque_nm, timed_out) = self.inner_step(&speeds, dt);
+            // The torque-speed line at the speed the controller read (rounded to `f32`, a
+            // value beyond `f32::MAX` infinite, for the `f32` one).
+            if self.is_f32() {
+                speeds = speeds.map(|w| f64::from(w as f32));
+            }
             let enabled = self.mode().motors_enabled() && !timed_out;
             if broken.is_none() {
                 broken = check_torque(
