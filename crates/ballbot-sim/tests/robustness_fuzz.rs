@@ -161,6 +161,7 @@ fn the_accepted_trajectory_check_is_live() {
     let oracle = designed();
     let mut tight = oracle;
     tight.safety.tilt_limit_rad = 0.5f64.to_radians();
+    tight.safety.arm_tilt_limit_rad = 0.25f64.to_radians();
     let rig = rig_with(tight, tight);
     let fired = breaks(
         rig,
