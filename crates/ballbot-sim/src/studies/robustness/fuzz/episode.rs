@@ -202,7 +202,7 @@ pub fn run_episode_on(
     };
     let tilt_limit = config.safety.tilt_limit_rad;
     let clock_ticks = config.safety.imu_timeout_us.div_ceil(PERIOD_US) + 1;
-    let accepted = kind != EpisodeKind::Hostile;
+    let accepted = kind == EpisodeKind::Accepted;
     let mut k: u64 = 0;
     while k < outer_steps {
         // The clock: mostly the period, sometimes jittered; hostile episodes also stall it
