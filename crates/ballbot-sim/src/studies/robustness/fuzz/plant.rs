@@ -97,7 +97,8 @@ impl Plant {
     /// Whether the body has fallen past `limit_rad` from the vertical (or the state is no
     /// longer finite).
     pub fn fallen(&self, limit_rad: f64) -> bool {
-        !(self.tilt_from_vertical_rad() < limit_rad)
+        let tilt = self.tilt_from_vertical_rad();
+        tilt.is_nan() || tilt >= limit_rad
     }
 
     /// Back upright and at rest (after a fall: the fuzzer goes on with a standing robot).

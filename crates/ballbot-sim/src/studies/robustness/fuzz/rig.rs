@@ -62,6 +62,9 @@ pub struct Period {
 
 /// The controller under test, in `f64` or instantiated in `f32` (the core is generic over
 /// its scalar; an `f32` build is what a microcontroller without a double-precision FPU runs).
+// The rig is `Copy` (a twin is a copy): the `f64` variant is larger, and boxing it would make
+// the twin a heap copy.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug)]
 pub enum Controllers {
     /// `f64`.
