@@ -2,7 +2,8 @@
 """Checks a robustness.json written by `ballbot robustness` (the README's test command runs
 the --quick campaign and this check): the keys the issue asks for, and the invariants that
 must hold whatever the numbers (at least 10^5 fuzz steps, no panic, no bad command, every
-fault-matrix cell complete, every log read back whole, a recovery rate).
+fuzz invariant reported with its count, traction-aware control in half the fuzz episodes,
+every fault-matrix cell complete, every log read back whole, a recovery rate).
 
 Usage: python3 scripts/check-robustness.py DIR/robustness.json
 """
@@ -21,8 +22,18 @@ def main(path):
     fuzz = data.get("fuzz") or fail("no fuzz")
     if fuzz["outer_steps"] < 100_000:
         fail(f"the fuzzer ran {fuzz['outer_steps']} outer steps, fewer than 10^5")
+    invariants = fuzz.get("invariants") or fail("fuzz: no invariants")
+    for inv in invariants:
+        for key in ("key", "issue_26_item", "class", "what", "breaks"):
+            if key not in inv:
+                fail(f"fuzz: an invariant has no {key}: {inv}")
+    if abs(2 * fuzz["traction_on_episodes"] - fuzz["episodes"]) > 1:
+        fail(f"fuzz: traction-aware control in {fuzz['traction_on_episodes']} of {fuzz['episodes']} episodes, not half")
+    if fuzz["planar_steps"] <= 0:
+        fail("fuzz: the planar controllers were not fuzzed")
+    broken = {i["key"]: i["breaks"] for i in invariants if i["class"] == "bad_command" and i["breaks"]}
     if fuzz["panics"] != 0 or fuzz["bad_commands"] != 0:
-        fail(f"fuzz: {fuzz['panics']} panics, {fuzz['bad_commands']} bad commands: {fuzz['violations']}")
+        fail(f"fuzz: {fuzz['panics']} panics, {fuzz['bad_commands']} bad commands {broken}: {fuzz['violations']}")
     if fuzz["parsers"]["panics"] != 0:
         fail("a mutated TOML file made a parser panic")
     mc = data.get("monte_carlo") or fail("no monte_carlo")

@@ -46,10 +46,10 @@ pub struct BrakeArgs {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Cruise speed at the start (m/s); default 1.4 (MiaPURE) or 1.0 (PIPTB).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub v0: Option<f64>,
     /// Braking time (s); default 2.0 (MiaPURE) or 1.4 (PIPTB).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub duration: Option<f64>,
     /// Collocation intervals N.
     #[arg(long, default_value_t = 100)]
@@ -61,16 +61,16 @@ pub struct BrakeArgs {
     #[arg(long)]
     pub zero_end_torques: bool,
     /// Planar torque bound |tau| (N m).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub max_torque: Option<f64>,
     /// Tilt bound |theta| (deg).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub max_tilt_deg: Option<f64>,
     /// Tilt-rate bound |theta_dot| (rad/s).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub max_tilt_rate: Option<f64>,
     /// Ball-speed bound |r phi_dot| (m/s).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub max_ball_speed: Option<f64>,
     /// The preset's actuator limits: peak torque, torque-speed line and no-load speed of each
     /// actuator (MiaPURE: three omniwheels at --heading-deg; PIPTB: one direct drive).
@@ -82,15 +82,15 @@ pub struct BrakeArgs {
     pub traction: bool,
     /// Normal-force margin of the traction limit (N): every omniwheel's traction
     /// <= mu (N - margin), so every N >= margin (needs --traction; 0 = the plain cone).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::finite_f64)]
     pub normal_force_margin: f64,
     /// Direction of travel in the body frame for the omniwheel limits (deg; 0 = towards
     /// omniwheel 1; the paper braked at 180).
-    #[arg(long, default_value_t = 180.0)]
+    #[arg(long, default_value_t = 180.0, value_parser = crate::finite_f64)]
     pub heading_deg: f64,
     /// Also find the minimum braking time under the limits, by bisection to this resolution
     /// (s) between 0.1 s and 5 s.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub min_time: Option<f64>,
     /// Print the result as JSON (cost, status, iterations, solve_ms, ...).
     #[arg(long)]

@@ -70,6 +70,29 @@ pub enum Command {
     Export(export::ExportArgs),
 }
 
+/// The value parser of every floating-point flag: a finite `f64`, or an error that clap
+/// reports with the flag's name (exit code 2). `nan`, `inf`, `-inf` and numbers that
+/// overflow to infinity (`1e999`) are rejected wherever they appear, even for a flag the
+/// chosen options do not read.
+///
+/// ```
+/// use ballbot_cli::finite_f64;
+/// assert_eq!(finite_f64("-1.5e3"), Ok(-1500.0));
+/// for bad in ["nan", "inf", "-inf", "1e999", "x"] {
+///     assert!(finite_f64(bad).is_err(), "{bad}");
+/// }
+/// ```
+pub fn finite_f64(text: &str) -> Result<f64, String> {
+    let value: f64 = text
+        .parse()
+        .map_err(|e| format!("`{text}` is not a number ({e})"))?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!("`{text}` is not a finite number"))
+    }
+}
+
 /// Runs a parsed command line; the exit code is 0 unless the command says otherwise
 /// (`params diff`: 1 when the files differ, 2 on an error).
 pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {

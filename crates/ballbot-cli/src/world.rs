@@ -60,42 +60,42 @@ pub enum ControllerChoice {
 pub struct WorldArgs {
     /// Heading of travel in the body frame (deg; 0 is towards OW1, counter-clockwise from
     /// above).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = crate::finite_f64)]
     pub heading_deg: f64,
     /// Acceleration of the commanded velocity ramp (m/s^2, > 0). Above the core's shaper cap
     /// (1.0 m/s^2) the cap is raised to it, with the tilt-command limits raised to 0.5 rad and
     /// 5 rad/s.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, value_parser = crate::finite_f64)]
     pub accel_m_per_s2: f64,
     /// Top commanded speed (m/s, >= 0); the ramp holds it. Above the core's shaper cap
     /// (2.0 m/s) the cap is raised to it.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::finite_f64)]
     pub top_speed_m_per_s: f64,
     /// Simulated time (s, > 0); the ramp starts after a 0.5 s hold.
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, value_parser = crate::finite_f64)]
     pub duration_secs: f64,
     /// Seed of the sensor noise.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Omniwheel-ball friction coefficient mu (> 0); default the robot's (0.6). The
     /// controller is designed for the same robot.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub wheel_ball_friction: Option<f64>,
     /// Height of the body's centre of mass above the ball centre (m, > 0); default the
     /// robot's (0.5). The controller is designed for the same robot.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub com_height_m: Option<f64>,
     /// Horizontal impulse applied to the body at its centre of mass (N s, >= 0); 0: no push.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::finite_f64)]
     pub push_ns: f64,
     /// When the push is applied (s).
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, value_parser = crate::finite_f64)]
     pub push_at_secs: f64,
     /// Direction of the push in the body frame (deg; 0 is towards OW1).
-    #[arg(long, default_value_t = 90.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 90.0, allow_negative_numbers = true, value_parser = crate::finite_f64)]
     pub push_heading_deg: f64,
     /// Simulated time kept running after a failure, to see the fall (s, >= 0).
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = 0.25, value_parser = crate::finite_f64)]
     pub after_failure_secs: f64,
     /// The controller configuration: `design`, the shipped default (traction-aware control
     /// and balance-point estimation on), or `paper`, the configuration the paper's studies
@@ -106,7 +106,7 @@ pub struct WorldArgs {
     /// the controller's own (0.3 s in `design`, off in `paper`), which removes the speed
     /// overshoot of a velocity ramp (`CommandShaperParams::reference_filter_secs`,
     /// docs/embedding.md).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::finite_f64)]
     pub reference_filter_secs: Option<f64>,
     /// The MCAP log to write (its folder is created).
     #[arg(long, default_value = "out/world.mcap")]
@@ -116,7 +116,7 @@ pub struct WorldArgs {
     pub decimate: u32,
     /// Rate of the Foxglove scene (SceneUpdate) messages (Hz, > 0); the frame transforms are
     /// written at twice this rate.
-    #[arg(long, default_value_t = 50.0)]
+    #[arg(long, default_value_t = 50.0, value_parser = crate::finite_f64)]
     pub scene_hz: f64,
     /// Print the outcome as JSON.
     #[arg(long)]
@@ -133,7 +133,7 @@ pub struct WorldArgs {
     pub live_port: u16,
     /// Wait up to this long for Foxglove to connect before the run starts (s, >= 0); then up
     /// to 5 s more for it to subscribe to the run's channels.
-    #[arg(long, default_value_t = 60.0, requires = "live")]
+    #[arg(long, default_value_t = 60.0, requires = "live", value_parser = crate::finite_f64)]
     pub live_wait_secs: f64,
     /// Run the live view as fast as the simulation goes instead of in real time.
     #[arg(long, requires = "live")]

@@ -5,6 +5,7 @@
 
 mod brake;
 mod export;
+mod float_flags;
 mod params;
 mod simulate;
 mod sweep;

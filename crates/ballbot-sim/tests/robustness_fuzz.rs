@@ -1,30 +1,79 @@
-//! Fuzzing the core (issue 15, section 1): a small campaign finds no bad command, is
-//! deterministic in its seed, and the checks can fail: a motor loop without its encoder guard
-//! is caught.
+//! Fuzzing the core (issue 15, section 1; issue 26, item 7): a small campaign has no panic and
+//! breaks none of issue 15's invariants, is deterministic in its seed, runs traction-aware
+//! control in half its episodes; and the invariants of issue 26 can fail: each is shown to
+//! fire on a controller deliberately built to break it (so that they stay live whatever the
+//! core's fixes do to the shipped controller).
 
 use ballbot_core::BallbotParams;
-use ballbot_core::ballbot::{BallbotControllerConfig, MotorSpeedLoop};
+use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, MotorSpeedLoop};
 use ballbot_sim::studies::robustness::fuzz::episode::{EpisodeKind, run_episode_on};
+use ballbot_sim::studies::robustness::fuzz::invariants;
 use ballbot_sim::studies::robustness::fuzz::parsers::fuzz_parsers;
-use ballbot_sim::studies::robustness::fuzz::rig::FuzzRig;
+use ballbot_sim::studies::robustness::fuzz::rig::{Controllers, FuzzRig};
+use ballbot_sim::studies::robustness::fuzz::runtime::{
+    run_runtime_episode, run_runtime_episode_judged,
+};
 use ballbot_sim::studies::robustness::{FuzzSettings, run_fuzz};
 
 fn small(seed: u64) -> FuzzSettings {
     FuzzSettings {
         seed,
         hostile_episodes: 2,
-        accepted_episodes: 2,
+        accepted_episodes: 4,
+        f32_episodes: 2,
+        runtime_episodes: 2,
         outer_steps_per_episode: 3_000,
+        planar_steps: 3_000,
         parser_files: 300,
     }
 }
 
+fn designed() -> BallbotControllerConfig<f64> {
+    BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap()
+}
+
+/// A rig whose oracle is `oracle`'s but whose controller is built from `controller`.
+fn rig_with(
+    oracle: BallbotControllerConfig<f64>,
+    controller: BallbotControllerConfig<f64>,
+) -> FuzzRig {
+    let mut rig = FuzzRig::new(oracle).unwrap();
+    rig.controllers = Controllers::F64 {
+        outer: BallbotController::new(controller).unwrap(),
+        inner: MotorSpeedLoop::new(&controller).unwrap(),
+    };
+    rig
+}
+
+/// Breaks of `key` over `seeds` episodes of `kind` on `rig`.
+fn breaks(rig: FuzzRig, kind: EpisodeKind, seeds: u64, steps: u64, key: &str) -> u64 {
+    (0..seeds)
+        .map(|seed| {
+            let c = run_episode_on(rig, kind, seed, steps);
+            println!("seed {seed}: {:?}", c.by_invariant);
+            c.by_invariant.get(key).copied().unwrap_or(0)
+        })
+        .sum()
+}
+
 #[test]
-fn a_small_campaign_finds_no_panic_and_no_bad_command_and_repeats_from_its_seed() {
+fn a_small_campaign_has_no_panic_breaks_no_issue_15_invariant_and_repeats_from_its_seed() {
     let robot = BallbotParams::miapure_60kg();
     let a = run_fuzz(&robot, &small(5), 2, &|_, _| {}).unwrap();
-    assert_eq!((a.panics, a.bad_commands), (0, 0), "{:?}", a.violations);
-    assert!(a.outer_steps >= 12_000 && a.inner_steps == 20 * a.outer_steps);
+    assert_eq!(a.panics, 0, "{:?}", a.violations);
+    for c in &a.invariants {
+        println!(
+            "{:>6} {} ({})",
+            c.breaks, c.invariant.key, c.invariant.class
+        );
+        if c.invariant.issue_26_item == 0 && c.invariant.class == invariants::BAD {
+            assert_eq!(c.breaks, 0, "{}: {:?}", c.invariant.key, a.violations);
+        }
+    }
+    assert_eq!(a.invariants.len(), invariants::ALL.len());
+    assert!(a.outer_steps >= 30_000 && a.inner_steps == 20 * a.outer_steps);
+    assert!(a.planar_steps == 3_000);
+    assert_eq!(a.traction_on_episodes * 2, a.episodes);
     assert!(
         a.faults_raised.values().sum::<u64>() > 0,
         "the inputs were hostile"
@@ -36,23 +85,167 @@ fn a_small_campaign_finds_no_panic_and_no_bad_command_and_repeats_from_its_seed(
 }
 
 #[test]
+fn every_kind_of_episode_runs_with_and_without_traction_control() {
+    use ballbot_sim::studies::robustness::fuzz::Job;
+    let s = FuzzSettings::full();
+    let jobs: Vec<Job> = (0..s.episodes()).map(|i| s.job(i)).collect();
+    for kind in [
+        EpisodeKind::Hostile,
+        EpisodeKind::Accepted,
+        EpisodeKind::AcceptedTrajectories,
+    ] {
+        for f32 in [false, true] {
+            let on = |t: bool| {
+                jobs.iter()
+                    .filter(|j| {
+                        **j == Job::Controller {
+                            kind,
+                            f32,
+                            traction: t,
+                        }
+                    })
+                    .count()
+            };
+            let trajectories_in_f32 = f32 && kind == EpisodeKind::AcceptedTrajectories;
+            assert_eq!(on(true), on(false), "{kind:?} f32 {f32}");
+            assert!(trajectories_in_f32 || on(true) > 0, "{kind:?} f32 {f32}");
+        }
+    }
+    let runtime = |t: bool| {
+        jobs.iter()
+            .filter(|j| **j == Job::Runtime { traction: t })
+            .count()
+    };
+    assert_eq!(runtime(true), runtime(false));
+    assert!(s.planned_outer_steps() >= 100_000_000);
+}
+
+#[test]
 fn a_motor_loop_without_its_encoder_guard_is_caught() {
-    let config = BallbotControllerConfig::design(&BallbotParams::miapure_60kg()).unwrap();
-    let mut rig = FuzzRig::new(config).unwrap();
+    let config = designed();
     // Any acceleration believed: one wrong encoder sample in the 8 kHz loop reaches the PI.
-    rig.inner = MotorSpeedLoop::new(&config)
-        .unwrap()
-        .with_max_wheel_accel_rad_per_s2(1e15)
-        .unwrap();
-    let caught: u64 = (0..6)
-        .map(|seed| run_episode_on(rig, EpisodeKind::Hostile, seed, 12_000).bad_commands)
-        .sum();
+    let unguarded = FuzzRig::new(config).unwrap().with_inner(
+        MotorSpeedLoop::new(&config)
+            .unwrap()
+            .with_max_wheel_accel_rad_per_s2(1e15)
+            .unwrap(),
+    );
+    let caught = breaks(unguarded, EpisodeKind::Hostile, 6, 12_000, "encoder_guard");
     assert!(caught > 0, "the fuzzer missed an unguarded motor loop");
-    let guarded = FuzzRig::new(config).unwrap();
-    let clean: u64 = (0..4)
-        .map(|seed| run_episode_on(guarded, EpisodeKind::Hostile, seed, 4_000).bad_commands)
+}
+
+#[test]
+fn the_tilt_invariant_fires_on_a_controller_that_lets_the_body_pass_its_limit() {
+    let oracle = designed();
+    let mut loose = oracle;
+    // 80 deg per axis: the body passes 20 deg from the vertical with the motors on.
+    loose.safety.tilt_limit_rad = 1.4;
+    let fired = breaks(
+        rig_with(oracle, loose),
+        EpisodeKind::Accepted,
+        4,
+        20_000,
+        "tilt_from_vertical",
+    );
+    assert!(
+        fired > 0,
+        "pushes beyond recovery never tripped the tilt check"
+    );
+}
+
+#[test]
+fn the_accepted_trajectory_check_is_live() {
+    // A supervisor with a 0.5 deg tilt limit faults on the lean of any real manoeuvre: every
+    // accepted trajectory or command that moves the robot ends in a fault, and the check
+    // (dead in the first version for trajectories) must count it.
+    let oracle = designed();
+    let mut tight = oracle;
+    tight.safety.tilt_limit_rad = 0.5f64.to_radians();
+    tight.safety.arm_tilt_limit_rad = 0.25f64.to_radians();
+    let rig = rig_with(tight, tight);
+    let fired = breaks(
+        rig,
+        EpisodeKind::AcceptedTrajectories,
+        2,
+        20_000,
+        "accepted_command",
+    );
+    assert!(
+        fired > 0,
+        "faults on accepted trajectories were not counted"
+    );
+}
+
+#[test]
+fn the_stop_invariant_fires_on_a_shaper_that_cannot_brake() {
+    let oracle = designed();
+    let mut slow = oracle;
+    // 1 mm/s^2: a stop from any speed takes longer than the 10 s bound.
+    slow.shaping.translation.max_rate_per_s = 1e-3;
+    slow.shaping.translation.max_jerk_per_s2 = 1e-3;
+    let fired = breaks(
+        rig_with(oracle, slow),
+        EpisodeKind::Accepted,
+        4,
+        40_000,
+        "stop_reaches_rest",
+    );
+    assert!(fired > 0, "a stop that never came to rest was not counted");
+}
+
+#[test]
+fn the_clock_invariant_fires_on_a_supervisor_with_a_long_timeout() {
+    let oracle = designed();
+    let mut lax = oracle;
+    // The supervisor would see a stalled clock only after 10 s.
+    lax.safety.imu_timeout_us = 10_000_000;
+    lax.safety.encoder_timeout_us = 10_000_000;
+    lax.safety.frozen_imu_timeout_us = None;
+    let fired = breaks(
+        rig_with(oracle, lax),
+        EpisodeKind::Hostile,
+        4,
+        20_000,
+        "clock",
+    );
+    assert!(
+        fired > 0,
+        "a stalled clock with the motors on was not counted"
+    );
+}
+
+#[test]
+fn robot_loop_on_failing_devices_keeps_its_limits_and_the_read_error_check_can_fire() {
+    let shipped = run_runtime_episode(designed(), 3, 20_000).unwrap();
+    println!("{:?}", shipped.by_invariant);
+    assert!(shipped.outer_steps == 20_000 && shipped.inner_steps == 400_000);
+    for key in ["runtime_limits", "runtime_read_errors"] {
+        assert_eq!(
+            shipped.by_invariant.get(key),
+            None,
+            "{:?}",
+            shipped.violations
+        );
+    }
+    // A supervisor that sees failed reads as stale only after 10 s, judged by the shipped
+    // timeouts: persistent read errors with the motors on are counted.
+    let mut lax = designed();
+    lax.safety.imu_timeout_us = 10_000_000;
+    lax.safety.encoder_timeout_us = 10_000_000;
+    lax.safety.frozen_imu_timeout_us = None;
+    let fired: u64 = (0..3)
+        .map(|seed| {
+            let c = run_runtime_episode_judged(lax, designed().safety, seed, 20_000).unwrap();
+            c.by_invariant
+                .get("runtime_read_errors")
+                .copied()
+                .unwrap_or(0)
+        })
         .sum();
-    assert_eq!(clean, 0);
+    assert!(
+        fired > 0,
+        "persistent read errors with the motors on were not counted"
+    );
 }
 
 #[test]
@@ -62,4 +255,35 @@ fn mutated_parameter_files_never_panic_and_errors_name_the_key() {
     assert!(p.rejected > 300, "{p:?}");
     // Most wrong values are named by key; the rest are listed in the report.
     assert!(p.named_the_key * 10 >= p.targeted * 9, "{p:?}");
+}
+
+/// The fuzz campaign alone at its CI or full size, timed and printed: `BALLBOT_FUZZ=quick|full
+/// cargo test [--release] -p ballbot-sim --test main fuzz_campaign_alone -- --ignored
+/// --nocapture` (the CI runs the quick one in the dev profile, inside `ballbot robustness
+/// --quick`).
+#[test]
+#[ignore = "minutes: run by hand to measure a campaign"]
+fn fuzz_campaign_alone() {
+    let size = std::env::var("BALLBOT_FUZZ").unwrap_or_else(|_| "quick".to_owned());
+    let settings = if size == "full" {
+        FuzzSettings::full()
+    } else {
+        FuzzSettings::quick()
+    };
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let start = std::time::Instant::now();
+    let r = run_fuzz(
+        &BallbotParams::miapure_60kg(),
+        &settings,
+        threads,
+        &|_, _| {},
+    )
+    .unwrap();
+    let secs = start.elapsed().as_secs_f64();
+    println!("{}", ballbot_sim::report::robustness::fuzz_table(&r));
+    println!(
+        "{size}: {} outer steps in {secs:.1} s on {threads} threads ({:.2e} outer steps/s)",
+        r.outer_steps,
+        r.outer_steps as f64 / secs
+    );
 }

@@ -116,7 +116,10 @@ fn counting_falls_relaxes_the_slip_and_lift_off_rules_only() {
     };
     let by_rules = trial(MonteCarloCount::StopRules);
     let by_falls = trial(MonteCarloCount::Falls);
-    println!("stop rules: {:?}; falls: {:?}", by_rules.outcome, by_falls.outcome);
+    println!(
+        "stop rules: {:?}; falls: {:?}",
+        by_rules.outcome, by_falls.outcome
+    );
     assert!(!MonteCarloCount::StopRules.stayed_up(&by_rules));
     assert!(MonteCarloCount::Falls.stayed_up(&by_falls));
     // The tilt bound of the fall count is the world's 25 deg, which the rules keep.

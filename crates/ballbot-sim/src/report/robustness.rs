@@ -9,8 +9,7 @@ use super::ReportError;
 use super::reproduce::{ReproduceObserver, write_json};
 use crate::studies::robustness::{
     ControllerVariant, FaultMatrix, FaultMatrixSettings, FuzzResult, FuzzSettings, MonteCarlo,
-    MonteCarloCount,
-    MonteCarloSettings, run_fault_matrix, run_fuzz, run_monte_carlo,
+    MonteCarloCount, MonteCarloSettings, run_fault_matrix, run_fuzz, run_monte_carlo,
 };
 use crate::world::WorldParams;
 use serde_json::{Map, Value, json};
@@ -307,7 +306,7 @@ fn fuzz_section(
             FuzzSettings::full()
         }
     };
-    let episodes = settings.hostile_episodes + settings.accepted_episodes;
+    let episodes = settings.episodes();
     observer.start("fuzz", episodes as u64);
     let robot = ballbot_core::BallbotParams::miapure_60kg();
     let fuzz = run_fuzz(&robot, &settings, options.threads, &|_, _| {
@@ -329,9 +328,23 @@ pub fn fuzz_table(f: &FuzzResult) -> String {
     );
     let _ = writeln!(
         t,
+        "  {} episodes with traction-aware control and balance-point estimation on, {} pushes, {} planar controller steps",
+        f.traction_on_episodes, f.pushes, f.planar_steps
+    );
+    let _ = writeln!(
+        t,
         "  panics {}, bad commands {}, findings {}, single corrupted samples compared with a clean twin {}",
         f.panics, f.bad_commands, f.findings, f.single_sample_checks
     );
+    let _ = writeln!(t, "  breaks by invariant (issue 26 item, class):");
+    for c in &f.invariants {
+        let i = &c.invariant;
+        let _ = writeln!(
+            t,
+            "    {:>8}  {:<22} item {} {:<11} {}",
+            c.breaks, i.key, i.issue_26_item, i.class, i.what
+        );
+    }
     for (what, n) in &f.findings_by_what {
         let _ = writeln!(t, "  finding x{n}: {what}");
     }
@@ -358,8 +371,8 @@ pub fn fuzz_table(f: &FuzzResult) -> String {
     for v in &f.violations {
         let _ = writeln!(
             t,
-            "  {} (episode seed {}, step {}): {}",
-            v.kind, v.episode_seed, v.outer_step, v.what
+            "  {} {} (episode seed {}, step {}): {}",
+            v.kind, v.invariant, v.episode_seed, v.outer_step, v.what
         );
     }
     t

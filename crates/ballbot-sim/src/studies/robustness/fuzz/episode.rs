@@ -1,16 +1,22 @@
 //! One seeded fuzz episode of the 3D controller: a healthy closed loop on the planar plant,
-//! hit by bursts of hostile inputs (hostile episodes) or driven by any command the API
-//! accepts (accepted-command episodes), with every invariant checked on every step.
+//! pushed now and then, hit by bursts of hostile inputs (hostile episodes) or driven by any
+//! command the API accepts (accepted-command episodes), with every invariant of
+//! [`super::invariants`] checked on every step.
 
-use super::hostile::{accepted_command, chance, hostile, index, request, symmetric, unit};
-use super::rig::{FuzzRig, INNER_PER_OUTER, InnerFault};
+use super::hostile::{
+    accepted_command, chance, hostile, index, log_uniform_f64, request, symmetric, unit,
+};
+use super::invariants::{self as inv, BAD, Invariant};
+use super::plant::tilt_from_vertical_rad;
+use super::rig::{FuzzRig, INNER_PER_OUTER, InnerFault, Observed};
 use ballbot_core::ballbot::{BallbotControllerConfig, OuterInput};
-use ballbot_core::command::Command;
+use ballbot_core::command::{Command, Trajectory};
 use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::safety::{Fault, Mode, ModeRequest};
 use ballbot_core::wip::WipState;
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::SeedableRng;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// What an episode does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,18 +27,18 @@ pub enum EpisodeKind {
     /// healthy sensors: must never end with the motors off.
     Accepted,
     /// The same with trajectories the API accepts (any finite samples, any sample period)
-    /// among them: a fall is a finding (see the module docs of `fuzz`).
+    /// among them: must never end with the motors off either (issue 26, item 5).
     AcceptedTrajectories,
 }
 
 /// A broken invariant, re-runnable from its episode seed.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Violation {
-    /// `bad_command` (a motor command broke a hard invariant: must never happen) or
-    /// `finding` (the controller did something the issue asks it not to, reported and
-    /// explained: a single wrong in-range IMU sample reaching the torque limit, an accepted
-    /// trajectory the robot cannot follow).
+    /// `bad_command` (must never happen) or `finding` (reported and explained), the class of
+    /// the invariant (see [`super::invariants`]).
     pub kind: &'static str,
+    /// The invariant's key.
+    pub invariant: &'static str,
     /// The episode's seed.
     pub episode_seed: u64,
     /// The outer step at which it broke.
@@ -54,6 +60,8 @@ pub struct EpisodeCounts {
     pub faults: [u64; Fault::ALL.len()],
     /// Single corrupted samples compared against a clean twin.
     pub single_sample_checks: u64,
+    /// Pushes on the plant.
+    pub pushes: u64,
     /// Broken invariants, first ones.
     pub violations: Vec<Violation>,
     /// Bad commands counted (all, not only the recorded ones).
@@ -61,19 +69,67 @@ pub struct EpisodeCounts {
     /// Findings counted.
     pub findings: u64,
     /// Findings by what happened (the violation's text up to the details in brackets).
-    pub findings_by_what: std::collections::BTreeMap<String, u64>,
+    pub findings_by_what: BTreeMap<String, u64>,
+    /// Breaks (events) by invariant key.
+    pub by_invariant: BTreeMap<&'static str, u64>,
 }
 
-/// A motor command that broke a hard invariant.
-pub const BAD: &str = "bad_command";
-/// Something the issue asks the controller not to do, reported and explained.
-pub const FINDING: &str = "finding";
+impl EpisodeCounts {
+    /// Counts a break of `invariant` at `outer_step` of episode `seed`, recording the first
+    /// ten of each class.
+    pub fn record(&mut self, invariant: Invariant, seed: u64, outer_step: u64, what: String) {
+        *self.by_invariant.entry(invariant.key).or_insert(0) += 1;
+        if invariant.class == BAD {
+            self.bad_commands += 1;
+        } else {
+            self.findings += 1;
+            let head = what.split(" (").next().unwrap_or_default().to_owned();
+            *self.findings_by_what.entry(head).or_insert(0) += 1;
+        }
+        let recorded = self
+            .violations
+            .iter()
+            .filter(|v| v.kind == invariant.class)
+            .count();
+        if recorded < 10 {
+            self.violations.push(Violation {
+                kind: invariant.class,
+                invariant: invariant.key,
+                episode_seed: seed,
+                outer_step,
+                what,
+            });
+        }
+    }
+}
 
 /// Outer steps a single corrupted sample is followed against its clean twin.
 const TWIN_STEPS: usize = 40;
 /// After the twin window, applied torques of the two may differ by at most this (N m): no
 /// integrator wound up by one sample.
 const MAX_LASTING_TORQUE_DIFFERENCE_NM: f64 = 1.0;
+/// Outer period (us).
+const PERIOD_US: u64 = 2_500;
+/// Item 3: a slip flag on the slip-free plant must be clear after this many outer steps of
+/// consistent data (2 s: the slip monitor's hold and the observers' settling are well below).
+const SLIP_CLEAR_STEPS: u64 = 800;
+/// Item 3: a controlled stop at rest for this long (2 s) ...
+const STOPPED_FOR_STEPS: u64 = 800;
+/// ... after this long of consistent data (4 s: a push's recovery is over) ...
+const STOPPED_QUIET_STEPS: u64 = 1_600;
+/// ... holds the ball below this (m/s): five times the runtime's rest speed (0.02 m/s).
+const STILL_M_PER_S: f64 = 0.1;
+/// Item 4: a controlled stop reports rest within this many outer steps (10 s): three times
+/// the slowest stop the shaper's limits allow (2 m/s at 1 m/s^2 with a jerk of 2 m/s^3,
+/// starting at full acceleration: 3.5 s).
+const STOP_BOUND_STEPS: u64 = 4_000;
+/// Item 8: a velocity target this far from the shaped one (m/s) ...
+const ENVELOPE_GAP_M_PER_S: f64 = 0.5;
+/// ... without an acceleration limit for this many steps (0.1 s) skipped the envelope.
+const ENVELOPE_STEPS: u32 = 40;
+/// Item 9: after re-arming at rest on a stop command, the ball stays below
+/// [`STILL_M_PER_S`] for this many outer steps (2 s).
+const REARM_STEPS: u64 = 800;
 
 /// Runs one episode of `outer_steps` outer steps on the controller of `config`.
 pub fn run_episode(
@@ -90,7 +146,33 @@ pub fn run_episode(
     ))
 }
 
-/// [`run_episode`] on a given rig (e.g. a motor loop configured otherwise).
+/// What the invariants keep between steps.
+#[derive(Debug)]
+struct Oracle {
+    /// The newest valid IMU sample's time, a stamp ahead of the clock counting as now.
+    newest_imu_us: u64,
+    /// The stamp of the newest valid IMU sample (for stalled-stamp corruptions).
+    last_imu_stamp: u64,
+    /// The clock's highest reading, and outer ticks since it last passed it.
+    clock_max_us: u64,
+    ticks_behind: u64,
+    /// The last step with a corrupted sample, a push, a plant reset or a twin check.
+    last_disturbance: u64,
+    /// Consecutive steps in a controlled stop, and of those reported at rest.
+    stop_steps: u64,
+    stopped_steps: u64,
+    /// Consecutive steps a velocity target was far from the shaped command without a limit.
+    envelope_steps: u32,
+    /// The step the robot was re-armed at rest, while the window of item 9 is open.
+    rearmed_at: Option<u64>,
+    /// Until this step the command stays a stop (after a disarm).
+    hold_stop_until: u64,
+    /// Invariants broken in the previous step (a break is counted when it starts).
+    broken: BTreeSet<&'static str>,
+}
+
+/// [`run_episode`] on a given rig (e.g. a motor loop configured otherwise, or the `f32`
+/// controller).
 pub fn run_episode_on(
     mut rig: FuzzRig,
     kind: EpisodeKind,
@@ -98,53 +180,89 @@ pub fn run_episode_on(
     outer_steps: u64,
 ) -> EpisodeCounts {
     let config = rig.config;
+    // What the controller accepts (`BallbotController::accept_trajectory`).
+    let trajectory_limits = config.trajectory_limits();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut counts = EpisodeCounts::default();
     let mut now_us: u64 = 1_000_000;
     let mut command: Command<'static, f64> = Command::Stop;
     let mut trajectory: Option<(Vec<WipState<f64>>, f64, f64, u64)> = None;
     let mut burst: Option<(Target, u32)> = None;
-    let mut last_imu_stamp = now_us;
-    // The oracle of the stale check (docs/embedding.md): the newest valid IMU sample's time,
-    // a stamp ahead of the clock counting as now.
-    let mut newest_imu_us: u64 = now_us;
+    let mut stall_left: u32 = 0;
+    let mut o = Oracle {
+        newest_imu_us: now_us,
+        last_imu_stamp: now_us,
+        clock_max_us: now_us,
+        ticks_behind: 0,
+        last_disturbance: 0,
+        stop_steps: 0,
+        stopped_steps: 0,
+        envelope_steps: 0,
+        rearmed_at: None,
+        hold_stop_until: 0,
+        broken: BTreeSet::new(),
+    };
+    let tilt_limit = config.safety.tilt_limit_rad;
+    let clock_ticks = config.safety.imu_timeout_us.div_ceil(PERIOD_US) + 1;
+    let accepted = kind == EpisodeKind::Accepted;
     let mut k: u64 = 0;
     while k < outer_steps {
-        // The clock: mostly the period, sometimes jittered; hostile episodes also stall it,
-        // jump it forward and send it back.
-        let step_us = match kind {
-            EpisodeKind::Hostile if chance(&mut rng, 0.002) => match index(&mut rng, 3) {
-                0 => 0,
-                1 => 2_500 + (unit(&mut rng) * 1e6) as u64,
-                _ => {
-                    now_us = now_us.saturating_sub((unit(&mut rng) * 1e6) as u64);
-                    0
+        // The clock: mostly the period, sometimes jittered; hostile episodes also stall it
+        // (for up to 60 ticks), jump it forward and send it back.
+        let step_us = if stall_left > 0 {
+            stall_left -= 1;
+            0
+        } else {
+            match kind {
+                EpisodeKind::Hostile if chance(&mut rng, 0.002) => match index(&mut rng, 3) {
+                    0 => {
+                        stall_left = index(&mut rng, 60) as u32;
+                        0
+                    }
+                    1 => PERIOD_US + (unit(&mut rng) * 1e6) as u64,
+                    _ => {
+                        now_us = now_us.saturating_sub((unit(&mut rng) * 1e6) as u64);
+                        0
+                    }
+                },
+                _ if chance(&mut rng, 0.05) => {
+                    (PERIOD_US as f64 + symmetric(&mut rng, 1_000.0)) as u64
                 }
-            },
-            _ if chance(&mut rng, 0.05) => 2_500 + (symmetric(&mut rng, 1_000.0)) as u64,
-            _ => 2_500,
+                _ => PERIOD_US,
+            }
         };
         now_us = now_us.saturating_add(step_us);
+        if now_us > o.clock_max_us {
+            o.clock_max_us = now_us;
+            o.ticks_behind = 0;
+        } else {
+            o.ticks_behind += 1;
+        }
         // The documented clock semantics: nothing kept is ahead of the clock.
-        newest_imu_us = newest_imu_us.min(now_us);
+        o.newest_imu_us = o.newest_imu_us.min(now_us);
+        // Pushes on the plant, from small to beyond recoverable: 1 to 200 N s, log-uniform,
+        // any direction (the Monte Carlo's push is 40 N s), one every 5 s on average.
+        if chance(&mut rng, 0.0005) {
+            let size = 10f64.powf(2.3 * unit(&mut rng));
+            let (s, c) = (std::f64::consts::TAU * unit(&mut rng)).sin_cos();
+            rig.plant.push([size * c, size * s]);
+            counts.pushes += 1;
+            o.last_disturbance = k;
+        }
         let (mut imu, mut encoders) = rig.plant.sensors(now_us);
         // A real IMU is never bit-identical twice (the frozen check relies on it).
         imu.roll_rad += symmetric(&mut rng, 1e-6);
         imu.angular_velocity_rad_per_s[1] += symmetric(&mut rng, 1e-6);
-        // Requests: re-arm after a stop or a fault (the plant stood up again), and, in
-        // hostile episodes, anything at any time.
-        let mode = rig.controller.mode();
-        let mut req = match mode {
-            Mode::Fault => ModeRequest::Reset,
-            Mode::Idle => ModeRequest::Arm,
-            Mode::ControlledStop if chance(&mut rng, 0.01) => ModeRequest::Resume,
-            _ => ModeRequest::None,
-        };
-        if kind == EpisodeKind::Hostile && chance(&mut rng, 0.005) {
-            req = request(&mut rng);
+        let mode = rig.mode();
+        let req = next_request(&mut rng, kind, mode, &o, k);
+        if req == ModeRequest::Disarm && mode == Mode::Balancing {
+            o.hold_stop_until = k + 3 * REARM_STEPS;
         }
-        if chance(&mut rng, 0.004) {
-            if kind == EpisodeKind::AcceptedTrajectories && chance(&mut rng, 0.5) {
+        if k < o.hold_stop_until {
+            trajectory = None;
+            command = Command::Stop;
+        } else if chance(&mut rng, 0.004) {
+            if kind == EpisodeKind::AcceptedTrajectories && !rig.is_f32() && chance(&mut rng, 0.5) {
                 trajectory = Some(random_trajectory(&mut rng, k));
             } else {
                 trajectory = None;
@@ -169,20 +287,44 @@ pub fn run_episode_on(
                 corrupted = Some(target);
                 target.apply(
                     &mut rng,
+                    &config,
                     &mut imu,
                     &mut encoders,
                     &mut command_ts,
                     &mut inner_fault,
                     now_us,
-                    last_imu_stamp,
+                    o.last_imu_stamp,
                 );
                 burst = (left > 1).then_some((target, left - 1));
             }
+            // Item 7: a wild first encoder reading as the motors are enabled.
+            if corrupted.is_none()
+                && mode == Mode::Idle
+                && req == ModeRequest::Arm
+                && chance(&mut rng, 0.3)
+            {
+                let range = config.safety.encoder_range_rad_per_s;
+                inner_fault = Some(InnerFault::Encoder {
+                    step: 0,
+                    wheel: index(&mut rng, 3),
+                    value: symmetric(&mut rng, range),
+                });
+                corrupted = Some(Target::FirstAfterEnable);
+                single = true;
+            }
+        }
+        if corrupted.is_some() {
+            o.last_disturbance = k;
         }
         let traj;
         let cmd = match &trajectory {
             Some((samples, period, heading, start)) => {
-                traj = rig.controller.accept_trajectory(samples, *period, *heading);
+                // What the controller accepts (`BallbotController::accept_trajectory`): the
+                // limits of its configuration.
+                traj = match &trajectory_limits {
+                    Ok(limits) => Trajectory::new(samples, *period, *heading, limits),
+                    Err(e) => Err(e.clone()),
+                };
                 match traj {
                     Ok(t) => Command::Trajectory {
                         trajectory: t,
@@ -220,46 +362,166 @@ pub fn run_episode_on(
                 .angular_velocity_rad_per_s
                 .iter()
                 .all(|w| w.abs() <= gyro);
+        let fresh = valid && imu.timestamp_us > o.newest_imu_us;
         if valid {
-            newest_imu_us = newest_imu_us.max(imu.timestamp_us.min(now_us));
-            last_imu_stamp = imu.timestamp_us.min(now_us);
+            o.newest_imu_us = o.newest_imu_us.max(imu.timestamp_us.min(now_us));
+            o.last_imu_stamp = imu.timestamp_us.min(now_us);
         }
-        let twin = (single && rig.controller.mode() == Mode::Balancing).then_some(rig);
+        let arming = mode == Mode::Idle && req == ModeRequest::Arm;
+        let twin = (single && (mode == Mode::Balancing || arming)).then_some(rig);
         let period = rig.period(&input, inner_fault);
         counts.outer_steps += 1;
         counts.inner_steps += INNER_PER_OUTER as u64;
         for f in period.out.safety.faults.iter() {
             counts.faults[usize::from(f.code())] += 1;
         }
-        let mut found: Vec<(&'static str, String)> = Vec::new();
+        let out = period.out;
+        let mut found: Vec<(Invariant, String)> = Vec::new();
         if let Some(what) = period.broken {
-            found.push((BAD, format!("{what} (corrupted: {corrupted:?})")));
+            let invariant = if what.starts_with("a mode transition") {
+                inv::TRANSITIONS
+            } else {
+                inv::LIMITS
+            };
+            found.push((invariant, format!("{what} (corrupted: {corrupted:?})")));
         }
-        let timeout = config.safety.imu_timeout_us + 2 * 2_500;
-        if period.out.motors.enabled
-            && now_us.saturating_sub(newest_imu_us) > timeout
-            && step_us != 0
-        {
+        let timeout = config.safety.imu_timeout_us + 2 * PERIOD_US;
+        if out.motors.enabled && now_us.saturating_sub(o.newest_imu_us) > timeout && step_us != 0 {
             found.push((
-                BAD,
+                inv::STALE_IMU,
                 "the motors stayed on without a fresh IMU sample for longer than the timeout"
                     .to_owned(),
             ));
         }
-        if kind == EpisodeKind::Accepted && period.out.safety.mode == Mode::Fault {
-            let kind = if matches!(cmd, Command::Trajectory { .. }) {
-                FINDING
-            } else {
-                BAD
-            };
+        // 1: the tilt from the vertical, on a valid fresh sample of the true attitude.
+        let imu_true = !matches!(corrupted, Some(Target::Imu(_) | Target::ImuStamp(_)));
+        let tilt = tilt_from_vertical_rad(imu.roll_rad, imu.pitch_rad);
+        if imu_true && fresh && out.motors.enabled && tilt > tilt_limit + 1e-6 {
             found.push((
-                kind,
+                inv::TILT,
+                format!(
+                    "motors on at {:.1} deg from the vertical (roll {:.1}, pitch {:.1} deg; limit {:.1})",
+                    tilt.to_degrees(),
+                    imu.roll_rad.to_degrees(),
+                    imu.pitch_rad.to_degrees(),
+                    tilt_limit.to_degrees()
+                ),
+            ));
+        }
+        // 2: HOOK(motorhealth): once the HAL carries the drivers' feedback (MotorFeedback),
+        // the plant gets dead and stuck wheels and `inv::MOTOR_HEALTH` checks that the
+        // supervisor reports them within its stated latency. Not checked today.
+        // 3: slip flags clear on consistent data; a stop at rest holds the ball still.
+        let quiet = k.saturating_sub(o.last_disturbance);
+        if let Some(slipping) = out.slipping
+            && slipping.iter().any(|s| *s)
+            && quiet > SLIP_CLEAR_STEPS
+        {
+            found.push((
+                inv::SLIP_CLEARS,
+                format!("slip flags {slipping:?} after {quiet} steps of consistent data"),
+            ));
+        }
+        if out.safety.mode == Mode::ControlledStop {
+            o.stop_steps += 1;
+            o.stopped_steps = if out.stopped { o.stopped_steps + 1 } else { 0 };
+        } else {
+            o.stop_steps = 0;
+            o.stopped_steps = 0;
+        }
+        let speed = rig.plant.ball_speed_m_per_s();
+        if o.stopped_steps > STOPPED_FOR_STEPS
+            && quiet > STOPPED_QUIET_STEPS
+            && speed > STILL_M_PER_S
+        {
+            found.push((
+                inv::STOPPED_STILL,
+                format!("the ball rolls at {speed:.3} m/s while the stop reports rest"),
+            ));
+        }
+        // 4: a controlled stop reaches rest.
+        if o.stop_steps > STOP_BOUND_STEPS && !out.stopped {
+            found.push((
+                inv::STOP_REACHES_REST,
+                format!(
+                    "a controlled stop has not reported rest after {} s (ball {speed:.3} m/s)",
+                    o.stop_steps as f64 * 0.0025
+                ),
+            ));
+        }
+        // 5: an accepted command never ends in a fault.
+        if accepted && out.safety.mode == Mode::Fault && mode != Mode::Fault {
+            found.push((
+                inv::ACCEPTED,
                 format!(
                     "an accepted command ended in a fault with the motors off ({:?}; command {})",
-                    period.out.safety.faults.iter().collect::<Vec<_>>(),
+                    out.safety.faults.iter().collect::<Vec<_>>(),
                     describe(&cmd)
                 ),
             ));
+        }
+        // 6: the clock. An operator's reset (the controller idle) takes the clock as it is.
+        if out.safety.mode == Mode::Idle {
+            o.clock_max_us = now_us;
+            o.ticks_behind = 0;
+        }
+        if o.ticks_behind > clock_ticks && out.motors.enabled {
+            found.push((
+                inv::CLOCK,
+                format!(
+                    "the motors stay on after {} ticks of a clock that has not passed its highest reading",
+                    o.ticks_behind
+                ),
+            ));
+        }
+        // 8: finite intermediates, and the envelope.
+        if !out.intermediates_finite {
+            found.push((
+                inv::FINITE_INTERMEDIATES,
+                format!(
+                    "a non-finite intermediate value (command {})",
+                    describe(&cmd)
+                ),
+            ));
+        }
+        if envelope_skipped(&config, &out, &cmd) {
+            o.envelope_steps += 1;
+        } else {
+            o.envelope_steps = 0;
+        }
+        if o.envelope_steps > ENVELOPE_STEPS {
+            found.push((
+                inv::ENVELOPE,
+                format!(
+                    "the shaped command accelerates towards {} without a traction limit",
+                    describe(&cmd)
+                ),
+            ));
+        }
+        // 9: re-armed at rest on a stop command, no drift.
+        if arming && out.safety.mode == Mode::Balancing {
+            let at_rest = speed < 0.01 && rig.plant.tilt_from_vertical_rad() < 0.01;
+            o.rearmed_at = at_rest.then_some(k);
+        }
+        if let Some(at) = o.rearmed_at {
+            let stop = matches!(cmd, Command::Stop) && out.safety.mode == Mode::Balancing;
+            if k - at > REARM_STEPS || !stop || o.last_disturbance > at {
+                o.rearmed_at = None;
+            } else if speed > STILL_M_PER_S {
+                found.push((
+                    inv::REARM_DRIFT,
+                    format!(
+                        "re-armed at rest on a stop, the ball rolls at {speed:.3} m/s after {:.2} s",
+                        (k - at) as f64 * 0.0025
+                    ),
+                ));
+                o.rearmed_at = None;
+            }
+        }
+        // After a disarm the operator catches the robot and sets it upright.
+        if req == ModeRequest::Disarm && out.safety.mode == Mode::Idle {
+            rig.plant.reset();
+            o.last_disturbance = k;
         }
         let at = k;
         if let Some(mut clean) = twin {
@@ -274,42 +536,108 @@ pub fn run_episode_on(
             // The 8 kHz loop guards its own input: a sample there that gets through is a bad
             // command. An in-range wrong IMU or encoder sample at the outer tick is
             // indistinguishable from a real one to the outer loop: a finding.
-            let kind = match corrupted {
-                Some(Target::InnerEncoder(_) | Target::InnerDt) => BAD,
-                _ => FINDING,
+            let invariant = match corrupted {
+                Some(
+                    Target::InnerEncoder(_)
+                    | Target::InnerBurst(_)
+                    | Target::InnerDt
+                    | Target::FirstAfterEnable,
+                ) => inv::ENCODER_GUARD,
+                _ => inv::SINGLE_OUTER_SAMPLE,
             };
-            found.extend(what.map(|w| (kind, format!("{w} (corrupted: {corrupted:?})"))));
-            last_imu_stamp = now_us;
-            newest_imu_us = now_us;
+            let sensor = corrupted.map_or("", Target::sensor);
+            found.extend(what.map(|w| {
+                (
+                    invariant,
+                    format!("{w}: {sensor} (corrupted: {corrupted:?})"),
+                )
+            }));
+            o.last_imu_stamp = now_us;
+            o.newest_imu_us = now_us;
+            o.clock_max_us = o.clock_max_us.max(now_us);
+            o.last_disturbance = k;
         }
-        for (kind, what) in found {
-            if kind == BAD {
-                counts.bad_commands += 1;
-            } else {
-                counts.findings += 1;
-                let head = what.split(" (").next().unwrap_or_default().to_owned();
-                let head = match corrupted {
-                    Some(t) if head.starts_with("a single") => format!("{head}: {}", t.sensor()),
-                    _ => head,
-                };
-                *counts.findings_by_what.entry(head).or_insert(0) += 1;
-            }
-            let recorded = counts.violations.iter().filter(|v| v.kind == kind).count();
-            if recorded < 10 {
-                counts.violations.push(Violation {
-                    kind,
-                    episode_seed: seed,
-                    outer_step: at,
-                    what,
-                });
+        let mut broken_now = BTreeSet::new();
+        for (invariant, what) in found {
+            broken_now.insert(invariant.key);
+            // Once per event: the twin checks are events of their own.
+            let ongoing = o.broken.contains(invariant.key)
+                && !matches!(invariant.key, "single_outer_sample" | "encoder_guard");
+            if !ongoing {
+                counts.record(invariant, seed, at, what);
             }
         }
+        o.broken = broken_now;
         if rig.plant.fallen(0.6) {
             rig.plant.reset();
+            o.last_disturbance = k;
         }
         k += 1;
     }
     counts
+}
+
+/// The operator's request: re-arm after a fault or a disarm (the plant stood up again),
+/// resume a controlled stop once it has been at rest for 2.5 s (or has overrun the bound of
+/// item 4), stop and disarm at random; in hostile episodes, anything at any time.
+fn next_request(
+    rng: &mut ChaCha8Rng,
+    kind: EpisodeKind,
+    mode: Mode,
+    o: &Oracle,
+    k: u64,
+) -> ModeRequest {
+    let settled =
+        o.stopped_steps >= STOPPED_FOR_STEPS + 200 || o.stop_steps > STOP_BOUND_STEPS + 400;
+    let mut req = match mode {
+        Mode::Fault => ModeRequest::Reset,
+        Mode::Idle => ModeRequest::Arm,
+        Mode::ControlledStop if settled && chance(rng, 0.01) => ModeRequest::Resume,
+        Mode::Balancing if k >= o.hold_stop_until && chance(rng, 0.0005) => ModeRequest::Disarm,
+        Mode::Balancing if chance(rng, 0.0005) => ModeRequest::Stop,
+        _ => ModeRequest::None,
+    };
+    if kind == EpisodeKind::Hostile && chance(rng, 0.005) {
+        req = request(rng);
+    }
+    req
+}
+
+/// Item 8: with traction-aware control, balancing on a velocity command whose target (clamped
+/// to the shaper's top speed, computed without overflow) is far from the shaped command, and
+/// no acceleration limit in this step.
+fn envelope_skipped(
+    config: &BallbotControllerConfig<f64>,
+    out: &Observed,
+    cmd: &Command<'_, f64>,
+) -> bool {
+    let (Some(None), Command::Velocity(v), Mode::Balancing) =
+        (out.accel_limit_m_per_s2, cmd, out.safety.mode)
+    else {
+        return false;
+    };
+    let top = config.shaping.translation.max_value;
+    // Scaled before squaring: no overflow for any finite component.
+    let big = v.vx_m_per_s.abs().max(v.vy_m_per_s.abs());
+    let target = if big == 0.0 {
+        (0.0, 0.0)
+    } else {
+        let (x, y) = (v.vx_m_per_s / big, v.vy_m_per_s / big);
+        let unit_norm = x.hypot(y);
+        if big > top / unit_norm {
+            (x * top / unit_norm, y * top / unit_norm)
+        } else {
+            (v.vx_m_per_s, v.vy_m_per_s)
+        }
+    };
+    let robot = &config.robot;
+    let [front, sag] = out.command_ball_rate_rad_per_s;
+    // The shaper's ball rates: sagittal `vx / r`, frontal `-vy / r`.
+    let shaped = (
+        sag * robot.sagittal.ball_radius_m,
+        -front * robot.frontal.ball_radius_m,
+    );
+    (target.0 - shaped.0).hypot(target.1 - shaped.1) > ENVELOPE_GAP_M_PER_S
 }
 
 /// The input `input` would have been without its corruption: the twin's own plant sensors.
@@ -377,7 +705,7 @@ fn follow_twin(
     }
     // Only where the corrupted sample raised no fault: a detected one changes the mode (a
     // controlled stop), and the runs rightly part.
-    let same_mode = rig.controller.mode() == clean.controller.mode();
+    let same_mode = rig.mode() == clean.mode();
     if what.is_none() && same_mode && (last.0 - last.1).amax() > MAX_LASTING_TORQUE_DIFFERENCE_NM {
         what = Some(
             "a single corrupted sample left a lasting torque difference (integrator wound up)",
@@ -399,22 +727,36 @@ fn with_sensors<'a>(
     }
 }
 
-/// A trajectory the API accepts: 1 to 40 finite samples, any positive sample period, values
-/// from gentle to absurd.
+/// A trajectory the API accepts (or not: [`Trajectory::new`] decides): 1 to 40 finite
+/// samples, gentle to absurd (half the time any finite value, [`log_uniform_f64`]), a sample
+/// period from a list (1 us to 1e6 s) or any positive finite value down to the smallest
+/// subnormal.
 fn random_trajectory(rng: &mut ChaCha8Rng, start: u64) -> (Vec<WipState<f64>>, f64, f64, u64) {
     let n = 1 + index(rng, 40);
     let scale = [0.1, 1.0, 10.0, 1e4][index(rng, 4)];
+    let wild = chance(rng, 0.5);
+    let value = |rng: &mut ChaCha8Rng, gentle: f64| {
+        if wild && chance(rng, 0.5) {
+            log_uniform_f64(rng)
+        } else {
+            symmetric(rng, gentle)
+        }
+    };
     let samples = (0..n)
         .map(|_| {
             WipState::new(
-                symmetric(rng, 0.1 * scale),
-                symmetric(rng, 10.0 * scale),
-                symmetric(rng, scale),
-                symmetric(rng, 10.0 * scale),
+                value(rng, 0.1 * scale),
+                value(rng, 10.0 * scale),
+                value(rng, scale),
+                value(rng, 10.0 * scale),
             )
         })
         .collect();
-    let period = [1e-6, 1e-3, 0.0025, 0.1, 10.0, 1e6][index(rng, 6)];
+    let period = if chance(rng, 0.5) {
+        [1e-6, 1e-3, 0.0025, 0.1, 10.0, 1e6][index(rng, 6)]
+    } else {
+        log_uniform_f64(rng).abs()
+    };
     (samples, period, symmetric(rng, 10.0), start)
 }
 
@@ -433,6 +775,11 @@ enum Target {
     CommandStamp,
     /// An encoder sample in the 8 kHz loop.
     InnerEncoder(usize),
+    /// A burst of 9 to 20 wrong encoder samples in the 8 kHz loop (longer than the guard's
+    /// hold of 1 ms), one value within the encoder's range.
+    InnerBurst(usize),
+    /// The first encoder sample in the 8 kHz loop after the motors are enabled (item 7).
+    FirstAfterEnable,
     /// The 8 kHz loop's step length.
     InnerDt,
 }
@@ -444,18 +791,20 @@ impl Target {
             Self::Imu(_) | Self::ImuStamp(_) => "IMU at the outer tick",
             Self::Encoder(_) | Self::EncoderStamp(_) => "encoder at the outer tick",
             Self::CommandStamp => "command link",
-            Self::InnerEncoder(_) | Self::InnerDt => "the 8 kHz loop",
+            Self::InnerEncoder(_) | Self::InnerBurst(_) | Self::InnerDt => "the 8 kHz loop",
+            Self::FirstAfterEnable => "the 8 kHz loop's first sample after enabling",
         }
     }
 
     fn random(rng: &mut ChaCha8Rng) -> Self {
-        match index(rng, 8) {
+        match index(rng, 9) {
             0 | 1 => Self::Imu(index(rng, 6)),
             2 => Self::Encoder(index(rng, 3)),
             3 => Self::ImuStamp(index(rng, 3)),
             4 => Self::EncoderStamp(index(rng, 3)),
             5 => Self::CommandStamp,
             6 => Self::InnerEncoder(index(rng, 3)),
+            7 => Self::InnerBurst(index(rng, 3)),
             _ => Self::InnerDt,
         }
     }
@@ -464,6 +813,7 @@ impl Target {
     fn apply(
         self,
         rng: &mut ChaCha8Rng,
+        config: &BallbotControllerConfig<f64>,
         imu: &mut ImuSample<f64>,
         encoders: &mut EncoderSample<f64>,
         command_ts: &mut Option<u64>,
@@ -497,6 +847,16 @@ impl Target {
                     value: hostile(rng),
                 });
             }
+            Self::InnerBurst(w) => {
+                let len = 9 + index(rng, 12);
+                *inner = Some(InnerFault::Burst {
+                    from: index(rng, INNER_PER_OUTER + 1 - len),
+                    len,
+                    wheel: w,
+                    value: symmetric(rng, config.safety.encoder_range_rad_per_s),
+                });
+            }
+            Self::FirstAfterEnable => {}
             Self::InnerDt => {
                 *inner = Some(InnerFault::Dt {
                     dt_secs: hostile(rng),

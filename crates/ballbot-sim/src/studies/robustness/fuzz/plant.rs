@@ -5,9 +5,9 @@
 
 use ballbot_core::estimation::{EncoderSample, ImuSample, PlanarStates, synthesize_sensors};
 use ballbot_core::kinematics::relative_rate_from_planar;
-use ballbot_core::wip::TILT;
+use ballbot_core::wip::{BALL_RATE, TILT, TILT_RATE};
 use ballbot_core::{BallbotParams, Error, OmniKinematics, Spin, Wip, rk4_step};
-use nalgebra::Vector3;
+use nalgebra::{Vector2, Vector3};
 
 /// The coupled planar plant (see the module docs).
 #[derive(Clone, Copy, Debug)]
@@ -61,15 +61,55 @@ impl Plant {
         s.spin = rk4_step(|x| self.spin.derivative(x, tau[2]), &s.spin, dt_secs);
     }
 
-    /// Whether the body has fallen past `limit_rad` in either plane (or the state is no
+    /// A push: a horizontal impulse `[frontal, sagittal]` (N s) on the body at its centre of
+    /// mass, in each plane's own direction. In a plane with `x = r phi + l sin(theta)` the
+    /// position of the centre of mass, the generalised velocities jump by
+    /// `M(theta)^-1 J [l cos(theta), r]`.
+    pub fn push(&mut self, impulse_n_s: [f64; 2]) {
+        let planes = [
+            (&self.frontal, &mut self.states.frontal, impulse_n_s[0]),
+            (&self.sagittal, &mut self.states.sagittal, impulse_n_s[1]),
+        ];
+        for (wip, s, j) in planes {
+            let p = wip.params();
+            let q = Vector2::new(j * p.com_height_m * s[TILT].cos(), j * p.ball_radius_m);
+            if let Some(inverse) = wip.mass_matrix(s[TILT]).try_inverse() {
+                let dq = inverse * q;
+                s[TILT_RATE] += dq[0];
+                s[BALL_RATE] += dq[1];
+            }
+        }
+    }
+
+    /// The body's tilt from the vertical (rad): `acos(cos(roll) cos(pitch))`, the planes'
+    /// tilts being the IMU's roll and pitch.
+    pub fn tilt_from_vertical_rad(&self) -> f64 {
+        tilt_from_vertical_rad(self.states.frontal[TILT], self.states.sagittal[TILT])
+    }
+
+    /// The ball's speed over the floor (m/s).
+    pub fn ball_speed_m_per_s(&self) -> f64 {
+        let s = &self.states;
+        (s.frontal[BALL_RATE] * self.frontal.params().ball_radius_m)
+            .hypot(s.sagittal[BALL_RATE] * self.sagittal.params().ball_radius_m)
+    }
+
+    /// Whether the body has fallen past `limit_rad` from the vertical (or the state is no
     /// longer finite).
     pub fn fallen(&self, limit_rad: f64) -> bool {
-        let s = &self.states;
-        !(s.frontal[TILT].abs() < limit_rad && s.sagittal[TILT].abs() < limit_rad)
+        let tilt = self.tilt_from_vertical_rad();
+        tilt.is_nan() || tilt >= limit_rad
     }
 
     /// Back upright and at rest (after a fall: the fuzzer goes on with a standing robot).
     pub fn reset(&mut self) {
         self.states = PlanarStates::zeros();
     }
+}
+
+/// The tilt from the vertical (rad) of a body at `roll_rad` and `pitch_rad` (ZYX Euler
+/// angles): the angle between its axis and the vertical, `acos(cos(roll) cos(pitch))`; NaN
+/// for a non-finite attitude.
+pub fn tilt_from_vertical_rad(roll_rad: f64, pitch_rad: f64) -> f64 {
+    (roll_rad.cos() * pitch_rad.cos()).clamp(-1.0, 1.0).acos()
 }

@@ -1,0 +1,202 @@
+//! The fuzzer's invariants: what each checks, which item of issue 26 it belongs to, and how a
+//! break is counted (`bad_command`: must never happen, CI fails on one; `finding`: reported
+//! with counts and seeds, explained in docs/robustness.md). Each is a property checked on
+//! every step of every episode it applies to, not an example.
+//!
+//! A break is counted once per *event*: on the step it starts, not again while it lasts (a
+//! robot that keeps its motors on for 400 steps of a stalled clock is one event).
+
+use serde::Serialize;
+
+/// A hard invariant: must never break (CI fails on one).
+pub const BAD: &str = "bad_command";
+/// Something the controller should not do but that cannot be told from the truth at the
+/// controller's input (or that has no detection in the HAL yet), reported and explained.
+pub const FINDING: &str = "finding";
+
+/// One invariant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Invariant {
+    /// Key in the counts.
+    pub key: &'static str,
+    /// The item of issue 26 it checks (0: issue 15's invariants).
+    pub issue_26_item: u8,
+    /// [`BAD`] or [`FINDING`].
+    pub class: &'static str,
+    /// What it checks.
+    pub what: &'static str,
+}
+
+const fn inv(key: &'static str, item: u8, class: &'static str, what: &'static str) -> Invariant {
+    Invariant {
+        key,
+        issue_26_item: item,
+        class,
+        what,
+    }
+}
+
+/// Every motor reference and torque finite, within the peak torque, the no-load speed and the
+/// torque-speed line at the measured speed, zero with the motors off (issue 15).
+pub const LIMITS: Invariant = inv(
+    "limits",
+    0,
+    BAD,
+    "motor references and torques finite, within the peak, the no-load speed and the torque-speed line, zero with the motors off",
+);
+/// Only the documented mode transitions (issue 15).
+pub const TRANSITIONS: Invariant = inv(
+    "transitions",
+    0,
+    BAD,
+    "only the documented mode transitions",
+);
+/// Motors off once no fresh valid IMU sample came for longer than the timeout, by the clock.
+pub const STALE_IMU: Invariant = inv(
+    "stale_imu",
+    0,
+    BAD,
+    "motors off once no fresh valid IMU sample came for longer than the IMU timeout (by the clock)",
+);
+/// A single wrong in-range sample at the outer tick reaching the torque limit or winding an
+/// integrator up (compared with a clean twin): indistinguishable from a real one.
+pub const SINGLE_OUTER_SAMPLE: Invariant = inv(
+    "single_outer_sample",
+    0,
+    FINDING,
+    "a single wrong IMU or encoder sample at the outer tick drives a motor to its torque limit or leaves a lasting torque difference (against a clean twin)",
+);
+/// 1: the tilt from the vertical beyond the limit is a fault within one step.
+pub const TILT: Invariant = inv(
+    "tilt_from_vertical",
+    1,
+    BAD,
+    "a valid fresh IMU sample tilted from the vertical beyond the supervisor's tilt limit leaves the motors off in the same step",
+);
+/// 2: a dead or stuck motor detected. Not checked: the HAL carries no driver feedback yet.
+pub const MOTOR_HEALTH: Invariant = inv(
+    "motor_health",
+    2,
+    FINDING,
+    "not checked yet: needs the motor drivers' feedback in the HAL (hook in fuzz::episode)",
+);
+/// 3: a slip flag on a plant that cannot slip clears within a bounded time on consistent data.
+pub const SLIP_CLEARS: Invariant = inv(
+    "slip_clears",
+    3,
+    BAD,
+    "no wheel flagged slipping on the slip-free plant after 2 s of consistent data (no corrupted sample, push or reset)",
+);
+/// 3: a stopped robot does not move.
+pub const STOPPED_STILL: Invariant = inv(
+    "stopped_is_still",
+    3,
+    BAD,
+    "in a controlled stop reported at rest for 2 s, after 4 s of consistent data, the ball is below 0.1 m/s",
+);
+/// 4: a stop reaches rest within a bounded time.
+pub const STOP_REACHES_REST: Invariant = inv(
+    "stop_reaches_rest",
+    4,
+    BAD,
+    "a controlled stop reports rest within 10 s, from any finite state",
+);
+/// 5: an accepted command or trajectory ends balancing or in a controlled stop.
+pub const ACCEPTED: Invariant = inv(
+    "accepted_command",
+    5,
+    BAD,
+    "an accepted velocity, lean, stop or trajectory command on healthy sensors never ends in a fault",
+);
+/// 6: a stalled or backwards clock is a fault: motors off within the timeout in ticks.
+pub const CLOCK: Invariant = inv(
+    "clock",
+    6,
+    BAD,
+    "motors off once the clock has not passed its highest reading for more than the IMU timeout counted in outer ticks",
+);
+/// 7: the encoder guard: a wild first reading after enabling, or a wild burst longer than
+/// the guard's hold, or any single sample in the 8 kHz loop, never reaches the torque limit.
+pub const ENCODER_GUARD: Invariant = inv(
+    "encoder_guard",
+    7,
+    BAD,
+    "a wrong encoder sample in the 8 kHz loop (single, the first after enabling, or a burst longer than the guard's hold) or a wrong step length never drives a motor to its torque limit where a clean twin does not, nor winds an integrator up",
+);
+/// 8: huge finite commands produce no non-finite intermediate value.
+pub const FINITE_INTERMEDIATES: Invariant = inv(
+    "finite_intermediates",
+    8,
+    BAD,
+    "estimated states, shaped commands, reference torques and rates and the traction report stay finite",
+);
+/// 8: huge finite commands never skip the traction envelope.
+pub const ENVELOPE: Invariant = inv(
+    "traction_envelope",
+    8,
+    BAD,
+    "with traction-aware control, a velocity command 0.5 m/s or more away from the shaped one is under an acceleration limit (not None for 0.1 s)",
+);
+/// 9: after disarm and re-arm the robot does not drift on a stop command.
+pub const REARM_DRIFT: Invariant = inv(
+    "rearm_drift",
+    9,
+    BAD,
+    "re-armed at rest on a stop command, the ball stays below 0.1 m/s for 2 s",
+);
+/// `RobotLoop` on failing devices: every torque it writes finite and within the limits.
+pub const RUNTIME_LIMITS: Invariant = inv(
+    "runtime_limits",
+    0,
+    BAD,
+    "RobotLoop with failing HAL reads and writes: every torque it writes finite, within the peak and the torque-speed line",
+);
+/// `RobotLoop`: persistent read errors end with the motors off within the timeout.
+pub const RUNTIME_READ_ERRORS: Invariant = inv(
+    "runtime_read_errors",
+    0,
+    BAD,
+    "RobotLoop: IMU or encoder reads failing for longer than their timeout (plus two periods) leave the motors off",
+);
+/// `RobotLoop`: persistent motor write errors are not detected (no driver feedback yet).
+pub const RUNTIME_WRITE_ERRORS: Invariant = inv(
+    "runtime_write_errors",
+    2,
+    FINDING,
+    "RobotLoop: motor writes failing for 0.1 s leave the controller balancing (nothing detects a driver that does not answer; needs the HAL's motor feedback)",
+);
+/// The planar controllers: finite, saturated output for any input.
+pub const PLANAR: Invariant = inv(
+    "planar_controllers",
+    0,
+    BAD,
+    "LQR, PI-PD and LQR-PI planes (f64 and f32): every output finite, torques within their limit, for any input; no state poisoned (a sane input after hostile ones gives a finite output)",
+);
+
+/// Every invariant, in report order.
+pub const ALL: [Invariant; 19] = [
+    LIMITS,
+    TRANSITIONS,
+    STALE_IMU,
+    SINGLE_OUTER_SAMPLE,
+    TILT,
+    MOTOR_HEALTH,
+    SLIP_CLEARS,
+    STOPPED_STILL,
+    STOP_REACHES_REST,
+    ACCEPTED,
+    CLOCK,
+    ENCODER_GUARD,
+    FINITE_INTERMEDIATES,
+    ENVELOPE,
+    REARM_DRIFT,
+    RUNTIME_LIMITS,
+    RUNTIME_READ_ERRORS,
+    RUNTIME_WRITE_ERRORS,
+    PLANAR,
+];
+
+/// The invariant of `key`.
+pub fn by_key(key: &str) -> Option<Invariant> {
+    ALL.iter().copied().find(|i| i.key == key)
+}
