@@ -421,7 +421,12 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn within_tilt_limit(&self, roll_rad: T, pitch_rad: T) -> bool {
-        roll_rad.cos() * pitch_rad.cos() >= self.cos_tilt_limit
+        within(
+            roll_rad,
+            pitch_rad,
+            self.params.tilt_limit_rad,
+            self.cos_tilt_limit,
+        )
     }
 
     /// Whether a body at `roll_rad`, `pitch_rad` is upright enough to arm: within
@@ -436,7 +441,12 @@ impl<T: RealField + Copy> SafetySupervisor<T> {
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn within_arm_tilt(&self, roll_rad: T, pitch_rad: T) -> bool {
-        roll_rad.cos() * pitch_rad.cos() >= self.cos_arm_tilt_limit
+        within(
+            roll_rad,
+            pitch_rad,
+            self.params.arm_tilt_limit_rad,
+            self.cos_arm_tilt_limit,
+        )
     }
 
     /// Loop timing: a clock that went backwards, stalled, or a step that came late.
@@ -624,4 +634,12 @@ fn is_stale(last_us: Option<u64>, now_us: u64, timeout_us: u64) -> bool {
         Some(t) => now_us.saturating_sub(t) > timeout_us,
         None => true,
     }
+}
+
+/// Whether the tilt from the vertical of `roll`, `pitch` is within `limit` (whose cosine is
+/// `cos_limit`). The tilt is the hypotenuse of a right spherical triangle with legs `roll`
+/// and `pitch` (`cos(tilt) = cos(roll) cos(pitch)`), never longer than the flat one: within
+/// `roll^2 + pitch^2 <= limit^2` (the upright robot's every step) no cosine is needed.
+fn within<T: RealField + Copy>(roll: T, pitch: T, limit: T, cos_limit: T) -> bool {
+    roll * roll + pitch * pitch <= limit * limit || roll.cos() * pitch.cos() >= cos_limit
 }
