@@ -277,45 +277,131 @@ pub struct DriverErrors(u16);
 
 impl DriverErrors {
     /// No error.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// assert!(DriverErrors::NONE.is_empty());
+    /// assert_eq!(DriverErrors::NONE, DriverErrors::default());
+    /// ```
     pub const NONE: Self = Self(0);
     /// Over-current: the motor or bus current beyond its limit and margin.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// assert_eq!(DriverErrors::OVER_CURRENT.bits(), 1);
+    /// assert!(!DriverErrors::OVER_CURRENT.is_empty());
+    /// ```
     pub const OVER_CURRENT: Self = Self(1 << 0);
     /// The DC bus voltage below the driver's undervoltage trip.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// let sag = DriverErrors::BUS_UNDER_VOLTAGE;
+    /// assert!(sag.contains(DriverErrors::BUS_UNDER_VOLTAGE));
+    /// assert!(!sag.contains(DriverErrors::BUS_OVER_VOLTAGE));
+    /// ```
     pub const BUS_UNDER_VOLTAGE: Self = Self(1 << 1);
     /// The DC bus voltage above the driver's overvoltage trip.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// assert_eq!(DriverErrors::BUS_OVER_VOLTAGE.bits(), 1 << 2);
+    /// assert_ne!(DriverErrors::BUS_OVER_VOLTAGE, DriverErrors::BUS_UNDER_VOLTAGE);
+    /// ```
     pub const BUS_OVER_VOLTAGE: Self = Self(1 << 2);
     /// The driver's encoder failed (no response, lost calibration, illegal state).
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// let flags = DriverErrors::OVER_CURRENT.union(DriverErrors::ENCODER);
+    /// assert!(flags.contains(DriverErrors::ENCODER));
+    /// ```
     pub const ENCODER: Self = Self(1 << 3);
     /// The power stage failed (gate-driver fault, non-finite modulation, missed deadline).
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// assert_eq!(DriverErrors::from_bits(1 << 4), DriverErrors::DRIVER_FAULT);
+    /// ```
     pub const DRIVER_FAULT: Self = Self(1 << 4);
     /// The motor or power stage is too hot.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// let hot = DriverErrors::OVER_TEMPERATURE;
+    /// assert!(!hot.is_empty() && !hot.contains(DriverErrors::OVERSPEED));
+    /// ```
     pub const OVER_TEMPERATURE: Self = Self(1 << 5);
     /// The motor turned faster than the driver's velocity limit and tolerance.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// assert_eq!(DriverErrors::OVERSPEED.bits(), 1 << 6);
+    /// ```
     pub const OVERSPEED: Self = Self(1 << 6);
     /// The driver left closed-loop control on its own: it applies no torque.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// let flags = DriverErrors::DISARMED.union(DriverErrors::NONE);
+    /// assert_eq!(flags, DriverErrors::DISARMED);
+    /// ```
     pub const DISARMED: Self = Self(1 << 7);
 
     /// The flags from their bits (bits without a flag are kept: a driver may report more).
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// assert_eq!(DriverErrors::from_bits(0), DriverErrors::NONE);
+    /// // An unknown bit survives the round trip and still counts as an error.
+    /// assert_eq!(DriverErrors::from_bits(1 << 15).bits(), 1 << 15);
+    /// assert!(!DriverErrors::from_bits(1 << 15).is_empty());
+    /// ```
     pub const fn from_bits(bits: u16) -> Self {
         Self(bits)
     }
 
     /// The flags as bits (for telemetry).
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// let flags = DriverErrors::OVER_CURRENT.union(DriverErrors::DISARMED);
+    /// assert_eq!(flags.bits(), 0b1000_0001);
+    /// ```
     pub const fn bits(self) -> u16 {
         self.0
     }
 
     /// Whether no flag is set.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// assert!(DriverErrors::NONE.is_empty());
+    /// assert!(!DriverErrors::ENCODER.is_empty());
+    /// ```
     pub const fn is_empty(self) -> bool {
         self.0 == 0
     }
 
     /// Whether every flag of `other` is set.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// let flags = DriverErrors::ENCODER.union(DriverErrors::OVERSPEED);
+    /// assert!(flags.contains(DriverErrors::ENCODER) && flags.contains(DriverErrors::NONE));
+    /// assert!(!DriverErrors::ENCODER.contains(flags));
+    /// ```
     pub const fn contains(self, other: Self) -> bool {
         self.0 & other.0 == other.0
     }
 
     /// Both sets of flags.
+    ///
+    /// ```
+    /// use ballbot_core::hal::DriverErrors;
+    /// let flags = DriverErrors::OVER_CURRENT.union(DriverErrors::BUS_UNDER_VOLTAGE);
+    /// assert_eq!(flags, DriverErrors::from_bits(0b11));
+    /// ```
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
     }
@@ -352,6 +438,13 @@ pub struct MotorFeedback<T> {
 
 impl<T: Copy> MotorFeedback<T> {
     /// A report without errors.
+    ///
+    /// ```
+    /// use ballbot_core::hal::MotorFeedback;
+    /// let fb = MotorFeedback::healthy(6.0, -3.0, 45.0);
+    /// assert_eq!((fb.torque_nm, fb.speed_rad_per_s, fb.bus_voltage_v), (6.0, -3.0, 45.0));
+    /// assert!(fb.errors.is_empty());
+    /// ```
     pub const fn healthy(torque_nm: T, speed_rad_per_s: T, bus_voltage_v: T) -> Self {
         Self {
             torque_nm,

@@ -92,12 +92,30 @@ use crate::{ActuatorParams, Error};
 use nalgebra::{RealField, Vector3};
 
 /// The ODrive firmware's default `motor.config.current_control_bandwidth` (rad/s).
+///
+/// ```
+/// use ballbot_core::safety::{MotorHealthParams, ODRIVE_CURRENT_BANDWIDTH_RAD_PER_S};
+/// let p = MotorHealthParams::<f64>::miapure();
+/// assert_eq!(p.current_bandwidth_rad_per_s, ODRIVE_CURRENT_BANDWIDTH_RAD_PER_S);
+/// ```
 pub const ODRIVE_CURRENT_BANDWIDTH_RAD_PER_S: f64 = 1000.0;
 
 /// The ODrive 0.5.x's modulation limit (fraction of the linear space-vector range, `foc.cpp`).
+///
+/// ```
+/// use ballbot_core::safety::{MotorHealthParams, ODRIVE_MAX_MODULATION};
+/// assert!(ODRIVE_MAX_MODULATION > 0.0 && ODRIVE_MAX_MODULATION <= 1.0);
+/// assert_eq!(MotorHealthParams::<f64>::miapure().max_modulation, ODRIVE_MAX_MODULATION);
+/// ```
 pub const ODRIVE_MAX_MODULATION: f64 = 0.8;
 
 /// The bus voltage at which MiaPURE's actuator line (43.2 N m, 62 rad/s) is stated (V, paper).
+///
+/// ```
+/// use ballbot_core::safety::{MIAPURE_NOMINAL_BUS_VOLTAGE_V, MotorHealthParams};
+/// let p = MotorHealthParams::<f64>::miapure();
+/// assert_eq!(p.nominal_bus_voltage_v, MIAPURE_NOMINAL_BUS_VOLTAGE_V);
+/// ```
 pub const MIAPURE_NOMINAL_BUS_VOLTAGE_V: f64 = 45.0;
 
 /// The [`MotorHealthMonitor`]'s model of a healthy driver and its thresholds (see the
@@ -136,6 +154,19 @@ impl<T: RealField + Copy> MotorHealthParams<T> {
     /// An ODrive v3.6 (firmware 0.5.x: current-loop bandwidth 1000 rad/s, modulation 0.8)
     /// driving `actuator` at MiaPURE's 45 V; tolerances 5 % of the peak torque plus 10 % of the
     /// command; persistence 5 ms (see the [module](self) doc).
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::safety::MotorHealthParams;
+    /// let small = ActuatorParams {
+    ///     gear_ratio: 5.0,
+    ///     peak_torque_nm: 20.0,
+    ///     no_load_speed_rad_per_s: 80.0,
+    /// };
+    /// let p = MotorHealthParams::for_actuator(&small);
+    /// assert_eq!((p.peak_torque_nm, p.no_load_speed_rad_per_s), (20.0, 80.0));
+    /// assert_eq!(p.torque_tolerance_nm, 1.0); // 5 % of the peak
+    /// ```
     pub fn for_actuator(actuator: &ActuatorParams<T>) -> Self {
         Self {
             peak_torque_nm: actuator.peak_torque_nm,
@@ -150,6 +181,14 @@ impl<T: RealField + Copy> MotorHealthParams<T> {
     }
 
     /// MiaPURE's actuator ([`Self::for_actuator`]).
+    ///
+    /// ```
+    /// use ballbot_core::ActuatorParams;
+    /// use ballbot_core::safety::MotorHealthParams;
+    /// let p = MotorHealthParams::<f64>::miapure();
+    /// assert_eq!(p, MotorHealthParams::for_actuator(&ActuatorParams::miapure()));
+    /// assert_eq!(p.peak_torque_nm, 43.2);
+    /// ```
     pub fn miapure() -> Self {
         Self::for_actuator(&ActuatorParams::miapure())
     }
@@ -181,6 +220,22 @@ impl<T: RealField + Copy> MotorHealthParams<T> {
 }
 
 /// A motor-health verdict: which fault, on which wheel (0-based: OW1 is 0).
+///
+/// ```
+/// use ballbot_core::hal::{DriverErrors, MotorFeedback};
+/// use ballbot_core::safety::{Fault, MotorHealthMonitor, MotorHealthParams, MotorVerdict};
+/// use nalgebra::Vector3;
+/// // A one-step persistence: OW1 stuck at 20 N m, OW3 tripped; the trip is reported first.
+/// let dt = 1.0 / 8000.0;
+/// let params = MotorHealthParams { persistence_secs: dt, ..MotorHealthParams::miapure() };
+/// let mut monitor = MotorHealthMonitor::<f64>::new(params, dt)?;
+/// let ok = MotorFeedback::healthy(0.0, 0.0, 45.0);
+/// let tripped = MotorFeedback { errors: DriverErrors::OVER_CURRENT, ..ok };
+/// let fb = [MotorFeedback::healthy(20.0, 0.0, 45.0), ok, tripped];
+/// let verdict = monitor.step(&Vector3::zeros(), &fb);
+/// assert_eq!(verdict, Some(MotorVerdict { fault: Fault::MotorTripped, wheel: 2 }));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MotorVerdict {
     /// [`Fault::MotorDead`], [`Fault::MotorStuck`] or [`Fault::MotorTripped`].
@@ -202,6 +257,19 @@ struct WheelState<T> {
 
 /// Watches the three drivers' feedback against their setpoints (see the [module](self) doc).
 /// O(1) per step, allocation-free, panic-free.
+///
+/// ```
+/// use ballbot_core::hal::MotorFeedback;
+/// use ballbot_core::safety::{Fault, MotorHealthMonitor, MotorHealthParams};
+/// use nalgebra::Vector3;
+/// let mut monitor = MotorHealthMonitor::<f64>::new(MotorHealthParams::miapure(), 1.0 / 8000.0)?;
+/// // OW2 reports 20 N m while nothing is commanded: stuck after 40 steps (5 ms).
+/// let fb = [0.0, 20.0, 0.0].map(|t| MotorFeedback::healthy(t, 0.0, 45.0));
+/// let verdicts: Vec<_> = (0..40).filter_map(|_| monitor.step(&Vector3::zeros(), &fb)).collect();
+/// assert_eq!(verdicts.len(), 1);
+/// assert_eq!((verdicts[0].fault, verdicts[0].wheel), (Fault::MotorStuck, 1));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MotorHealthMonitor<T> {
     params: MotorHealthParams<T>,
@@ -250,16 +318,47 @@ impl<T: RealField + Copy> MotorHealthMonitor<T> {
     }
 
     /// The thresholds.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{MotorHealthMonitor, MotorHealthParams};
+    /// let m = MotorHealthMonitor::<f64>::new(MotorHealthParams::miapure(), 1.0 / 8000.0)?;
+    /// assert_eq!(*m.params(), MotorHealthParams::miapure());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn params(&self) -> &MotorHealthParams<T> {
         &self.params
     }
 
     /// How many consecutive inner steps outside the band make a verdict.
+    ///
+    /// ```
+    /// use ballbot_core::safety::{MotorHealthMonitor, MotorHealthParams};
+    /// // 5 ms at 1 kHz is 5 steps.
+    /// let m = MotorHealthMonitor::<f64>::new(MotorHealthParams::miapure(), 1.0e-3)?;
+    /// assert_eq!(m.persistence_steps(), 5);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn persistence_steps(&self) -> u32 {
         self.persistence_steps
     }
 
     /// Forgets the setpoints: the motors are off (call it whenever they are disabled).
+    ///
+    /// ```
+    /// use ballbot_core::hal::MotorFeedback;
+    /// use ballbot_core::safety::{Fault, MotorHealthMonitor, MotorHealthParams};
+    /// use nalgebra::Vector3;
+    /// let mut m = MotorHealthMonitor::<f64>::new(MotorHealthParams::miapure(), 1.0 / 8000.0)?;
+    /// let c = Vector3::new(10.0, 0.0, 0.0);
+    /// let fb = |t| [t, 0.0, 0.0].map(|t| MotorFeedback::healthy(t, 0.0, 45.0));
+    /// (0..80).for_each(|_| assert!(m.step(&c, &fb(10.0)).is_none()));
+    /// (0..39).for_each(|_| assert!(m.step(&c, &fb(0.0)).is_none())); // OW1 dead for 39 steps
+    /// let mut off = m;
+    /// off.reset(); // the motors were switched off: a zero torque is now expected
+    /// assert_eq!(m.step(&c, &fb(0.0)).map(|v| v.fault), Some(Fault::MotorDead));
+    /// assert_eq!(off.step(&c, &fb(0.0)), None);
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn reset(&mut self) {
         for w in &mut self.wheels {
             w.last_command_nm = T::zero();
@@ -271,6 +370,19 @@ impl<T: RealField + Copy> MotorHealthMonitor<T> {
     /// One inner step: checks `feedback` (the reply to the previous setpoint) and takes the
     /// new setpoint `commanded_nm`. Returns the first wheel's verdict, if any (a tripped
     /// driver first, then the wheels in order).
+    ///
+    /// ```
+    /// use ballbot_core::hal::{DriverErrors, MotorFeedback};
+    /// use ballbot_core::safety::{Fault, MotorHealthMonitor, MotorHealthParams};
+    /// use nalgebra::Vector3;
+    /// let mut m = MotorHealthMonitor::<f64>::new(MotorHealthParams::miapure(), 1.0 / 8000.0)?;
+    /// let mut fb = [MotorFeedback::healthy(0.0, 0.0, 45.0); 3];
+    /// assert_eq!(m.step(&Vector3::zeros(), &fb), None);
+    /// fb[1].errors = DriverErrors::BUS_UNDER_VOLTAGE; // a tripped driver is flagged at once
+    /// let v = m.step(&Vector3::zeros(), &fb).unwrap();
+    /// assert_eq!((v.fault, v.wheel), (Fault::MotorTripped, 1));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
     pub fn step(
         &mut self,
         commanded_nm: &Vector3<T>,

@@ -81,6 +81,7 @@ pub(super) const CHECKED: &[&str] = &[
     "safety/mod.rs",
     "safety/fault.rs",
     "safety/mode.rs",
+    "safety/motor_health.rs",
     "safety/params.rs",
     "safety/supervisor.rs",
     "estimation.rs",
