@@ -35,9 +35,20 @@ def test_quick_campaign_returns_typed_results_matching_the_json(tmp_path: Path) 
     assert mc.recovery_rate_ci95[0] <= mc.recovery_rate <= mc.recovery_rate_ci95[1]
     assert len({r.seed for r in mc.all_runs}) == 6
     assert all(0.8 <= r.mismatch.com_height <= 1.2 for r in mc.all_runs)
+    # Counted by falls (the slip and lift-off stop rules relaxed): the same runs, never fewer
+    # staying up than by the stop rules.
+    assert set(result.monte_carlo_by_falls) == {"paper", "design"}
+    falls = result.monte_carlo_by_falls["design"]
+    assert [r.seed for r in falls.all_runs] == [r.seed for r in mc.all_runs]
+    assert falls.stayed_up >= mc.stayed_up
+    assert falls.recovery_rate == written["monte_carlo"]["recovery_rate_by_falls"]
     # Fuzzing: the CI size, no panic, no bad command.
     assert result.fuzz.outer_steps >= 100_000
     assert (result.fuzz.panics, result.fuzz.bad_commands) == (0, 0)
+    assert 0 < result.fuzz.traction_on_episodes < result.fuzz.episodes
+    assert result.fuzz.invariants and all(
+        i["breaks"] == 0 for i in result.fuzz.invariants if i["class"] == "bad_command"
+    )
     assert result.fuzz.parsers["panics"] == 0
 
 

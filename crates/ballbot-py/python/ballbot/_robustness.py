@@ -236,10 +236,16 @@ class Fuzz(_Result):
     """Outer (400 Hz) steps."""
     inner_steps: int
     """Motor-loop (8 kHz) steps."""
+    planar_steps: int
+    """Steps of the planar controllers (LQR, PI-PD, LQR-PI) fuzzed on their own."""
     simulated_hours: float
     """Simulated time (h)."""
     episodes: int
     """Episodes run."""
+    traction_on_episodes: int
+    """Episodes with traction-aware control and the balance point on (half of each kind)."""
+    pushes: int
+    """Pushes on the plant."""
     panics: int
     """Panics (must be 0)."""
     bad_commands: int
@@ -248,6 +254,8 @@ class Fuzz(_Result):
     """Reported findings (see the docs)."""
     findings_by_what: dict[str, int]
     """Findings by what happened."""
+    invariants: list[dict[str, Any]]
+    """Every invariant with its issue item, class (bad command or finding) and count."""
     violations: list[dict[str, Any]]
     """The first bad commands and findings, each with its episode seed."""
     faults_raised: dict[str, int]
@@ -276,17 +284,22 @@ class Robustness(_Result):
     fault_matrix: FaultMatrix
     """The fault-injection matrix in the 3D world."""
     monte_carlo: dict[str, MonteCarlo]
-    """The Monte Carlo study per controller (``"paper"``, ``"design"``)."""
+    """The Monte Carlo study per controller (``"paper"``, ``"design"``), counted by the
+    world's stop rules (a wheel slipping for 0.1 s or off the ball for 20 ms fails a run)."""
+    monte_carlo_by_falls: dict[str, MonteCarlo]
+    """The same counted by falls only (the slip and lift-off stop rules relaxed)."""
 
     @classmethod
     def _from_json(cls, d: dict[str, Any]) -> Robustness:
         mc = d["monte_carlo"]["by_controller"]
+        falls = d["monte_carlo"].get("by_falls", {})
         return cls(
             quick=d["quick"],
             seed=d["seed"],
             fuzz=Fuzz._from_json(d["fuzz"]),
             fault_matrix=FaultMatrix._from_json(d["fault_matrix"]),
             monte_carlo={k: MonteCarlo._from_json(v) for k, v in mc.items()},
+            monte_carlo_by_falls={k: MonteCarlo._from_json(v) for k, v in falls.items()},
         )
 
 
