@@ -10,7 +10,7 @@ use super::invariants::{self as inv, BAD, Invariant};
 use super::plant::tilt_from_vertical_rad;
 use super::rig::{FuzzRig, INNER_PER_OUTER, InnerFault, Observed};
 use ballbot_core::ballbot::{BallbotControllerConfig, OuterInput};
-use ballbot_core::command::{Command, Trajectory};
+use ballbot_core::command::{Command, Trajectory, TrajectoryLimits};
 use ballbot_core::estimation::{EncoderSample, ImuSample};
 use ballbot_core::safety::{Fault, Mode, ModeRequest};
 use ballbot_core::wip::WipState;
@@ -204,7 +204,7 @@ pub fn run_episode_on(
     };
     let tilt_limit = config.safety.tilt_limit_rad;
     let clock_ticks = config.safety.imu_timeout_us.div_ceil(PERIOD_US) + 1;
-    let accepted = kind == EpisodeKind::Accepted;
+    let accepted = kind != EpisodeKind::Hostile;
     let mut k: u64 = 0;
     while k < outer_steps {
         // The clock: mostly the period, sometimes jittered; hostile episodes also stall it
@@ -263,7 +263,14 @@ pub fn run_episode_on(
             command = Command::Stop;
         } else if chance(&mut rng, 0.004) {
             if kind == EpisodeKind::AcceptedTrajectories && !rig.is_f32() && chance(&mut rng, 0.5) {
-                trajectory = Some(random_trajectory(&mut rng, k));
+                // Half of them valid (a manoeuvre within the limits), half gentle to absurd
+                // (mostly rejected: the rejection is exercised too).
+                trajectory = Some(match &trajectory_limits {
+                    Ok(limits) if chance(&mut rng, 0.5) => {
+                        valid_trajectory(&mut rng, &config, limits, k)
+                    }
+                    _ => random_trajectory(&mut rng, k),
+                });
             } else {
                 trajectory = None;
                 command = accepted_command(&mut rng);
@@ -323,7 +330,7 @@ pub fn run_episode_on(
                 // limits of its configuration.
                 traj = match &trajectory_limits {
                     Ok(limits) => Trajectory::new(samples, *period, *heading, limits),
-                    Err(e) => Err(e.clone()),
+                    Err(e) => Err(*e),
                 };
                 match traj {
                     Ok(t) => Command::Trajectory {
@@ -725,6 +732,69 @@ fn with_sensors<'a>(
         encoders,
         ..*input
     }
+}
+
+/// A valid trajectory: along a random heading, the ball speeds up to a random speed with a
+/// quintic profile, cruises, and slows down to rest, the body leaning by the equilibrium lean
+/// of the acceleration (`lean = (b + c0) / (m_U g l) * a / r`, see
+/// [`TrajectoryLimits::lean_per_ball_accel_s2`]) with its derivative as the tilt rate. The
+/// speed and the duration are scaled until [`Trajectory::new`] accepts it against `limits`
+/// (the last try, slow and long, is accepted in practice).
+fn valid_trajectory(
+    rng: &mut ChaCha8Rng,
+    config: &BallbotControllerConfig<f64>,
+    limits: &TrajectoryLimits<f64>,
+    start: u64,
+) -> (Vec<WipState<f64>>, f64, f64, u64) {
+    let r = config.robot.sagittal.ball_radius_m;
+    let k = limits.lean_per_ball_accel_s2;
+    let top = (limits.max_ball_rate_rad_per_s * r).min(config.shaping.translation.max_value);
+    let mut speed = top * (0.05 + 0.75 * unit(rng));
+    let mut ramp_secs = 0.5 + 3.0 * unit(rng);
+    let cruise_secs = 3.0 * unit(rng);
+    let heading = std::f64::consts::TAU * unit(rng);
+    let mut best = (Vec::new(), 1.0);
+    for _ in 0..12 {
+        let period = (ramp_secs / 25.0).max(limits.min_sample_period_secs);
+        let total = 2.0 * ramp_secs + cruise_secs;
+        let n = (total / period).ceil() as usize + 1;
+        let mut phi = 0.0;
+        let samples: Vec<WipState<f64>> = (0..n)
+            .map(|i| {
+                let t = (i as f64 * period).min(total);
+                // Speed, acceleration and jerk of the ramp up or down at `t`.
+                let (v, a, j) = if t < ramp_secs {
+                    quintic(speed, ramp_secs, t)
+                } else if t < ramp_secs + cruise_secs {
+                    (speed, 0.0, 0.0)
+                } else {
+                    let (v, a, j) = quintic(speed, ramp_secs, t - ramp_secs - cruise_secs);
+                    (speed - v, -a, -j)
+                };
+                let state = WipState::new(k * a / r, phi, k * j / r, v / r);
+                phi += v / r * period;
+                state
+            })
+            .collect();
+        let ok = Trajectory::new(&samples, period, heading, limits).is_ok();
+        best = (samples, period);
+        if ok {
+            break;
+        }
+        speed *= 0.7;
+        ramp_secs *= 1.5;
+    }
+    (best.0, best.1, heading, start)
+}
+
+/// A quintic ramp from rest to `speed` over `secs`: speed, acceleration and jerk at `t`.
+fn quintic(speed: f64, secs: f64, t: f64) -> (f64, f64, f64) {
+    let x = (t / secs).clamp(0.0, 1.0);
+    (
+        speed * (10.0 * x.powi(3) - 15.0 * x.powi(4) + 6.0 * x.powi(5)),
+        speed * (30.0 * x * x - 60.0 * x.powi(3) + 30.0 * x.powi(4)) / secs,
+        speed * (60.0 * x - 180.0 * x * x + 120.0 * x.powi(3)) / (secs * secs),
+    )
 }
 
 /// A trajectory the API accepts (or not: [`Trajectory::new`] decides): 1 to 40 finite
