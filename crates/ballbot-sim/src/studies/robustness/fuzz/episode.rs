@@ -153,9 +153,10 @@ struct Oracle {
     newest_imu_us: u64,
     /// The stamp of the newest valid IMU sample (for stalled-stamp corruptions).
     last_imu_stamp: u64,
-    /// The clock's highest reading, and outer ticks since it last passed it.
-    clock_max_us: u64,
-    ticks_behind: u64,
+    /// Consecutive outer ticks on which the clock did not advance (a stall), and whether it
+    /// stepped back on this tick.
+    ticks_stalled: u64,
+    stepped_back: bool,
     /// The last step with a corrupted sample, a push, a plant reset or a twin check.
     last_disturbance: u64,
     /// Consecutive steps in a controlled stop, and of those reported at rest.
@@ -192,8 +193,8 @@ pub fn run_episode_on(
     let mut o = Oracle {
         newest_imu_us: now_us,
         last_imu_stamp: now_us,
-        clock_max_us: now_us,
-        ticks_behind: 0,
+        ticks_stalled: 0,
+        stepped_back: false,
         last_disturbance: 0,
         stop_steps: 0,
         stopped_steps: 0,
@@ -231,12 +232,13 @@ pub fn run_episode_on(
                 _ => PERIOD_US,
             }
         };
+        let previous_us = now_us;
         now_us = now_us.saturating_add(step_us);
-        if now_us > o.clock_max_us {
-            o.clock_max_us = now_us;
-            o.ticks_behind = 0;
+        o.stepped_back = now_us < previous_us;
+        if now_us > previous_us {
+            o.ticks_stalled = 0;
         } else {
-            o.ticks_behind += 1;
+            o.ticks_stalled += 1;
         }
         // The documented clock semantics: nothing kept is ahead of the clock.
         o.newest_imu_us = o.newest_imu_us.min(now_us);
@@ -467,17 +469,21 @@ pub fn run_episode_on(
                 ),
             ));
         }
-        // 6: the clock. An operator's reset (the controller idle) takes the clock as it is.
-        if out.safety.mode == Mode::Idle {
-            o.clock_max_us = now_us;
-            o.ticks_behind = 0;
+        // 6: the clock. A clock that stepped back runs on from its new reading: the supervisor raises
+        // `ClockFault` on that tick (a controlled stop), and an operator may resume on fresh
+        // samples. A stall is judged over its length.
+        if o.stepped_back && out.safety.mode == Mode::Balancing {
+            found.push((
+                inv::CLOCK,
+                "still balancing on the tick the clock stepped back".to_owned(),
+            ));
         }
-        if o.ticks_behind > clock_ticks && out.motors.enabled {
+        if o.ticks_stalled > clock_ticks && out.safety.mode == Mode::Balancing {
             found.push((
                 inv::CLOCK,
                 format!(
-                    "the motors stay on after {} ticks of a clock that has not passed its highest reading",
-                    o.ticks_behind
+                    "still balancing after {} ticks of a clock that did not advance",
+                    o.ticks_stalled
                 ),
             ));
         }
@@ -544,12 +550,10 @@ pub fn run_episode_on(
             // command. An in-range wrong IMU or encoder sample at the outer tick is
             // indistinguishable from a real one to the outer loop: a finding.
             let invariant = match corrupted {
-                Some(
-                    Target::InnerEncoder(_)
-                    | Target::InnerBurst(_)
-                    | Target::InnerDt
-                    | Target::FirstAfterEnable,
-                ) => inv::ENCODER_GUARD,
+                Some(Target::InnerBurst(_)) => inv::ENCODER_BURST,
+                Some(Target::InnerEncoder(_) | Target::InnerDt | Target::FirstAfterEnable) => {
+                    inv::ENCODER_GUARD
+                }
                 _ => inv::SINGLE_OUTER_SAMPLE,
             };
             let sensor = corrupted.map_or("", Target::sensor);
@@ -561,7 +565,6 @@ pub fn run_episode_on(
             }));
             o.last_imu_stamp = now_us;
             o.newest_imu_us = now_us;
-            o.clock_max_us = o.clock_max_us.max(now_us);
             o.last_disturbance = k;
         }
         let mut broken_now = BTreeSet::new();
@@ -569,7 +572,10 @@ pub fn run_episode_on(
             broken_now.insert(invariant.key);
             // Once per event: the twin checks are events of their own.
             let ongoing = o.broken.contains(invariant.key)
-                && !matches!(invariant.key, "single_outer_sample" | "encoder_guard");
+                && !matches!(
+                    invariant.key,
+                    "single_outer_sample" | "encoder_guard" | "encoder_burst"
+                );
             if !ongoing {
                 counts.record(invariant, seed, at, what);
             }

@@ -108,20 +108,35 @@ pub const ACCEPTED: Invariant = inv(
     BAD,
     "an accepted velocity, lean, stop or trajectory command on healthy sensors never ends in a fault",
 );
-/// 6: a stalled or backwards clock is a fault: motors off within the timeout in ticks.
+/// 6: a stalled or backwards clock is a fault: the controller leaves balancing on the tick
+/// the clock steps back, and within the IMU timeout counted in ticks of a stall (the
+/// documented reaction, docs/embedding.md: `ClockStalled` or
+/// `ClockFault`, a controlled stop; the motors go off once the samples the same clock stamps
+/// are stale by ticks).
 pub const CLOCK: Invariant = inv(
     "clock",
     6,
     BAD,
-    "motors off once the clock has not passed its highest reading for more than the IMU timeout counted in outer ticks",
+    "the controller leaves balancing (a controlled stop or motors off) on the tick the clock steps back, and once it has not advanced for more than the IMU timeout counted in outer ticks",
 );
-/// 7: the encoder guard: a wild first reading after enabling, or a wild burst longer than
-/// the guard's hold, or any single sample in the 8 kHz loop, never reaches the torque limit.
+/// 7: the encoder guard: a wild first reading after enabling, or any single sample in the
+/// 8 kHz loop, or a wrong step length, never reaches the torque limit.
 pub const ENCODER_GUARD: Invariant = inv(
     "encoder_guard",
     7,
     BAD,
-    "a wrong encoder sample in the 8 kHz loop (single, the first after enabling, or a burst longer than the guard's hold) or a wrong step length never drives a motor to its torque limit where a clean twin does not, nor winds an integrator up",
+    "a wrong encoder sample in the 8 kHz loop (single, or the first after enabling) or a wrong step length never drives a motor to its torque limit where a clean twin does not, nor winds an integrator up",
+);
+/// 7, open: a constant wrong reading within the encoder's range for longer than the guard's
+/// hold is a continuous trajectory, which the guard cannot tell from a wheel that really
+/// changed speed: it re-synchronises onto it (`SpeedGuard`, docs/embedding.md). Counted as a
+/// finding until the guard also bounds a re-synchronisation by what the wheel could reach
+/// from its last trusted speed, or the drivers' own feedback catches it.
+pub const ENCODER_BURST: Invariant = inv(
+    "encoder_burst",
+    7,
+    FINDING,
+    "a constant wrong encoder reading within range for 9 to 20 samples in the 8 kHz loop (longer than the guard's hold) drives a motor to its torque limit where a clean twin does not",
 );
 /// 8: huge finite commands produce no non-finite intermediate value.
 pub const FINITE_INTERMEDIATES: Invariant = inv(
@@ -174,7 +189,7 @@ pub const PLANAR: Invariant = inv(
 );
 
 /// Every invariant, in report order.
-pub const ALL: [Invariant; 19] = [
+pub const ALL: [Invariant; 20] = [
     LIMITS,
     TRANSITIONS,
     STALE_IMU,
@@ -187,6 +202,7 @@ pub const ALL: [Invariant; 19] = [
     ACCEPTED,
     CLOCK,
     ENCODER_GUARD,
+    ENCODER_BURST,
     FINITE_INTERMEDIATES,
     ENVELOPE,
     REARM_DRIFT,
