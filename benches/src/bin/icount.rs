@@ -119,7 +119,7 @@ mod three_d {
     use super::*;
 
     /// The 3D controller's outer step (400 Hz) in the paper's configuration
-    /// ([`BallbotControllerConfig::paper`]: traction-aware control and the balance point off):
+    /// (`BallbotControllerConfig::paper`: traction-aware control and the balance point off):
     /// safety, estimation, shaping, two LQR-PI planes and the spin plane, the kinematic mapping. Armed and balancing, following a velocity command,
     /// with IMU readings that change every step (as real ones do).
     fn ballbot_outer_step<T: nalgebra::RealField + Copy>(n: u64) -> Result<(), String> {

@@ -203,7 +203,7 @@ pub struct OuterOutput<T: nalgebra::Scalar> {
 /// let mut s = PlanarStates::zeros();
 /// let go = Command::Velocity(VelocityCommand { vx_m_per_s: 1.0, ..VelocityCommand::zero() });
 /// let dt_inner = 1.0 / 8000.0;
-/// for k in 0..4 * 400 {
+/// for k in 0..6 * 400 {
 ///     let now_us = k * 2500;
 ///     let (imu, encoders) = synthesize_sensors(&kin, &s, now_us);
 ///     let request = if k == 0 { ModeRequest::Arm } else { ModeRequest::None };
@@ -231,7 +231,7 @@ pub struct OuterOutput<T: nalgebra::Scalar> {
 ///     }
 /// }
 /// assert_eq!(outer.mode(), Mode::Balancing);
-/// // After 4 s the ball rolls forward at 1 m/s (x = r phi_y), the body upright; nothing moved
+/// // After 6 s the ball rolls forward at 1 m/s (x = r phi_y), the body upright; nothing moved
 /// // sideways or turned.
 /// let r = robot.sagittal.ball_radius_m;
 /// assert!((s.sagittal[3] * r - 1.0).abs() < 0.01 && s.sagittal[0].abs() < 1e-3);
@@ -361,8 +361,12 @@ impl<T: RealField + Copy> BallbotController<T> {
     /// ```
     /// use ballbot_core::BallbotParams;
     /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
-    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
-    /// assert!(BallbotController::new(config)?.traction().is_none());
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// // On in the shipped configuration, off in the paper's.
+    /// let config = BallbotControllerConfig::design(&robot)?;
+    /// assert!(BallbotController::new(config)?.traction().is_some());
+    /// let paper = BallbotControllerConfig::paper(&robot)?;
+    /// assert!(BallbotController::new(paper)?.traction().is_none());
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn traction(&self) -> Option<&TractionControl<T>> {
@@ -374,8 +378,12 @@ impl<T: RealField + Copy> BallbotController<T> {
     /// ```
     /// use ballbot_core::BallbotParams;
     /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
-    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
-    /// assert!(BallbotController::new(config)?.balance_point().is_none());
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// // On in the shipped configuration, off in the paper's.
+    /// let config = BallbotControllerConfig::design(&robot)?;
+    /// assert!(BallbotController::new(config)?.balance_point().is_some());
+    /// let paper = BallbotControllerConfig::paper(&robot)?;
+    /// assert!(BallbotController::new(paper)?.balance_point().is_none());
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
     pub fn balance_point(&self) -> Option<&BalancePoint<T>> {
