@@ -17,7 +17,9 @@
 //! comes from a speed error, 0.22 m/s with this payload.) It
 //! learns only in steady motion (the shaped command's acceleration and the tilt rates small,
 //! the departure within a bound), slowly (seconds, against the balance's fraction of a second),
-//! and within a bound; [`BalancePointParams::off`] (the designed default) disables it.
+//! and within a bound; [`BalancePointParams::off`] (the paper's configuration,
+//! [`super::BallbotControllerConfig::paper`]) disables it; the shipped
+//! [`super::BallbotControllerConfig::design`] has it on.
 //!
 //! **Lifetime.** The offset is learnt for the payload on the ball now, and is forgotten
 //! ([`BalancePoint::reset`]) whenever the motors are off: after a disarm, a fault, a reset,
@@ -63,7 +65,7 @@ pub struct BalancePointParams<T> {
 }
 
 impl<T: RealField + Copy> BalancePointParams<T> {
-    /// Off: the designed default ([`super::BallbotControllerConfig::design`]).
+    /// Off: the paper's configuration ([`super::BallbotControllerConfig::paper`]).
     ///
     /// ```
     /// use ballbot_core::ballbot::BalancePointParams;

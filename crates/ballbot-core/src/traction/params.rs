@@ -106,7 +106,7 @@ impl<T: RealField + Copy> TractionParams<T> {
         }
     }
 
-    /// [`Self::recommended`], switched off: what [`BallbotControllerConfig::design`](crate::ballbot::BallbotControllerConfig::design) uses.
+    /// [`Self::recommended`], switched off: what [`BallbotControllerConfig::paper`](crate::ballbot::BallbotControllerConfig::paper) uses.
     ///
     /// ```
     /// use ballbot_core::BallbotParams;
