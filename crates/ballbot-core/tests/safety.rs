@@ -357,10 +357,11 @@ fn the_shipped_default_follows_a_trajectory_command_to_rest() {
     // the stop (balance point alone: 0.101 m/s peak error), and the envelope holds the command
     // back (traction control alone: 0.122 m/s). The learnt offset then decays with the
     // estimator's 2 s time constant: 2 s after the trajectory's end the robot still creeps at
-    // about 1 cm/s. Measured together: see the assertions.
+    // about 1 cm/s. Measured together: 0.113 m/s peak error, 0.0135 m/s at the end.
     let (peak_error, end_speed) = follow_braking_trajectory(Rig::shipped());
-    assert!(peak_error < 0.15, "peak speed error {peak_error} m/s");
-    assert!(end_speed < 0.02, "{end_speed} m/s");
+    println!("shipped: peak error {peak_error} m/s, end speed {end_speed} m/s");
+    assert!(peak_error < 0.13, "peak speed error {peak_error} m/s");
+    assert!(end_speed < 0.016, "{end_speed} m/s");
 }
 
 fn any_f64() -> impl Strategy<Value = f64> {
