@@ -202,7 +202,13 @@ fn a_websocket_client_on_loopback_reads_the_live_channels_and_messages() {
         let msg: WorldTelemetryMsg = serde_json::from_slice(payload).unwrap();
         assert_eq!(*time_ns, (msg.step.time_secs * 1e9).round() as u64);
     }
-    let scenes = &got.messages[topics::SCENE];
+    let scenes = got.messages.get(topics::SCENE).unwrap_or_else(|| {
+        panic!(
+            "no scene; received {counts:?}, statuses {:?}, channels {:?}",
+            got.statuses,
+            got.channels.keys().collect::<Vec<_>>()
+        )
+    });
     assert!(!scenes.is_empty());
     let scene = SceneUpdate::decode(scenes[0].1.as_slice()).unwrap();
     let ids: Vec<&str> = scene.entities.iter().map(|e| e.id.as_str()).collect();
