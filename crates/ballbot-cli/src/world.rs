@@ -377,20 +377,6 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
         server.url()
     );
     std::io::stdout().flush()?;
-    let mut connected = false;
-    if args.live_wait_secs > 0.0 {
-        connected = server.wait_for_client(Duration::from_secs_f64(args.live_wait_secs));
-        if !connected {
-            println!("no client after {} s: running anyway", args.live_wait_secs);
-        }
-    }
-    // A connected client subscribes once it has seen the channels, which the run advertises
-    // when it starts: wait for that too, so the client sees the run from its first step.
-    let subscriber_wait = if connected {
-        LIVE_SUBSCRIBE_WAIT
-    } else {
-        Duration::ZERO
-    };
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
@@ -399,7 +385,23 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
         .with_context(|| format!("ballbot world --out {}", args.out.display()))?;
     let sink = LogSink::file(file).with_live(server.clone());
     let run = args.run_settings();
-    let outcome = run_world_with_sink(params, config, &run, sink, options, subscriber_wait)
+    // Wait for a client only once the run's channels exist: a client that connects then is
+    // sent every channel before its first subscription is read (one connected earlier can
+    // subscribe to a channel in the instant between its advertisement and its registration
+    // for that client, and be refused). A connected client subscribes once it has seen the
+    // channels: wait for that too, so that it sees the run from its first step.
+    let live_wait_secs = args.live_wait_secs;
+    let wait_for_client = |sink: &LogSink| {
+        if live_wait_secs <= 0.0 {
+            return;
+        }
+        if sink.wait_for_client(Duration::from_secs_f64(live_wait_secs)) {
+            sink.wait_for_subscriber(LIVE_SUBSCRIBE_WAIT);
+        } else {
+            println!("no client after {live_wait_secs} s: running anyway");
+        }
+    };
+    let outcome = run_world_with_sink(params, config, &run, sink, options, wait_for_client)
         .with_context(|| format!("ballbot world --live --out {}", args.out.display()))?;
     server.stop();
     Ok(outcome)

@@ -153,6 +153,13 @@ fn a_websocket_client_on_loopback_reads_the_live_channels_and_messages() {
     }
     let status = child.wait().unwrap();
     assert!(status.success(), "{status}");
+    // The run registers its channels before it waits for the client, so none of the
+    // client's subscriptions can be refused as an unknown channel (docs/world.md).
+    assert!(
+        got.statuses.iter().all(|s| !s.contains("Unknown channel")),
+        "{:?}",
+        got.statuses
+    );
 
     // The advertised channels: ours as JSON with JSON schemas, Foxglove's as protobuf.
     for topic in [

@@ -139,6 +139,17 @@ impl LogSink {
         Ok(())
     }
 
+    /// Waits up to `timeout` for a live client to connect (`LiveServer::wait_for_client`);
+    /// whether one has. `false` at once without a live view.
+    pub fn wait_for_client(&self, timeout: std::time::Duration) -> bool {
+        #[cfg(feature = "live")]
+        if let Some(server) = &self.live {
+            return server.wait_for_client(timeout);
+        }
+        let _ = timeout;
+        false
+    }
+
     /// Waits up to `timeout` for a live client to subscribe to one of the channels registered
     /// so far (`LiveServer::wait_for_subscriber`); whether one has. `true` at once without a
     /// live view.

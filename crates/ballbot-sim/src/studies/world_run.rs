@@ -10,7 +10,6 @@ use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use nalgebra::{Rotation3, Vector3};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 /// Hold before the ramp starts (s).
 pub const SETTLE_SECS: f64 = 0.5;
@@ -110,21 +109,25 @@ pub fn run_logged_world(
             source,
         })?;
     let sink = LogSink::file(file);
-    run_world_with_sink(params, config, args, sink, options, Duration::ZERO)
+    run_world_with_sink(params, config, args, sink, options, |_| {})
 }
 
 /// Runs the world with `config` in the loop as `args` say, writing to `sink` (an MCAP file, a
 /// live Foxglove view that paces the run, or both) with `options`, and returns the outcome
-/// (`log` is empty and `log_bytes` 0 without a file). With a live view, the run first waits up
-/// to `subscriber_wait` after its channels are registered (advertised to live clients) for a
-/// client to subscribe, so that it sees the run from its first step.
+/// (`log` is empty and `log_bytes` 0 without a file).
+///
+/// `before_first_step` is called once the run's channels are registered, before the first
+/// step: the place to wait for a live client (`LogSink::wait_for_client`) and its subscription
+/// (`LogSink::wait_for_subscriber`). A client that connects after the channels exist is sent
+/// all of them before the server reads its first request; one connected earlier can race a
+/// channel's advertisement with its subscription and be refused ("Unknown channel ID").
 pub fn run_world_with_sink(
     params: WorldParams,
     config: BallbotControllerConfig<f64>,
     args: &WorldRunSettings,
     sink: LogSink,
     options: WorldLogOptions,
-    subscriber_wait: Duration,
+    before_first_step: impl FnOnce(&LogSink),
 ) -> Result<WorldOutcome, WorldRunError> {
     let out = sink
         .path()
@@ -136,9 +139,7 @@ pub fn run_world_with_sink(
         source,
     };
     let mut log = WorldLogger::with_sink(sink, &params, options).map_err(log_error)?;
-    if !subscriber_wait.is_zero() {
-        log.sink_mut().wait_for_subscriber(subscriber_wait);
-    }
+    before_first_step(log.sink_mut());
 
     let dt = params.dt_secs;
     let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
