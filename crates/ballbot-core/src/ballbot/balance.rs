@@ -17,7 +17,20 @@
 //! comes from a speed error, 0.22 m/s with this payload.) It
 //! learns only in steady motion (the shaped command's acceleration and the tilt rates small,
 //! the departure within a bound), slowly (seconds, against the balance's fraction of a second),
-//! and within a bound; [`BalancePointParams::off`] (the paper's configuration,
+//! and within a bound.
+//!
+//! **Leans that accelerate the ball are not a balance point.** A body that accelerates its
+//! ball at `phi_ddot` leans by `K phi_ddot`, `K = (b + m_U r l) / (m_U g l)` (the shaper's
+//! equilibrium lean, [`crate::command::CommandShaper`]): after a push the controller brakes
+//! the ball for seconds on a slowly decaying lean, with small tilt rates and a still command,
+//! and an estimator that took that lean for a balance point learnt the braking and made the
+//! robot creep at 0.09 m/s three seconds after a 40 N s push (issue 26). So the departure
+//! learnt is the tilt's departure from its command less the lean of the ball's measured
+//! acceleration relative to the command's, `K d/dt (phi_dot - phi_dot_c)`, a finite
+//! difference of the speed error. An off-centre payload drives the ball at a steady speed (no
+//! acceleration) and is learnt as before; the difference's noise telescopes in the low-pass
+//! (the sum of the differences over consecutive steps is the change of the speed error).
+//! [`BalancePointParams::off`] (the paper's configuration,
 //! [`super::BallbotControllerConfig::paper`]) disables it; the shipped
 //! [`super::BallbotControllerConfig::design`] has it on.
 //!
@@ -35,6 +48,7 @@
 
 use crate::check::{lit, positive};
 use crate::error::Error;
+use crate::{BallbotParams, WipParams};
 use nalgebra::{RealField, Vector2};
 
 /// Settings of the balance-point estimator.
@@ -60,7 +74,8 @@ pub struct BalancePointParams<T> {
     pub steady_accel_m_per_s2: T,
     /// ... and every tilt rate is below this (rad/s). Recommended 0.1.
     pub steady_tilt_rate_rad_per_s: T,
-    /// ... and the tilt's departure from its command is within this (rad). Recommended 0.15.
+    /// ... and the tilt's departure from its command is within this (rad), with and without
+    /// the lean of the ball's acceleration (see the module docs). Recommended 0.15.
     pub max_departure_rad: T,
 }
 
@@ -117,20 +132,67 @@ impl<T: RealField + Copy> BalancePointParams<T> {
     }
 }
 
+/// One outer step's inputs of [`BalancePoint::update`], per plane `[frontal, sagittal]`.
+///
+/// ```
+/// use ballbot_core::ballbot::BalanceSample;
+/// let standing = BalanceSample::<f64>::still();
+/// assert_eq!(standing.tilt_rad, nalgebra::Vector2::zeros());
+/// assert_eq!(standing.command_accel_m_per_s2, 0.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BalanceSample<T: RealField + Copy> {
+    /// The measured tilts (rad).
+    pub tilt_rad: Vector2<T>,
+    /// Their rates (rad/s).
+    pub tilt_rate_rad_per_s: Vector2<T>,
+    /// The measured ball rates (rad/s).
+    pub ball_rate_rad_per_s: Vector2<T>,
+    /// The tilt commands, with the feedforward lean and without the offset (rad).
+    pub tilt_command_rad: Vector2<T>,
+    /// The ball-rate commands (rad/s).
+    pub ball_rate_command_rad_per_s: Vector2<T>,
+    /// The shaped command's acceleration magnitude (m/s^2).
+    pub command_accel_m_per_s2: T,
+}
+
+impl<T: RealField + Copy> BalanceSample<T> {
+    /// Standing still upright on a still command: every field zero.
+    ///
+    /// ```
+    /// use ballbot_core::ballbot::BalanceSample;
+    /// assert_eq!(BalanceSample::<f32>::still().ball_rate_rad_per_s[1], 0.0);
+    /// ```
+    pub fn still() -> Self {
+        Self {
+            tilt_rad: Vector2::zeros(),
+            tilt_rate_rad_per_s: Vector2::zeros(),
+            ball_rate_rad_per_s: Vector2::zeros(),
+            tilt_command_rad: Vector2::zeros(),
+            ball_rate_command_rad_per_s: Vector2::zeros(),
+            command_accel_m_per_s2: T::zero(),
+        }
+    }
+}
+
 /// The estimator (see the module docs).
 ///
 /// ```
-/// use ballbot_core::ballbot::{BalancePoint, BalancePointParams};
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BalancePoint, BalancePointParams, BalanceSample};
 /// use nalgebra::Vector2;
-/// let mut bp = BalancePoint::new(BalancePointParams::<f64>::recommended())?;
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// let mut bp = BalancePoint::new(BalancePointParams::recommended(), &robot)?;
 /// // Standing steadily 0.05 rad off the command in the sagittal plane for 10 s:
+/// let leaning = BalanceSample { tilt_rad: Vector2::new(0.0, 0.05), ..BalanceSample::still() };
 /// for _ in 0..4000 {
-///     bp.update(Vector2::new(0.0, 0.05), Vector2::zeros(), Vector2::zeros(), 0.0, 0.0025);
+///     bp.update(&leaning, 0.0025);
 /// }
 /// approx::assert_relative_eq!(bp.offset_rad()[1], 0.05, epsilon = 0.001);
 /// // While the command accelerates, nothing is learnt.
 /// let held = bp.offset_rad();
-/// bp.update(Vector2::new(0.0, 0.1), Vector2::zeros(), Vector2::zeros(), 1.0, 0.0025);
+/// let accelerating = BalanceSample { command_accel_m_per_s2: 1.0, ..leaning };
+/// bp.update(&accelerating, 0.0025);
 /// assert_eq!(bp.offset_rad(), held);
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
@@ -138,23 +200,56 @@ impl<T: RealField + Copy> BalancePointParams<T> {
 pub struct BalancePoint<T: RealField + Copy> {
     params: BalancePointParams<T>,
     offset_rad: Vector2<T>,
+    /// `K` per plane: the lean of a unit ball acceleration (rad per rad/s^2, i.e. s^2).
+    lean_per_ball_accel_s2: Vector2<T>,
+    /// The last step's speed error `phi_dot - phi_dot_c` (rad/s), when finite.
+    last_rate_error: Option<Vector2<T>>,
 }
 
 impl<T: RealField + Copy> BalancePoint<T> {
-    /// Validates `params`; the estimate starts at zero.
+    /// Validates `params`; the estimate starts at zero. `robot` gives each plane's lean per
+    /// ball acceleration `K = (b + m_U r l) / (m_U g l)` (see the module docs).
     ///
     /// ```
+    /// use ballbot_core::BallbotParams;
     /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams};
-    /// let bp = BalancePoint::new(BalancePointParams::<f64>::recommended())?;
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let bp = BalancePoint::new(BalancePointParams::recommended(), &robot)?;
     /// assert_eq!(bp.offset_rad(), nalgebra::Vector2::zeros());
+    /// // The shaper's equilibrium lean: 7.3 deg per m/s^2 on MiaPURE with 60 kg.
+    /// let r = robot.sagittal.ball_radius_m;
+    /// let lean_deg_per_m_per_s2 = bp.lean_per_ball_accel_s2()[1].to_degrees() / r;
+    /// assert!((lean_deg_per_m_per_s2 - 7.3).abs() < 0.1, "{lean_deg_per_m_per_s2}");
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
-    pub fn new(params: BalancePointParams<T>) -> Result<Self, Error> {
+    pub fn new(params: BalancePointParams<T>, robot: &BallbotParams<T>) -> Result<Self, Error> {
         params.validate()?;
+        robot.validate()?;
+        let lean = |p: &WipParams<T>| {
+            let (r, l, m) = (p.ball_radius_m, p.com_height_m, p.body_mass_kg);
+            let b = p.ball_inertia_kg_m2 + (p.ball_mass_kg + m) * r * r;
+            (b + m * r * l) / (m * p.gravity_m_per_s2 * l)
+        };
         Ok(Self {
             params,
             offset_rad: Vector2::zeros(),
+            lean_per_ball_accel_s2: Vector2::new(lean(&robot.frontal), lean(&robot.sagittal)),
+            last_rate_error: None,
         })
+    }
+
+    /// Each plane's lean per unit ball acceleration `K` (s^2; see the module docs).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let bp = BalancePoint::new(BalancePointParams::recommended(), &robot)?;
+    /// assert!(bp.lean_per_ball_accel_s2().iter().all(|k| *k > 0.0));
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn lean_per_ball_accel_s2(&self) -> Vector2<T> {
+        self.lean_per_ball_accel_s2
     }
 
     /// Forgets the learnt offset: the estimate starts again from zero, the calibrated
@@ -162,11 +257,14 @@ impl<T: RealField + Copy> BalancePoint<T> {
     /// reset, or not yet armed; see the module docs for why).
     ///
     /// ```
-    /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams};
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams, BalanceSample};
     /// use nalgebra::Vector2;
-    /// let mut bp = BalancePoint::new(BalancePointParams::<f64>::recommended())?;
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let mut bp = BalancePoint::new(BalancePointParams::recommended(), &robot)?;
+    /// let leaning = BalanceSample { tilt_rad: Vector2::new(0.0, 0.05), ..BalanceSample::still() };
     /// for _ in 0..4000 {
-    ///     bp.update(Vector2::new(0.0, 0.05), Vector2::zeros(), Vector2::zeros(), 0.0, 0.0025);
+    ///     bp.update(&leaning, 0.0025);
     /// }
     /// assert!(bp.offset_rad()[1] > 0.04);
     /// bp.reset();
@@ -175,13 +273,16 @@ impl<T: RealField + Copy> BalancePoint<T> {
     /// ```
     pub fn reset(&mut self) {
         self.offset_rad = Vector2::zeros();
+        self.last_rate_error = None;
     }
 
     /// The learnt offset `[frontal, sagittal]` of the tilt command (rad).
     ///
     /// ```
+    /// use ballbot_core::BallbotParams;
     /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams};
-    /// let bp = BalancePoint::new(BalancePointParams::<f32>::recommended())?;
+    /// let robot = BallbotParams::<f32>::miapure_60kg();
+    /// let bp = BalancePoint::new(BalancePointParams::recommended(), &robot)?;
     /// assert_eq!(bp.offset_rad()[0], 0.0);
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
@@ -189,48 +290,77 @@ impl<T: RealField + Copy> BalancePoint<T> {
         self.offset_rad
     }
 
-    /// One outer step: learns from the measured tilts `[frontal, sagittal]`, their rates, the
-    /// tilt commands (with the feedforward lean, without the offset) and the shaped command's
-    /// acceleration magnitude, if the motion is steady (see [`BalancePointParams`]).
-    /// Non-finite inputs are ignored.
+    /// One outer step of `dt_secs`: learns the tilt's departure from its command, less the
+    /// lean of the ball's acceleration relative to the command's (the speed error's finite
+    /// difference from the last step), if the motion is steady (see [`BalancePointParams`]).
+    /// Non-finite inputs are ignored; the first step after [`reset`](Self::reset) (or a
+    /// non-finite speed) only records the speed error.
     ///
     /// ```
-    /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams};
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BalancePoint, BalancePointParams, BalanceSample};
     /// use nalgebra::Vector2;
-    /// let mut bp = BalancePoint::new(BalancePointParams::<f64>::recommended())?;
-    /// // A fast tilt rate: a push, not a balance point.
-    /// bp.update(Vector2::new(0.05, 0.0), Vector2::new(0.5, 0.0), Vector2::zeros(), 0.0, 0.0025);
-    /// assert_eq!(bp.offset_rad()[0], 0.0);
-    /// // NaN changes nothing either.
-    /// bp.update(Vector2::new(f64::NAN, 0.0), Vector2::zeros(), Vector2::zeros(), 0.0, 0.0025);
-    /// assert_eq!(bp.offset_rad()[0], 0.0);
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let mut bp = BalancePoint::new(BalancePointParams::recommended(), &robot)?;
+    /// let dt = 0.0025;
+    /// // Braking after a push: the ball slows at 0.2 m/s^2 (1.6 rad/s^2) on the lean that
+    /// // decelerates it, slowly enough to pass every steadiness gate. Not a balance point.
+    /// let k = bp.lean_per_ball_accel_s2()[1];
+    /// let (accel, mut rate) = (-1.6, 4.0);
+    /// for _ in 0..800 {
+    ///     rate += accel * dt;
+    ///     let braking = BalanceSample {
+    ///         tilt_rad: Vector2::new(0.0, k * accel),
+    ///         ball_rate_rad_per_s: Vector2::new(0.0, rate),
+    ///         ..BalanceSample::still()
+    ///     };
+    ///     bp.update(&braking, dt);
+    /// }
+    /// assert!(bp.offset_rad()[1].abs() < 1e-9, "{}", bp.offset_rad()[1]);
+    /// // A fast tilt rate: a push, not a balance point; NaN changes nothing either.
+    /// let pushed = BalanceSample { tilt_rate_rad_per_s: Vector2::new(0.5, 0.0), ..BalanceSample::still() };
+    /// bp.update(&pushed, dt);
+    /// let nan = BalanceSample { tilt_rad: Vector2::new(f64::NAN, 0.0), ..BalanceSample::still() };
+    /// bp.update(&nan, dt);
+    /// assert!(bp.offset_rad()[0].abs() < 1e-9);
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
-    pub fn update(
-        &mut self,
-        tilt_rad: Vector2<T>,
-        tilt_rate_rad_per_s: Vector2<T>,
-        tilt_command_rad: Vector2<T>,
-        command_accel_m_per_s2: T,
-        dt_secs: T,
-    ) {
+    pub fn update(&mut self, sample: &BalanceSample<T>, dt_secs: T) {
         let p = &self.params;
-        let departure = tilt_rad - tilt_command_rad;
+        let rate_error = sample.ball_rate_rad_per_s - sample.ball_rate_command_rad_per_s;
+        let last = self.last_rate_error;
+        self.last_rate_error = rate_error
+            .iter()
+            .all(|x| x.is_finite())
+            .then_some(rate_error);
+        let departure = sample.tilt_rad - sample.tilt_command_rad;
         let finite = departure.iter().all(|x| x.is_finite())
-            && tilt_rate_rad_per_s.iter().all(|x| x.is_finite())
-            && command_accel_m_per_s2.is_finite()
+            && sample.tilt_rate_rad_per_s.iter().all(|x| x.is_finite())
+            && sample.command_accel_m_per_s2.is_finite()
             && dt_secs.is_finite();
         let steady = finite
-            && command_accel_m_per_s2.abs() <= p.steady_accel_m_per_s2
-            && tilt_rate_rad_per_s
+            && sample.command_accel_m_per_s2.abs() <= p.steady_accel_m_per_s2
+            && sample
+                .tilt_rate_rad_per_s
                 .iter()
                 .all(|w| w.abs() <= p.steady_tilt_rate_rad_per_s)
             && departure.iter().all(|d| d.abs() <= p.max_departure_rad);
+        let (Some(last), Some(now)) = (last, self.last_rate_error) else {
+            return;
+        };
         if !p.enabled || !steady || dt_secs <= T::zero() {
             return;
         }
+        // The lean that accelerates the ball relative to the command is not a balance point.
+        let accel_lean = (now - last).component_mul(&self.lean_per_ball_accel_s2) / dt_secs;
+        let learnt = departure - accel_lean;
+        // Within the same bound: the onset of a push accelerates the ball before the tilt
+        // rates show it.
+        if !learnt.iter().all(|d| d.abs() <= p.max_departure_rad) {
+            return;
+        }
         let gain = (dt_secs / p.time_constant_secs).min(T::one());
-        for (o, d) in self.offset_rad.iter_mut().zip(departure.iter()) {
+        for (o, d) in self.offset_rad.iter_mut().zip(learnt.iter()) {
             let next = *o + gain * (*d - *o);
             *o = next.max(-p.max_offset_rad).min(p.max_offset_rad);
         }

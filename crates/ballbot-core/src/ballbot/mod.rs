@@ -92,7 +92,7 @@ mod spin;
 mod tests;
 mod trajectory_limits;
 
-pub use balance::{BalancePoint, BalancePointParams};
+pub use balance::{BalancePoint, BalancePointParams, BalanceSample};
 pub use design::{BallbotControllerConfig, BallbotDesign, motor_speed_pi_gains};
 pub use guard::SpeedGuard;
 pub use mapping::WheelMapping;

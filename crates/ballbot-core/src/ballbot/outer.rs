@@ -2,7 +2,7 @@
 //! [`MotorReferences`] sent to the motor drivers.
 
 use super::feedforward::InputFeedforward;
-use super::{BalancePoint, BallbotControllerConfig, SpinOuter, WheelMapping};
+use super::{BalancePoint, BalanceSample, BallbotControllerConfig, SpinOuter, WheelMapping};
 use crate::check::{lit, positive};
 use crate::command::{Command, CommandShaper, PlanarCommands, Trajectory, TrajectoryLimits};
 use crate::control::{LqrPiOuter, StepStatus};
@@ -278,7 +278,7 @@ impl<T: RealField + Copy> BallbotController<T> {
             None
         };
         let balance_point = if config.balance_point.enabled {
-            Some(BalancePoint::new(config.balance_point)?)
+            Some(BalancePoint::new(config.balance_point, &config.robot)?)
         } else {
             config.balance_point.validate()?;
             None
@@ -755,13 +755,17 @@ fn shift_to_balance_point<T: RealField + Copy>(
     command_accel_m_per_s2: T,
     dt: T,
 ) -> (WipState<T>, WipState<T>, (T, T), (T, T)) {
-    bp.update(
-        Vector2::new(states.frontal[TILT], states.sagittal[TILT]),
-        Vector2::new(states.frontal[TILT_RATE], states.sagittal[TILT_RATE]),
-        Vector2::new(commands.frontal[TILT], commands.sagittal[TILT]),
+    let (f, s) = (&states.frontal, &states.sagittal);
+    let (cf, cs) = (&commands.frontal, &commands.sagittal);
+    let sample = BalanceSample {
+        tilt_rad: Vector2::new(f[TILT], s[TILT]),
+        tilt_rate_rad_per_s: Vector2::new(f[TILT_RATE], s[TILT_RATE]),
+        ball_rate_rad_per_s: Vector2::new(f[BALL_RATE], s[BALL_RATE]),
+        tilt_command_rad: Vector2::new(cf[TILT], cs[TILT]),
+        ball_rate_command_rad_per_s: Vector2::new(cf[BALL_RATE], cs[BALL_RATE]),
         command_accel_m_per_s2,
-        dt,
-    );
+    };
+    bp.update(&sample, dt);
     let offset = bp.offset_rad();
     let (mut frontal, mut sagittal) = (states.frontal, states.sagittal);
     frontal[TILT] -= offset[0];
