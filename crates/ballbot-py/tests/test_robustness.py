@@ -42,13 +42,11 @@ def test_quick_campaign_returns_typed_results_matching_the_json(tmp_path: Path) 
     assert [r.seed for r in falls.all_runs] == [r.seed for r in mc.all_runs]
     assert falls.stayed_up >= mc.stayed_up
     assert falls.recovery_rate == written["monte_carlo"]["recovery_rate_by_falls"]
-    # Fuzzing: the CI size, no panic; the bad commands are those of the bad-command
-    # invariants, as in the JSON. (The verdict of 0 bad commands is the test command's
-    # check-robustness.py on seed 1; with this test's seed 3 the quick campaign finds 2
-    # accepted commands ending in a tilt-limit fault, an open item of issue 26 in
-    # docs/robustness.md.)
+    # Fuzzing: the CI size, no panic, no bad command (seed 3 as well as the test command's
+    # seed 1), and the bad commands are those of the bad-command invariants, as in the JSON.
     assert result.fuzz.outer_steps >= 100_000
     assert result.fuzz.panics == 0
+    assert result.fuzz.bad_commands == 0, result.fuzz.invariants
     assert result.fuzz.bad_commands == written["fuzz"]["bad_commands"]
     assert result.fuzz.bad_commands == sum(
         i["breaks"] for i in result.fuzz.invariants if i["class"] == "bad_command"

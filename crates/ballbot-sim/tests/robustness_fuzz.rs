@@ -144,10 +144,13 @@ fn the_tilt_invariant_fires_on_a_controller_that_lets_the_body_pass_its_limit() 
     let mut loose = oracle;
     // 80 deg per axis: the body passes 20 deg from the vertical with the motors on.
     loose.safety.tilt_limit_rad = 1.4;
+    // Eight episodes: since the fuzz plant's encoders read the ball's rolling about the
+    // body's z axis as the slip monitor expects, no false slip stops the robot first, and a
+    // push beyond recovery takes the body past 20 deg in 2 of 8 episodes here (seeds 4, 6).
     let fired = breaks(
         rig_with(oracle, loose),
         EpisodeKind::Accepted,
-        4,
+        8,
         20_000,
         "tilt_from_vertical",
     );
@@ -293,18 +296,24 @@ fn mutated_parameter_files_never_panic_and_errors_name_the_key() {
 }
 
 /// The fuzz campaign alone at its CI or full size, timed and printed: `BALLBOT_FUZZ=quick|full
-/// cargo test [--release] -p ballbot-sim --test main fuzz_campaign_alone -- --ignored
+/// [BALLBOT_FUZZ_SEED=n] cargo test [--release] -p ballbot-sim --test main fuzz_campaign_alone -- --ignored
 /// --nocapture` (the CI runs the quick one in the dev profile, inside `ballbot robustness
 /// --quick`).
 #[test]
 #[ignore = "minutes: run by hand to measure a campaign"]
 fn fuzz_campaign_alone() {
     let size = std::env::var("BALLBOT_FUZZ").unwrap_or_else(|_| "quick".to_owned());
-    let settings = if size == "full" {
+    let mut settings = if size == "full" {
         FuzzSettings::full()
     } else {
         FuzzSettings::quick()
     };
+    if let Ok(seed) = std::env::var("BALLBOT_FUZZ_SEED") {
+        settings.seed = seed
+            .parse()
+            .expect("BALLBOT_FUZZ_SEED: an unsigned integer");
+    }
+    println!("fuzz campaign: {size}, seed {}", settings.seed);
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let start = std::time::Instant::now();
     let r = run_fuzz(

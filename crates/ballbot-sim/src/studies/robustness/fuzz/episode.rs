@@ -103,6 +103,20 @@ impl EpisodeCounts {
     }
 }
 
+/// Item 5: a fault this soon after a push on the plant is the push's (2 s: in the campaign's
+/// accepted episodes every such fault came within 0.5 s of the push, and none without one).
+const PUSH_RECOVERY_STEPS: u64 = 800;
+/// The bin of a push's impulse (N s) in the findings' counts: the Monte Carlo's 40 N s and
+/// the world's recovery limits (43 to 79 N s) at the bins' edges.
+fn push_bin(impulse_ns: f64) -> &'static str {
+    match impulse_ns {
+        x if x < 10.0 => "1 to 10",
+        x if x < 40.0 => "10 to 40",
+        x if x < 100.0 => "40 to 100",
+        _ => "100 to 200",
+    }
+}
+
 /// Outer steps a single corrupted sample is followed against its clean twin.
 const TWIN_STEPS: usize = 40;
 /// After the twin window, applied torques of the two may differ by at most this (N m): no
@@ -159,6 +173,8 @@ struct Oracle {
     stepped_back: bool,
     /// The last step with a corrupted sample, a push, a plant reset or a twin check.
     last_disturbance: u64,
+    /// The last push on the plant: its step and impulse (N s).
+    last_push: Option<(u64, f64)>,
     /// Consecutive steps in a controlled stop, and of those reported at rest.
     stop_steps: u64,
     stopped_steps: u64,
@@ -196,6 +212,7 @@ pub fn run_episode_on(
         ticks_stalled: 0,
         stepped_back: false,
         last_disturbance: 0,
+        last_push: None,
         stop_steps: 0,
         stopped_steps: 0,
         envelope_steps: 0,
@@ -250,6 +267,7 @@ pub fn run_episode_on(
             rig.plant.push([size * c, size * s]);
             counts.pushes += 1;
             o.last_disturbance = k;
+            o.last_push = Some((k, size));
         }
         let (mut imu, mut encoders) = rig.plant.sensors(now_us);
         // A real IMU is never bit-identical twice (the frozen check relies on it).
@@ -458,16 +476,27 @@ pub fn run_episode_on(
                 ),
             ));
         }
-        // 5: an accepted command never ends in a fault.
+        // 5: an accepted command never ends in a fault, unless a push knocked the robot over.
         if accepted && out.safety.mode == Mode::Fault && mode != Mode::Fault {
-            found.push((
-                inv::ACCEPTED,
-                format!(
-                    "an accepted command ended in a fault with the motors off ({:?}; command {})",
-                    out.safety.faults.iter().collect::<Vec<_>>(),
-                    describe(&cmd)
-                ),
-            ));
+            let faults = out.safety.faults.iter().collect::<Vec<_>>();
+            match o.last_push.filter(|(at, _)| k - at <= PUSH_RECOVERY_STEPS) {
+                Some((at, ns)) => found.push((
+                    inv::FELL_AFTER_PUSH,
+                    format!(
+                        "a fault within 2 s of a push of {} N s ({:.2} s after {ns:.1} N s; {faults:?}; command {})",
+                        push_bin(ns),
+                        (k - at) as f64 * 0.0025,
+                        describe(&cmd)
+                    ),
+                )),
+                None => found.push((
+                    inv::ACCEPTED,
+                    format!(
+                        "an accepted command ended in a fault with the motors off ({faults:?}; command {})",
+                        describe(&cmd)
+                    ),
+                )),
+            }
         }
         // 6: the clock. A clock that stepped back runs on from its new reading: the supervisor raises
         // `ClockFault` on that tick (a controlled stop), and an operator may resume on fresh
@@ -549,8 +578,13 @@ pub fn run_episode_on(
             // The 8 kHz loop guards its own input: a sample there that gets through is a bad
             // command. An in-range wrong IMU or encoder sample at the outer tick is
             // indistinguishable from a real one to the outer loop: a finding.
+            let possible_dt = matches!(
+                inner_fault,
+                Some(InnerFault::Dt { dt_secs }) if dt_secs > 0.0 && dt_secs <= config.outer_dt_secs
+            );
             let invariant = match corrupted {
                 Some(Target::InnerBurst(_)) => inv::ENCODER_BURST,
+                Some(Target::InnerDt) if possible_dt => inv::STEP_LENGTH,
                 Some(Target::InnerEncoder(_) | Target::InnerDt | Target::FirstAfterEnable) => {
                     inv::ENCODER_GUARD
                 }
@@ -574,7 +608,7 @@ pub fn run_episode_on(
             let ongoing = o.broken.contains(invariant.key)
                 && !matches!(
                     invariant.key,
-                    "single_outer_sample" | "encoder_guard" | "encoder_burst"
+                    "single_outer_sample" | "encoder_guard" | "encoder_burst" | "step_length"
                 );
             if !ongoing {
                 counts.record(invariant, seed, at, what);
