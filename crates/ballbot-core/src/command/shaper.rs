@@ -524,7 +524,15 @@ impl<T: RealField + Copy> CommandShaper<T> {
         let mut binding = false;
         if let Some(limit) = limit {
             let (vx0, vy0) = (self.vx.value(), self.vy.value());
-            let (ex, ey) = (target_x - vx0, target_y - vy0);
+            // The direction the command accelerates in: a trajectory's own acceleration while
+            // it has one (its tracking error is rounding, and a direction taken from rounding
+            // starved the axis it drives: the shaped speed swung 0.12 m/s about a braking
+            // trajectory at 0.7 s), else the way to the target.
+            let (ex, ey) = if feed.0 != zero || feed.1 != zero {
+                feed
+            } else {
+                (target_x - vx0, target_y - vy0)
+            };
             // On target (cruising, standing): nothing to limit, no square root. The direction
             // is scaled before squaring: a huge error (components beyond sqrt(T::MAX)) still
             // has one, and the envelope still applies.
