@@ -46,9 +46,9 @@
 //! (balancing or in a controlled stop, whose fault kept them on) the payload is the one the
 //! robot is balancing, and the estimate keeps following it.
 
+use crate::BallbotParams;
 use crate::check::{lit, positive};
 use crate::error::Error;
-use crate::{BallbotParams, WipParams};
 use nalgebra::{RealField, Vector2};
 
 /// Settings of the balance-point estimator.
@@ -208,7 +208,7 @@ pub struct BalancePoint<T: RealField + Copy> {
 
 impl<T: RealField + Copy> BalancePoint<T> {
     /// Validates `params`; the estimate starts at zero. `robot` gives each plane's lean per
-    /// ball acceleration `K = (b + m_U r l) / (m_U g l)` (see the module docs).
+    /// ball acceleration `K = (b + m_U r l) / (m_U g l)` ([`crate::WipParams::lean_per_ball_accel_s2`]).
     ///
     /// ```
     /// use ballbot_core::BallbotParams;
@@ -225,15 +225,13 @@ impl<T: RealField + Copy> BalancePoint<T> {
     pub fn new(params: BalancePointParams<T>, robot: &BallbotParams<T>) -> Result<Self, Error> {
         params.validate()?;
         robot.validate()?;
-        let lean = |p: &WipParams<T>| {
-            let (r, l, m) = (p.ball_radius_m, p.com_height_m, p.body_mass_kg);
-            let b = p.ball_inertia_kg_m2 + (p.ball_mass_kg + m) * r * r;
-            (b + m * r * l) / (m * p.gravity_m_per_s2 * l)
-        };
         Ok(Self {
             params,
             offset_rad: Vector2::zeros(),
-            lean_per_ball_accel_s2: Vector2::new(lean(&robot.frontal), lean(&robot.sagittal)),
+            lean_per_ball_accel_s2: Vector2::new(
+                robot.frontal.lean_per_ball_accel_s2(),
+                robot.sagittal.lean_per_ball_accel_s2(),
+            ),
             last_rate_error: None,
         })
     }

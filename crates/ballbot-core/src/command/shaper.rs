@@ -225,13 +225,9 @@ struct PlaneShaping<T> {
 impl<T: RealField + Copy> PlaneShaping<T> {
     fn new(p: &WipParams<T>) -> Self {
         let r = p.ball_radius_m;
-        let l = p.com_height_m;
-        let b = p.ball_inertia_kg_m2 + (p.ball_mass_kg + p.body_mass_kg) * r * r;
-        let c0 = p.body_mass_kg * r * l;
-        let mgl = p.body_mass_kg * p.gravity_m_per_s2 * l;
         Self {
             inv_radius_per_m: T::one() / r,
-            lean_rad_per_m_per_s2: (b + c0) / (r * mgl),
+            lean_rad_per_m_per_s2: p.lean_per_ball_accel_s2() / r,
         }
     }
 }

@@ -178,6 +178,25 @@ impl<T: RealField + Copy> WipParams<T> {
         }
     }
 
+    /// The body's lean per unit ball acceleration in steady acceleration,
+    /// `K = (b + m_U r l) / (m_U g l)` with `b = I_S + (m_S + m_U) r^2` (rad per rad/s^2, i.e.
+    /// s^2): the equilibrium lean that drives the ball at `phi_ddot` is `K phi_ddot`, or
+    /// `K / r` per m/s^2. The command shaper's lean feedforward and the balance-point
+    /// estimator use it.
+    ///
+    /// ```
+    /// use ballbot_core::WipParams;
+    /// let p = WipParams::<f64>::miapure_60kg();
+    /// // 7.3 deg per m/s^2 on MiaPURE with 60 kg.
+    /// let deg_per_m_per_s2 = (p.lean_per_ball_accel_s2() / p.ball_radius_m).to_degrees();
+    /// assert!((deg_per_m_per_s2 - 7.3).abs() < 0.1, "{deg_per_m_per_s2}");
+    /// ```
+    pub fn lean_per_ball_accel_s2(&self) -> T {
+        let (r, l, m) = (self.ball_radius_m, self.com_height_m, self.body_mass_kg);
+        let b = self.ball_inertia_kg_m2 + (self.ball_mass_kg + m) * r * r;
+        (b + m * r * l) / (m * self.gravity_m_per_s2 * l)
+    }
+
     /// Checks every field; the error names the first field out of range.
     ///
     /// ```
