@@ -358,7 +358,7 @@ fn the_shipped_default_follows_a_trajectory_command_to_rest() {
     // by mutation). It now takes the trajectory's own acceleration. The balance point used
     // to learn the lean that brakes the cruise's overshoot as an offset (0.101 m/s alone);
     // since it takes off the lean of the ball's acceleration it learns at most 0.004 rad
-    // here. Measured together: 0.086 m/s peak error, 0.0107 m/s at the end.
+    // here. Measured together: 0.080 m/s peak error, 0.0108 m/s at the end.
     let (peak_error, end_speed) = follow_braking_trajectory(Rig::shipped());
     println!("shipped: peak error {peak_error} m/s, end speed {end_speed} m/s");
     assert!(peak_error < 0.1, "peak speed error {peak_error} m/s");
