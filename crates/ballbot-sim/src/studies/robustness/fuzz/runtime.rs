@@ -250,7 +250,7 @@ pub fn run_runtime_episode_judged(
         }
         if schedules[2].failing_periods > 40 && enabled {
             found[2] = Some(format!(
-                "still {:?} after {} periods of failed motor writes",
+                "still {:?} after 0.1 s of failed motor writes ({} periods)",
                 robot.mode(),
                 schedules[2].failing_periods
             ));
