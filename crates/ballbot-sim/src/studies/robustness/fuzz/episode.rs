@@ -578,13 +578,8 @@ pub fn run_episode_on(
             // The 8 kHz loop guards its own input: a sample there that gets through is a bad
             // command. An in-range wrong IMU or encoder sample at the outer tick is
             // indistinguishable from a real one to the outer loop: a finding.
-            let possible_dt = matches!(
-                inner_fault,
-                Some(InnerFault::Dt { dt_secs }) if dt_secs > 0.0 && dt_secs <= config.outer_dt_secs
-            );
             let invariant = match corrupted {
                 Some(Target::InnerBurst(_)) => inv::ENCODER_BURST,
-                Some(Target::InnerDt) if possible_dt => inv::STEP_LENGTH,
                 Some(Target::InnerEncoder(_) | Target::InnerDt | Target::FirstAfterEnable) => {
                     inv::ENCODER_GUARD
                 }
@@ -594,7 +589,7 @@ pub fn run_episode_on(
             found.extend(what.map(|w| {
                 (
                     invariant,
-                    format!("{w}: {sensor} (corrupted: {corrupted:?})"),
+                    format!("{w}: {sensor} (corrupted: {corrupted:?}, {inner_fault:?})"),
                 )
             }));
             o.last_imu_stamp = now_us;
@@ -608,7 +603,7 @@ pub fn run_episode_on(
             let ongoing = o.broken.contains(invariant.key)
                 && !matches!(
                     invariant.key,
-                    "single_outer_sample" | "encoder_guard" | "encoder_burst" | "step_length"
+                    "single_outer_sample" | "encoder_guard" | "encoder_burst"
                 );
             if !ongoing {
                 counts.record(invariant, seed, at, what);

@@ -135,16 +135,7 @@ pub const ENCODER_GUARD: Invariant = inv(
     "encoder_guard",
     7,
     BAD,
-    "a wrong encoder sample in the 8 kHz loop (single, or the first after enabling) or an impossible step length (not finite, not positive, or longer than an outer period) never drives a motor to its torque limit where a clean twin does not, nor winds an integrator up",
-);
-/// 7: a wrong 8 kHz step length that is possible (positive, at most an outer period) cannot
-/// be told from an interrupt that really came late: the speed loop integrates over it and
-/// evaluates its reference ramp at the time it was told. Counted as a finding.
-pub const STEP_LENGTH: Invariant = inv(
-    "step_length",
-    7,
-    FINDING,
-    "a wrong but possible 8 kHz step length (positive, at most an outer period: a late interrupt looks the same) drives a motor to its torque limit or winds an integrator up where a clean twin does not",
+    "a wrong encoder sample in the 8 kHz loop (single, or the first after enabling) or a wrong step length never drives a motor to its torque limit where a clean twin does not, nor winds an integrator up",
 );
 /// 7, open: a constant wrong reading within the encoder's range for longer than the guard's
 /// hold is a continuous trajectory, which the guard cannot tell from a wheel that really
@@ -208,7 +199,7 @@ pub const PLANAR: Invariant = inv(
 );
 
 /// Every invariant, in report order.
-pub const ALL: [Invariant; 22] = [
+pub const ALL: [Invariant; 21] = [
     LIMITS,
     TRANSITIONS,
     STALE_IMU,
@@ -222,7 +213,6 @@ pub const ALL: [Invariant; 22] = [
     FELL_AFTER_PUSH,
     CLOCK,
     ENCODER_GUARD,
-    STEP_LENGTH,
     ENCODER_BURST,
     FINITE_INTERMEDIATES,
     ENVELOPE,
