@@ -5,6 +5,7 @@ use super::{BallbotControllerConfig, MotorReferences, SpeedGuard};
 use crate::check::{lit, positive};
 use crate::control::{SpeedCommand, SpeedPi, SpeedPiGains};
 use crate::num::{max, min};
+use crate::rates::INNER_LOOP_DT_SECS;
 use crate::safety::Fault;
 use crate::{ActuatorParams, Error};
 use nalgebra::{RealField, Vector3};
@@ -90,6 +91,8 @@ pub struct MotorSpeedLoop<T: RealField + Copy> {
     outer_dt_secs: T,
     /// Time since the references were set (s), capped just beyond the timeout.
     elapsed_secs: T,
+    /// The last plausible step length (s): what an impossible one is replaced by.
+    last_dt_secs: T,
 }
 
 impl<T: RealField + Copy> MotorSpeedLoop<T> {
@@ -138,6 +141,7 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             references: MotorReferences::disabled(),
             outer_dt_secs: config.outer_dt_secs,
             elapsed_secs: T::zero(),
+            last_dt_secs: min(lit(INNER_LOOP_DT_SECS), config.outer_dt_secs),
         })
     }
 
@@ -228,7 +232,9 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
     }
 
     /// One inner step of `dt_secs` with the measured omniwheel speeds (rad/s). Disabled or
-    /// timed-out references give zero torque and clear the integrators.
+    /// timed-out references give zero torque and clear the integrators. A step length no loop
+    /// could have (not finite, not positive, or longer than an outer period) is replaced by
+    /// the last plausible one (125 us before the first).
     ///
     /// ```
     /// use ballbot_core::BallbotParams;
@@ -263,16 +269,9 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             self.reset();
             return out;
         }
-        // A step longer than an outer period is not an 8 kHz step: integrating over it would
-        // wind the integrators up (the fuzzer found it). Such a step gives no torque.
-        let step_ok = dt_secs.is_finite() && dt_secs > T::zero() && dt_secs <= self.outer_dt_secs;
-        let dt_secs = if step_ok { dt_secs } else { T::zero() };
+        let dt_secs = self.plausible_step(dt_secs);
         // Reference at the middle of this step, ramping for one outer period at most.
-        let t = if step_ok {
-            min(self.elapsed_secs + dt_secs * lit(0.5), self.outer_dt_secs)
-        } else {
-            min(self.elapsed_secs, self.outer_dt_secs)
-        };
+        let t = min(self.elapsed_secs + dt_secs * lit(0.5), self.outer_dt_secs);
         let r = &self.references;
         for (i, (motor, guard)) in self.motors.iter_mut().zip(&mut self.guards).enumerate() {
             let reference = r.speed_rad_per_s[i] + r.accel_rad_per_s2[i] * t;
@@ -299,11 +298,21 @@ impl<T: RealField + Copy> MotorSpeedLoop<T> {
             out.saturation_nm[i] = saturation;
             out.reference_speed_rad_per_s[i] = reference;
         }
-        if step_ok {
-            self.elapsed_secs = min(self.elapsed_secs + dt_secs, timeout + dt_secs);
-        }
+        self.elapsed_secs = min(self.elapsed_secs + dt_secs, timeout + dt_secs);
         out.encoder_fault = self.encoder_fault(dt_secs, timeout);
         out
+    }
+
+    /// `dt_secs` if a loop could have stepped it (finite, positive, at most an outer period);
+    /// otherwise the last such step. A step longer than an outer period would wind the
+    /// integrators up; taking an impossible one as zero length gave no torque for as long as
+    /// it lasted (a whole outer period cut the wheels' torque for 2.5 ms: the fuzzer found
+    /// both). A timer that really changed rate is followed on its first plausible step.
+    fn plausible_step(&mut self, dt_secs: T) -> T {
+        if dt_secs.is_finite() && dt_secs > T::zero() && dt_secs <= self.outer_dt_secs {
+            self.last_dt_secs = dt_secs;
+        }
+        self.last_dt_secs
     }
 
     /// The guards' verdict on the encoders: implausible past the hold, stale past `timeout`.

@@ -211,6 +211,52 @@ fn inner_loop_times_out_without_fresh_references() {
     );
 }
 
+/// A step length no loop could have, for a whole outer period, is replaced by the last
+/// plausible one: the loop's torque and state are those of a twin stepped at that length.
+/// Before, each impossible step gave no torque, cutting the wheels for 2.5 ms; and a step
+/// beyond an outer period must not wind the integrators up.
+#[test]
+fn an_impossible_step_length_is_replaced_by_the_last_plausible_one() {
+    let c = config();
+    let refs = MotorReferences {
+        enabled: true,
+        speed_rad_per_s: Vector3::new(3.0, -2.0, 1.0),
+        accel_rad_per_s2: Vector3::new(400.0, -300.0, 0.0),
+        feedforward_torque_nm: Vector3::new(1.0, -1.0, 0.5),
+    };
+    let wheels = Vector3::new(2.0, -1.5, 1.2);
+    let plausible = 1.0e-4;
+    for wrong in [
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        -2.07,
+        -8.9e-178,
+        0.0,
+        6.19,
+        1.07e79,
+        c.outer_dt_secs * 1.000_001,
+    ] {
+        let mut inner = MotorSpeedLoop::new(&c).unwrap();
+        inner.set_references(&refs);
+        let mut twin = inner;
+        inner.step(&wheels, plausible);
+        twin.step(&wheels, plausible);
+        for k in 0..20 {
+            let a = inner.step(&wheels, wrong);
+            let b = twin.step(&wheels, plausible);
+            assert_eq!(a, b, "step length {wrong:e}, inner step {k}");
+            assert!(a.torque_nm.amax() > 1.0, "step length {wrong:e}: {a:?}");
+        }
+        assert_eq!(inner, twin, "step length {wrong:e}");
+    }
+    // Before any plausible step, the nominal 125 us.
+    let mut inner = MotorSpeedLoop::new(&c).unwrap();
+    inner.set_references(&refs);
+    let mut twin = inner;
+    assert_eq!(inner.step(&wheels, f64::NAN), twin.step(&wheels, 1.25e-4));
+}
+
 #[test]
 fn config_validation_reaches_every_piece() {
     let mut c = config();
