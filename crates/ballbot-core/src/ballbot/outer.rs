@@ -327,13 +327,13 @@ impl<T: RealField + Copy> BallbotController<T> {
     /// use nalgebra::Vector4;
     /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
     /// let outer = BallbotController::new(config)?;
-    /// // Leaning 0.1 rad over 1 s: the tilt rate is the tilt's derivative.
-    /// let lean = [
-    ///     Vector4::new(0.0, 0.0, 0.0, 0.0),
-    ///     Vector4::new(0.05, 0.0, 0.1, 0.0),
-    ///     Vector4::new(0.1, 0.0, 0.0, 0.0),
-    /// ];
-    /// assert!(outer.accept_trajectory(&lean, 0.5, 0.0).is_ok());
+    /// // Up to 1 rad/s in 1 s, leaning into the acceleration, then cruising upright.
+    /// let lean = config.trajectory_limits()?.lean_per_ball_accel_s2 * 1.0;
+    /// let go = [Vector4::new(lean, 0.0, 0.0, 0.0), Vector4::new(0.0, 0.5, 0.0, 1.0)];
+    /// assert!(outer.accept_trajectory(&go, 1.0, 0.0).is_ok());
+    /// // Leaning 0.1 rad the other way: not what the acceleration needs, refused.
+    /// let wrong = [Vector4::new(-0.1, 0.0, 0.0, 0.0), Vector4::new(0.0, 0.5, 0.0, 1.0)];
+    /// assert!(outer.accept_trajectory(&wrong, 1.0, 0.0).is_err());
     /// // A tilt near the largest double is refused, naming the samples.
     /// let absurd = [Vector4::new(1e308, 0.0, 0.0, 0.0)];
     /// assert!(matches!(

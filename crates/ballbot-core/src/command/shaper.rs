@@ -411,7 +411,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
     /// let mut shaper = CommandShaper::new(CommandShaperParams::miapure(), &robot)?;
     /// // A trajectory driven towards body +y (heading pi/2): it lands in the frontal plane with
     /// // the opposite sign (y = -r phi_x), and its own tilt is passed through.
-    /// let samples = [Vector4::new(0.05, 0.0, 0.0, 0.0); 2];
+    /// let samples = [Vector4::new(0.05, 0.0, 0.0, 0.0), Vector4::zeros()];
     /// let trajectory = Trajectory::new(&samples, 0.1, core::f64::consts::FRAC_PI_2, &limits)?;
     /// let shaped = shaper.step(&Command::Trajectory { trajectory, time_secs: 0.0 }, 0.0025);
     /// approx::assert_relative_eq!(shaped.planar.frontal[0], -0.05, epsilon = 1e-12);

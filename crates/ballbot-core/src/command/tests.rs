@@ -304,13 +304,15 @@ fn lean_mode_uses_the_riders_acceleration_limit() {
 
 #[test]
 fn trajectory_interpolates_and_maps_along_its_heading() {
+    // Speeding up to 0.4 rad/s leaning 0.012 rad, then cruising upright (the leans within
+    // what `TrajectoryLimits::CONSISTENCY_SECS` allows the interpolation to leave out).
     let samples = [
         Vector4::new(0.0, 0.0, 0.0, 0.0),
-        Vector4::new(0.02, 0.1, 0.04, 0.4),
-        Vector4::new(0.04, 0.3, 0.0, 0.8),
+        Vector4::new(0.012, 0.1, 0.02, 0.4),
+        Vector4::new(0.0, 0.3, 0.0, 0.4),
     ];
     let traj = Trajectory::new(&samples, 0.5, 0.0, &design_limits()).unwrap();
-    assert_relative_eq!(traj.sample(0.75), Vector4::new(0.03, 0.2, 0.02, 0.6));
+    assert_relative_eq!(traj.sample(0.75), Vector4::new(0.006, 0.2, 0.01, 0.4));
     assert_eq!(traj.sample(-1.0), samples[0]);
     assert_eq!(traj.sample(f64::NAN), samples[2]);
     assert_eq!(traj.sample(1.0), samples[2]);
@@ -336,10 +338,10 @@ fn trajectory_interpolates_and_maps_along_its_heading() {
         },
         DT,
     );
-    assert_relative_eq!(shaped.planar.frontal[TILT], -0.03, epsilon = 1e-12);
-    assert_relative_eq!(shaped.planar.frontal[TILT_RATE], -0.02, epsilon = 1e-12);
+    assert_relative_eq!(shaped.planar.frontal[TILT], -0.006, epsilon = 1e-12);
+    assert_relative_eq!(shaped.planar.frontal[TILT_RATE], -0.01, epsilon = 1e-12);
     assert_relative_eq!(shaped.planar.sagittal[TILT], 0.0, epsilon = 1e-12);
-    // The speed target jumped to 0.6 rad/s: the limiter only lets it start moving.
+    // The speed target jumped to 0.4 rad/s: the limiter only lets it start moving.
     assert!(shaped.velocity.vy_m_per_s > 0.0 && shaped.velocity.vy_m_per_s < 1e-3);
 }
 
@@ -349,10 +351,14 @@ fn a_feasible_trajectory_passes_the_limiter_unchanged() {
     // m/s^2, peak jerk 0.55 m/s^3: well inside the limits). Start the limiter on it.
     let r = 0.1145;
     let period = 0.01;
+    // The body leans by the lean of the deceleration (and its rate), as the dynamics need.
+    let lean = design_limits().lean_per_ball_accel_s2;
+    let w = core::f64::consts::PI / 3.0;
     let samples: [WipState<f64>; 301] = core::array::from_fn(|k| {
         let t = k as f64 * period;
-        let v = 0.5 * (1.0 + (core::f64::consts::PI * t / 3.0).cos());
-        Vector4::new(0.0, 0.0, 0.0, v / r)
+        let v = 0.5 * (1.0 + (w * t).cos());
+        let (a, j) = (-0.5 * w * (w * t).sin(), -0.5 * w * w * (w * t).cos());
+        Vector4::new(lean * a / r, 0.0, lean * j / r, v / r)
     });
     let traj = Trajectory::new(&samples, period, core::f64::consts::PI, &design_limits()).unwrap();
     let mut s = shaper();

@@ -28,10 +28,12 @@ use nalgebra::RealField;
 /// use nalgebra::Vector4;
 /// let limits = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?
 ///     .trajectory_limits()?;
-/// // From 0.57 m/s to rest in 1 s (ball rate 5 rad/s, 0.57 m/s^2), upright.
-/// let samples = [Vector4::new(0.0, 0.0, 0.0, 5.0), Vector4::new(0.0, 2.5, 0.0, 0.0)];
+/// // From 0.11 m/s to rest in 1 s (ball rate 1 rad/s, 0.11 m/s^2), leaning back into the
+/// // deceleration, upright at the end.
+/// let lean = -limits.lean_per_ball_accel_s2 * 1.0;
+/// let samples = [Vector4::new(lean, 0.0, 0.0, 1.0), Vector4::new(0.0, 0.5, 0.0, 0.0)];
 /// let traj = Trajectory::new(&samples, 1.0, 0.0, &limits)?;
-/// approx::assert_relative_eq!(traj.sample(0.5)[3], 2.5);
+/// approx::assert_relative_eq!(traj.sample(0.5)[3], 0.5);
 /// assert_eq!(traj.sample(9.0), samples[1]); // held after the end
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
@@ -203,10 +205,11 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
     /// use nalgebra::Vector4;
     /// let limits = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?
     ///     .trajectory_limits()?;
-    /// // Braking from 8 rad/s to rest in 1 s.
-    /// let samples = [Vector4::new(0.0, 0.0, 0.0, 8.0), Vector4::new(0.0, 4.0, 0.0, 0.0)];
+    /// // Braking from 1 rad/s to rest in 1 s, leaning into it.
+    /// let lean = -limits.lean_per_ball_accel_s2;
+    /// let samples = [Vector4::new(lean, 0.0, 0.0, 1.0), Vector4::new(0.0, 0.5, 0.0, 0.0)];
     /// let traj = Trajectory::new(&samples, 1.0, 0.0, &limits)?;
-    /// approx::assert_relative_eq!(traj.sample(0.75)[3], 2.0);
+    /// approx::assert_relative_eq!(traj.sample(0.75)[3], 0.25);
     /// assert_eq!(traj.sample(-1.0), samples[0]); // before the start: the first sample
     /// assert_eq!(traj.sample(f64::NAN), samples[1]); // non-finite time: the last
     /// # Ok::<(), ballbot_core::Error>(())
@@ -225,11 +228,12 @@ impl<'a, T: RealField + Copy> Trajectory<'a, T> {
     /// use nalgebra::Vector4;
     /// let limits = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?
     ///     .trajectory_limits()?;
-    /// let samples = [Vector4::new(0.0, 0.0, 0.0, 8.0), Vector4::new(0.0, 4.0, 0.0, 0.0)];
+    /// let lean = -limits.lean_per_ball_accel_s2;
+    /// let samples = [Vector4::new(lean, 0.0, 0.0, 1.0), Vector4::new(0.0, 0.5, 0.0, 0.0)];
     /// let traj = Trajectory::new(&samples, 1.0, 0.0, &limits)?;
     /// let (s, rate) = traj.sample_with_rate(0.5);
-    /// assert_eq!(s[3], 4.0);
-    /// assert_eq!(rate[3], -8.0); // decelerating at 8 rad/s^2
+    /// assert_eq!(s[3], 0.5);
+    /// assert_eq!(rate[3], -1.0); // decelerating at 1 rad/s^2
     /// assert_eq!(traj.sample_with_rate(2.0).1, Vector4::zeros()); // held after the end
     /// # Ok::<(), ballbot_core::Error>(())
     /// ```
