@@ -30,8 +30,11 @@
 //! tripped driver ([`Fault::MotorDead`], [`Fault::MotorStuck`], [`Fault::MotorTripped`]) at
 //! once: the motors go off at the next inner step (a protective stop: a 3-wheel ballbot with a
 //! wheel gone cannot balance; docs/robustness.md measures the alternatives). Failed motor
-//! writes are counted in [`DeviceErrorCounts`] for the application: there is nothing the
-//! controller can do about an actuator that does not answer.
+//! writes are counted in [`DeviceErrorCounts`]; once they have failed for the health
+//! monitor's persistence in a row (5 ms, the latency of a dead motor), the drivers do not
+//! answer and the loop reports [`Fault::MotorUnanswered`]: the motors go off too (the
+//! disable is sent, and a driver whose link is gone stops on its own watchdog, ODrive's
+//! `axis.config.watchdog_timeout`, which the firmware should set).
 //!
 //! The loop holds no heap data and never panics; it is `#![no_std]` and linked by the
 //! workspace's no_std check (`nostd-check/`), so the same code runs on a microcontroller.
@@ -421,7 +424,16 @@ where
             self.errors.motors = self.errors.motors.saturating_add(1);
             self.note(kind);
         }
-        let motor_verdict = self.check_motors(&output.torque_nm, motor_feedback.as_ref());
+        let motor_verdict = if applied && motor_error.is_some() {
+            // No answer from the drivers: after the health monitor's persistence, that is a
+            // fault of its own (the motors go off at the next inner step).
+            if let Some(fault) = self.health.unanswered() {
+                self.controller.report(fault);
+            }
+            None
+        } else {
+            self.check_motors(&output.torque_nm, motor_feedback.as_ref())
+        };
         InnerReport {
             output,
             applied,

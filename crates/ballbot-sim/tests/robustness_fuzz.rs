@@ -7,6 +7,7 @@
 use ballbot_core::BallbotParams;
 use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig, MotorSpeedLoop};
 use ballbot_core::safety::Fault;
+use ballbot_runtime::LoopConfig;
 use ballbot_sim::studies::robustness::fuzz::episode::{EpisodeKind, run_episode_on};
 use ballbot_sim::studies::robustness::fuzz::invariants;
 use ballbot_sim::studies::robustness::fuzz::parsers::fuzz_parsers;
@@ -253,11 +254,16 @@ fn stalled_and_backward_clocks_are_exercised_and_the_supervisor_leaves_balancing
 }
 
 #[test]
-fn robot_loop_on_failing_devices_keeps_its_limits_and_the_read_error_check_can_fire() {
+fn robot_loop_on_failing_devices_keeps_its_limits_and_the_read_and_write_error_checks_can_fire() {
     let shipped = run_runtime_episode(designed(), 3, 20_000).unwrap();
     println!("{:?}", shipped.by_invariant);
     assert!(shipped.outer_steps == 20_000 && shipped.inner_steps == 400_000);
-    for key in ["runtime_limits", "runtime_read_errors"] {
+    for key in [
+        "runtime_limits",
+        "runtime_read_errors",
+        "runtime_write_errors",
+        "motor_health",
+    ] {
         assert_eq!(
             shipped.by_invariant.get(key),
             None,
@@ -273,7 +279,14 @@ fn robot_loop_on_failing_devices_keeps_its_limits_and_the_read_error_check_can_f
     lax.safety.frozen_imu_timeout_us = None;
     let fired: u64 = (0..3)
         .map(|seed| {
-            let c = run_runtime_episode_judged(lax, designed().safety, seed, 20_000).unwrap();
+            let c = run_runtime_episode_judged(
+                lax,
+                LoopConfig::miapure(),
+                designed().safety,
+                seed,
+                20_000,
+            )
+            .unwrap();
             c.by_invariant
                 .get("runtime_read_errors")
                 .copied()
@@ -284,6 +297,25 @@ fn robot_loop_on_failing_devices_keeps_its_limits_and_the_read_error_check_can_f
         fired > 0,
         "persistent read errors with the motors on were not counted"
     );
+    // A motor health monitor that waits 10 s: persistent write errors and dead wheels with
+    // the motors on are counted.
+    let mut deaf = LoopConfig::miapure();
+    deaf.motor_health.persistence_secs = 10.0;
+    let mut fired = std::collections::BTreeMap::new();
+    for seed in 0..3 {
+        let c =
+            run_runtime_episode_judged(designed(), deaf, designed().safety, seed, 20_000).unwrap();
+        for (key, n) in c.by_invariant {
+            *fired.entry(key).or_insert(0) += n;
+        }
+    }
+    println!("deaf motor health monitor: {fired:?}");
+    for key in ["runtime_write_errors", "motor_health"] {
+        assert!(
+            fired.get(key).copied().unwrap_or(0) > 0,
+            "{key}: not counted with a deaf motor health monitor"
+        );
+    }
 }
 
 #[test]

@@ -77,6 +77,10 @@ pub enum Fault {
     MotorStuck = 18,
     /// A motor driver reports an error ([`crate::hal::DriverErrors`]).
     MotorTripped = 19,
+    /// The motor drivers do not answer: every write failed for the motor health monitor's
+    /// persistence ([`crate::safety::MotorHealthMonitor::unanswered`]), so nothing says the
+    /// wheels deliver what is commanded.
+    MotorUnanswered = 20,
 }
 
 // Every code fits a bit of `FaultSet`'s `u32`: the shifts below cannot overflow.
@@ -90,7 +94,7 @@ impl Fault {
     /// // In code order, one entry per code.
     /// assert!(Fault::ALL.iter().enumerate().all(|(i, f)| usize::from(f.code()) == i));
     /// ```
-    pub const ALL: [Self; 20] = [
+    pub const ALL: [Self; 21] = [
         Self::ImuNonFinite,
         Self::ImuOutOfRange,
         Self::ImuStale,
@@ -111,6 +115,7 @@ impl Fault {
         Self::MotorDead,
         Self::MotorStuck,
         Self::MotorTripped,
+        Self::MotorUnanswered,
     ];
 
     /// The fault's canonical name (snake_case), the one string form used by `Display`,
@@ -143,6 +148,7 @@ impl Fault {
             Self::MotorDead => "motor_dead",
             Self::MotorStuck => "motor_stuck",
             Self::MotorTripped => "motor_tripped",
+            Self::MotorUnanswered => "motor_unanswered",
         }
     }
 
@@ -172,7 +178,8 @@ impl Fault {
             | Self::StateNonFinite
             | Self::MotorDead
             | Self::MotorStuck
-            | Self::MotorTripped => Severity::Unrecoverable,
+            | Self::MotorTripped
+            | Self::MotorUnanswered => Severity::Unrecoverable,
             Self::ImuNonFinite
             | Self::ImuOutOfRange
             | Self::EncoderNonFinite
@@ -216,6 +223,7 @@ impl Fault {
             Self::MotorDead => "motor driver delivers no torque",
             Self::MotorStuck => "motor torque does not follow its command",
             Self::MotorTripped => "motor driver reports an error",
+            Self::MotorUnanswered => "motor drivers do not answer",
         }
     }
 }

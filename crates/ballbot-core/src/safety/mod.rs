@@ -49,6 +49,7 @@
 //! | `ClockStalled` | the clock did not advance between two steps | recoverable (the tick watchdogs still run) |
 //! | `EncoderImplausible` | reported by the runtime from the 8 kHz guard ([`crate::ballbot::SpeedGuard`]): a wheel's samples rejected for longer than the hold, without a continuous trajectory | recoverable (the guard holds the last plausible speed) |
 //! | `MotorDead`, `MotorStuck`, `MotorTripped` | reported by the robot loop's 8 kHz task: a driver's feedback shows no torque, a torque that does not follow the command, or an error flag ([`MotorHealthMonitor`]) | unrecoverable |
+//! | `MotorUnanswered` | reported by the robot loop's 8 kHz task: every write to the drivers failed for the health monitor's persistence ([`MotorHealthMonitor::unanswered`]) | unrecoverable |
 //!
 //! A single bad sample therefore starts a controlled stop on held data; if no good sample
 //! follows within the timeout the data is stale and the motors are disabled. Each step is a

@@ -278,6 +278,8 @@ pub struct MotorHealthMonitor<T> {
     /// `persistence_secs / dt`, rounded up, at least 1.
     persistence_steps: u32,
     wheels: [WheelState<T>; 3],
+    /// Consecutive inner steps whose write failed (no feedback).
+    unanswered_steps: u32,
 }
 
 impl<T: RealField + Copy> MotorHealthMonitor<T> {
@@ -314,6 +316,7 @@ impl<T: RealField + Copy> MotorHealthMonitor<T> {
                 expected_nm: T::zero(),
                 violations: 0,
             }; 3],
+            unanswered_steps: 0,
         })
     }
 
@@ -365,6 +368,32 @@ impl<T: RealField + Copy> MotorHealthMonitor<T> {
             w.expected_nm = T::zero();
             w.violations = 0;
         }
+        self.unanswered_steps = 0;
+    }
+
+    /// One inner step whose write to the drivers failed: no feedback came, and the drivers
+    /// hold whatever they last received (the last setpoint [`Self::step`] took). Returns
+    /// [`Fault::MotorUnanswered`] once the writes have failed for
+    /// [`Self::persistence_steps`] steps in a row (5 ms at 8 kHz by default, the latency of
+    /// a dead motor), and on every failing step after; an answered step ([`Self::step`]) or
+    /// [`Self::reset`] starts the count again. A single failed write is a glitch; a driver
+    /// that stays silent cannot be said to deliver anything.
+    ///
+    /// ```
+    /// use ballbot_core::hal::MotorFeedback;
+    /// use ballbot_core::safety::{Fault, MotorHealthMonitor, MotorHealthParams};
+    /// use nalgebra::Vector3;
+    /// let mut m = MotorHealthMonitor::<f64>::new(MotorHealthParams::miapure(), 1.0 / 8000.0)?;
+    /// let fb = [MotorFeedback::healthy(0.0, 0.0, 45.0); 3];
+    /// (0..39).for_each(|_| assert_eq!(m.unanswered(), None));
+    /// assert_eq!(m.step(&Vector3::zeros(), &fb), None); // an answer: the count restarts
+    /// (0..39).for_each(|_| assert_eq!(m.unanswered(), None));
+    /// assert_eq!(m.unanswered(), Some(Fault::MotorUnanswered)); // 40 in a row: 5 ms
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn unanswered(&mut self) -> Option<Fault> {
+        self.unanswered_steps = self.unanswered_steps.saturating_add(1);
+        (self.unanswered_steps >= self.persistence_steps).then_some(Fault::MotorUnanswered)
     }
 
     /// One inner step: checks `feedback` (the reply to the previous setpoint) and takes the
@@ -388,6 +417,7 @@ impl<T: RealField + Copy> MotorHealthMonitor<T> {
         commanded_nm: &Vector3<T>,
         feedback: &[MotorFeedback<T>; 3],
     ) -> Option<MotorVerdict> {
+        self.unanswered_steps = 0;
         let mut verdict: Option<MotorVerdict> = None;
         for (wheel, ((state, fb), command)) in self
             .wheels

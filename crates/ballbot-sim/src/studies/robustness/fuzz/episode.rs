@@ -435,9 +435,8 @@ pub fn run_episode_on(
                 ),
             ));
         }
-        // 2: HOOK(motorhealth): once the HAL carries the drivers' feedback (MotorFeedback),
-        // the plant gets dead and stuck wheels and `inv::MOTOR_HEALTH` checks that the
-        // supervisor reports them within its stated latency. Not checked today.
+        // 2: dead motors are the runtime episodes' (`fuzz::runtime`): the drivers' feedback
+        // and its health monitor live in `RobotLoop`.
         // 3: slip flags clear on consistent data; a stop at rest holds the ball still.
         let quiet = k.saturating_sub(o.last_disturbance);
         if let Some(slipping) = out.slipping

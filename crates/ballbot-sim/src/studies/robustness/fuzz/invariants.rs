@@ -73,12 +73,13 @@ pub const TILT: Invariant = inv(
     BAD,
     "a valid fresh IMU sample tilted from the vertical beyond the supervisor's tilt limit leaves the motors off in the same step",
 );
-/// 2: a dead or stuck motor detected. Not checked: the HAL carries no driver feedback yet.
+/// 2: a dead motor detected from the drivers' feedback (`RobotLoop` episodes: a wheel dies
+/// for 0.2 to 2 s, its driver applying and reporting nothing).
 pub const MOTOR_HEALTH: Invariant = inv(
     "motor_health",
     2,
-    FINDING,
-    "not checked yet: needs the motor drivers' feedback in the HAL (hook in fuzz::episode)",
+    BAD,
+    "RobotLoop: a dead driver (applying and reporting 0 N m) commanded beyond three times the health monitor's absolute tolerance for its persistence plus two periods, with the motors on, leaves them on",
 );
 /// 3: a slip flag on a plant that cannot slip clears within a bounded time on consistent data.
 pub const SLIP_CLEARS: Invariant = inv(
@@ -183,12 +184,13 @@ pub const RUNTIME_READ_ERRORS: Invariant = inv(
     BAD,
     "RobotLoop: IMU or encoder reads failing for longer than their timeout (plus two periods) leave the motors off",
 );
-/// `RobotLoop`: persistent motor write errors are not detected (no driver feedback yet).
+/// `RobotLoop`: persistent motor write errors are a fault (`Fault::MotorUnanswered`, from the
+/// motor health monitor's count of unanswered steps).
 pub const RUNTIME_WRITE_ERRORS: Invariant = inv(
     "runtime_write_errors",
     2,
-    FINDING,
-    "RobotLoop: motor writes failing for 0.1 s leave the controller balancing (nothing detects a driver that does not answer; needs the HAL's motor feedback)",
+    BAD,
+    "RobotLoop: motor writes failing for longer than the motor health monitor's persistence (plus two periods) leave the motors off",
 );
 /// The planar controllers: finite, saturated output for any input.
 pub const PLANAR: Invariant = inv(

@@ -6,8 +6,8 @@
 //! Invariants ([`super::invariants`]): every torque the loop writes is finite and within the
 //! peak and the torque-speed line at the speed it read ([`inv::RUNTIME_LIMITS`]); reads failing
 //! for longer than their timeout leave the motors off ([`inv::RUNTIME_READ_ERRORS`]); writes
-//! failing for 0.1 s with the controller still balancing are a finding
-//! ([`inv::RUNTIME_WRITE_ERRORS`]: nothing in the HAL reports a driver that does not answer).
+//! failing for longer than the motor health monitor's persistence (plus two periods) leave
+//! the motors off too ([`inv::RUNTIME_WRITE_ERRORS`]: `Fault::MotorUnanswered`).
 
 use super::episode::EpisodeCounts;
 use super::hostile::{accepted_command, chance, index, symmetric, unit};
@@ -67,6 +67,8 @@ pub struct FlakyMotors {
     pub commanded_nm: Option<Vector3<f64>>,
     /// Whether the next write fails.
     pub fail: bool,
+    /// A dead wheel: its driver applies nothing and reports nothing (0 N m), error-free.
+    pub dead: Option<usize>,
 }
 
 impl MotorTorques<f64> for FlakyMotors {
@@ -80,8 +82,11 @@ impl MotorTorques<f64> for FlakyMotors {
             return Err(DeviceErrorKind::Device);
         }
         self.applied_nm = *torque_nm;
-        // Healthy drivers: they report the torque they deliver (the wheel speeds are the
-        // plant's, which the health monitor does not need for a healthy verdict).
+        if let Some(w) = self.dead {
+            self.applied_nm[w % 3] = 0.0;
+        }
+        // The drivers report the torque they deliver (the wheel speeds are the plant's, which
+        // the health monitor does not need for its verdicts).
         Ok([0, 1, 2].map(|i| {
             MotorFeedback::healthy(self.applied_nm[i], 0.0, MIAPURE_NOMINAL_BUS_VOLTAGE_V)
         }))
@@ -120,13 +125,22 @@ pub fn run_runtime_episode(
     seed: u64,
     outer_steps: u64,
 ) -> Result<EpisodeCounts, ballbot_core::Error> {
-    run_runtime_episode_judged(config, config.safety, seed, outer_steps)
+    run_runtime_episode_judged(
+        config,
+        LoopConfig::miapure(),
+        config.safety,
+        seed,
+        outer_steps,
+    )
 }
 
-/// [`run_runtime_episode`] with the timeouts of the read-error invariant taken from `judge`
-/// instead of the controller's own (to show that the invariant fires on a lax supervisor).
+/// [`run_runtime_episode`] on a loop configured with `loop_config`, with the timeouts of the
+/// read-error invariant taken from `judge` instead of the controller's own, and the
+/// write-error invariant's from [`LoopConfig::miapure`] (to show that the invariants fire on a
+/// lax supervisor or a lax motor health monitor).
 pub fn run_runtime_episode_judged(
     config: BallbotControllerConfig<f64>,
+    loop_config: LoopConfig<f64>,
     judge: SafetyParams<f64>,
     seed: u64,
     outer_steps: u64,
@@ -136,7 +150,7 @@ pub fn run_runtime_episode_judged(
     let (imu0, enc0) = plant.sensors(0);
     let mut robot = RobotLoop::new(
         config,
-        LoopConfig::miapure(),
+        loop_config,
         FlakySensor {
             sample: imu0,
             fail: false,
@@ -152,11 +166,22 @@ pub fn run_runtime_episode_judged(
     let period_us = 2_500;
     let imu_ticks = judge.imu_timeout_us.div_ceil(period_us) + 2;
     let enc_ticks = judge.encoder_timeout_us.div_ceil(period_us) + 2;
+    // The health monitor's persistence (5 ms: 2 periods) plus two.
+    let persistence_us =
+        (LoopConfig::<f64>::miapure().motor_health.persistence_secs * 1e6).ceil() as u64;
+    let write_ticks = persistence_us.div_ceil(period_us) + 2;
     let mut counts = EpisodeCounts::default();
     let mut schedules = [Schedule::default(); 3];
     let mut command: Command<'static, f64> = Command::Stop;
     let mut last_read_speeds = enc0.wheel_speeds_rad_per_s;
-    let mut broken = [false; 3];
+    let mut broken = [false; 4];
+    let mut unanswered_on: u64 = 0;
+    // A dead wheel (periods left), and the inner steps in a row it has been commanded
+    // beyond three times the health monitor's absolute tolerance with the motors on.
+    let mut dead_left: u32 = 0;
+    let mut dead_commanded: u64 = 0;
+    let health = LoopConfig::<f64>::miapure().motor_health;
+    let persistence_steps = (health.persistence_secs * 8000.0).ceil() as u64;
     let mut now_us = 1_000_000;
     for k in 0..outer_steps {
         now_us += period_us;
@@ -167,6 +192,16 @@ pub fn run_runtime_episode_judged(
         }
         if chance(&mut rng, 0.0005) {
             schedules[index(&mut rng, 3)].left = 80 + (unit(&mut rng) * 720.0) as u32;
+        }
+        // A wheel dies for 0.2 to 2 s (one every 5 s).
+        if dead_left == 0 && chance(&mut rng, 0.0005) {
+            dead_left = 80 + (unit(&mut rng) * 720.0) as u32;
+            robot.devices_mut().2.dead = Some(index(&mut rng, 3));
+        } else if dead_left > 0 {
+            dead_left -= 1;
+            if dead_left == 0 {
+                robot.devices_mut().2.dead = None;
+            }
         }
         let failing: [bool; 3] = core::array::from_fn(|d| schedules[d].left > 0);
         for s in &mut schedules {
@@ -205,7 +240,7 @@ pub fn run_runtime_episode_judged(
             request,
         });
         counts.outer_steps += 1;
-        let mut found = [None, None, None];
+        let mut found = [None, None, None, None];
         for i in 0..INNER_PER_OUTER {
             let stamp = now_us + 125 * i as u64;
             let sample = EncoderSample {
@@ -227,9 +262,29 @@ pub fn run_runtime_episode_judged(
             if !enc_fail {
                 last_read_speeds = sample.wheel_speeds_rad_per_s;
             }
-            robot.inner_task();
+            let report = robot.inner_task();
             counts.inner_steps += 1;
             let motors = robot.devices().2;
+            dead_commanded = match motors.dead {
+                Some(w)
+                    if report.applied
+                        && !motor_fail
+                        && report.output.torque_nm[w % 3].abs()
+                            > 3.0 * health.torque_tolerance_nm =>
+                {
+                    dead_commanded + 1
+                }
+                _ => 0,
+            };
+            if dead_commanded > persistence_steps + 2 * INNER_PER_OUTER as u64 && found[3].is_none()
+            {
+                found[3] = Some(format!(
+                    "motors still on {} inner steps after OW{} died, commanded beyond {:.1} N m",
+                    dead_commanded,
+                    motors.dead.map_or(0, |w| w % 3 + 1),
+                    3.0 * health.torque_tolerance_nm
+                ));
+            }
             if let Some(t) = motors.commanded_nm
                 && found[0].is_none()
                 && let Some(what) = torque_broken(&actuator, &t, &last_read_speeds)
@@ -248,17 +303,26 @@ pub fn run_runtime_episode_judged(
                 schedules[0].failing_periods, schedules[1].failing_periods
             ));
         }
-        if schedules[2].failing_periods > 40 && enabled {
+        // Periods with the motors on while every write fails (the operator's reset after the
+        // fault lets the loop arm again, onto drivers that still do not answer: the count
+        // starts again there).
+        unanswered_on = if failing[2] && enabled {
+            unanswered_on + 1
+        } else {
+            0
+        };
+        if unanswered_on > write_ticks {
             found[2] = Some(format!(
-                "still {:?} after 0.1 s of failed motor writes ({} periods)",
+                "still {:?} after {} periods with the motors on and every write failing",
                 robot.mode(),
-                schedules[2].failing_periods
+                unanswered_on
             ));
         }
         let invariants = [
             inv::RUNTIME_LIMITS,
             inv::RUNTIME_READ_ERRORS,
             inv::RUNTIME_WRITE_ERRORS,
+            inv::MOTOR_HEALTH,
         ];
         for (j, what) in found.into_iter().enumerate() {
             let now = what.is_some();
