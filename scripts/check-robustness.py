@@ -3,12 +3,25 @@
 the --quick campaign and this check): the keys the issue asks for, and the invariants that
 must hold whatever the numbers (at least 10^5 fuzz steps, no panic, no bad command, every
 fuzz invariant reported with its count, traction-aware control in half the fuzz episodes,
-every fault-matrix cell complete, every log read back whole, a recovery rate).
+every fault-matrix cell complete, every log read back whole, a recovery rate), and that the
+shipped (`design`) controller ends every exercised fault cell in a safe state (not drifting,
+not unsafe) and every dead or stuck motor in its expected protective stop, except the classes
+in KNOWN_UNSAFE, each with its reason.
 
 Usage: python3 scripts/check-robustness.py DIR/robustness.json
 """
 import json
 import sys
+
+
+# Fault classes whose cells the shipped controller is known to lose, and why. A class leaves
+# this list when the reason is fixed; a cell of any other class that is not safe fails.
+KNOWN_UNSAFE = {
+    "floor_bump": "the world's rigid ball on rapier's soft floor contact is thrown over by any "
+    "bump of 1 mm or more (docs/robustness.md, 'Floor bump'); a limit of the world's vertical "
+    "contact dynamics, which the compliant contacts of the fidelity work replace",
+}
+SAFE = {"keeps_balancing", "controlled_stop", "protective_stop"}
 
 
 def fail(message):
@@ -51,6 +64,14 @@ def main(path):
         log = cell.get("log")
         if log is None or not log["read_back_whole"]:
             fail(f"a faulted run's log is missing or does not read back whole: {cell}")
+    for cell in cells:
+        if cell["controller"] != "design" or not cell.get("exercised", True):
+            continue
+        where = f"{cell['class']} {cell['condition']} {cell['heading_deg']:.0f} deg"
+        if cell["class"] in ("motor_dead", "motor_stuck") and not cell["as_expected"]:
+            fail(f"design: {where} ended {cell['observed']}, not in its {cell['expected']}")
+        if cell["observed"] not in SAFE and cell["class"] not in KNOWN_UNSAFE:
+            fail(f"design: {where} ended {cell['observed']} (expected {cell['expected']})")
     classes = {c["class"] for c in cells}
     conditions = {c["condition"] for c in cells}
     if len(classes) < 17 or conditions != {"standing", "cruising", "braking"}:
