@@ -443,9 +443,9 @@ fn minimum_braking_time_brackets_the_feasibility_boundary() {
         .iter()
         .fold(0.0_f64, |m, u| m.max(u.abs()));
     assert!(peak > 90.0, "{peak}");
-    // README: 0.43 s under MiaPURE's actuator limits alone (measured 0.4285, bracketed from
+    // docs/results.md: 0.43 s under MiaPURE's actuator limits alone (measured 0.4285, bracketed from
     // 0.4172). The bisection stops at 0.02 s resolution, so the documented number to +-0.02 s
-    // (was 0.3..0.6, a band that did not pin the README's number).
+    // (was 0.3..0.6, a band that did not pin the results page's number (docs/results.md)).
     assert!((t_min - 0.43).abs() <= 0.02, "{t_min}");
     // Just below the bracket it is not solvable.
     let below = BrakingProblem {
@@ -502,7 +502,7 @@ fn reproduce_brake_record_has_the_summary_keys() {
     assert_eq!(v["intervals"], 100);
     assert_eq!(v["min_braking_time_intervals"], 40);
     assert!(v["solve_ms"].as_f64().unwrap() > 0.0);
-    // The same search as `minimum_braking_time_brackets_the_feasibility_boundary`: README's
+    // The same search as `minimum_braking_time_brackets_the_feasibility_boundary`: docs/results.md's
     // 0.43 s to the bisection's 0.02 s resolution.
     let t_min = v["min_braking_time_secs"].as_f64().unwrap();
     assert!((t_min - 0.43).abs() <= 0.02, "{v}");
@@ -535,11 +535,11 @@ fn traction_limit_on_a_long_horizon_solves() {
     approx::assert_relative_eq!(sol.cost_n2m2s, free.cost_n2m2s, max_relative = 1e-6);
 }
 
-/// README: with the friction cones (mu = 0.6) the minimum braking time at 180 deg rises from
+/// docs/results.md: with the friction cones (mu = 0.6) the minimum braking time at 180 deg rises from
 /// the actuators' 0.43 s to 0.49 s (`ballbot brake --actuators --traction --min-time 0.01`,
 /// N = 100). Here on the coarser N = 40 grid and 0.02 s resolution of
 /// `minimum_braking_time_brackets_the_feasibility_boundary` (cheap in a debug build): the
-/// traction limit must cost time, and the value must be README's to that resolution.
+/// traction limit must cost time, and the value must be docs/results.md's to that resolution.
 #[test]
 fn traction_limit_lengthens_the_minimum_braking_time_to_the_readme_value() {
     let p = BrakingProblem {
