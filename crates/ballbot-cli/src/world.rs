@@ -21,7 +21,7 @@ use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, WorldLogOptions};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
 use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world, run_world_with_sink};
-use ballbot_sim::world::{WorldParams, wheel_name};
+use ballbot_sim::world::{StopRules, WorldParams, wheel_name};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -97,6 +97,12 @@ pub struct WorldArgs {
     /// Simulated time kept running after a failure, to see the fall (s, >= 0).
     #[arg(long, default_value_t = 0.25, value_parser = crate::finite_f64)]
     pub after_failure_secs: f64,
+    /// The world's stop rules, which end a run early: `all` (tilt, slip, lift-off,
+    /// driver-trip: as every study ran before), `none` (the run ends at its end or when the
+    /// body touches the floor), or some of `tilt,slip,lift-off,driver-trip`. The events
+    /// (slips, lift-offs, trips, faults, traction limits) are reported whatever the rules.
+    #[arg(long, default_value = "all")]
+    pub stop_on: StopRules,
     /// The controller configuration: `design`, the shipped default (traction-aware control
     /// and balance-point estimation on), or `paper`, the configuration the paper's studies
     /// pin (both off) (`BallbotControllerConfig::design` / `::paper`).
@@ -154,6 +160,7 @@ impl Default for WorldArgs {
             push_at_secs: 2.0,
             push_heading_deg: 90.0,
             after_failure_secs: 0.25,
+            stop_on: StopRules::all(),
             controller: ControllerChoice::Design,
             reference_filter_secs: None,
             out: PathBuf::from("out/world.mcap"),
@@ -333,6 +340,7 @@ impl WorldArgs {
             push_at_secs: self.push_at_secs,
             push_heading_deg: self.push_heading_deg,
             after_failure_secs: self.after_failure_secs,
+            stop_rules: self.stop_on,
         }
     }
 }
@@ -407,6 +415,34 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     Ok(outcome)
 }
 
+/// Prints the events, grouped by kind and wheel: how many, the first's onset, the longest.
+fn print_events(o: &WorldOutcome) {
+    if o.events.is_empty() {
+        println!("events: none");
+        return;
+    }
+    let mut groups: std::collections::BTreeMap<String, (usize, f64, f64)> = Default::default();
+    for e in &o.events {
+        let name = serde_json::to_value(e).ok().map_or_else(String::new, |v| {
+            let what = v.get("wheel").or_else(|| v.get("fault"));
+            match what.and_then(|w| w.as_str()) {
+                Some(w) => format!("{} {w}", e.kind.as_str()),
+                None => e.kind.as_str().to_owned(),
+            }
+        });
+        let g = groups.entry(name).or_insert((0, e.onset_secs, 0.0));
+        g.0 += 1;
+        g.2 = g.2.max(e.duration_secs);
+    }
+    println!("events ({} in all):", o.events.len());
+    for (name, (n, first, longest)) in groups {
+        println!(
+            "  {name}: {n}, first at {first:.3} s, longest {:.1} ms",
+            longest * 1e3
+        );
+    }
+}
+
 /// Runs `ballbot world` and prints the outcome.
 pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
     let o = if args.live {
@@ -418,6 +454,11 @@ pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&o)?);
         return Ok(());
     }
+    match o.outcome.time_secs() {
+        Some(t) => println!("outcome: {} at {t:.4} s", o.outcome.as_str()),
+        None => println!("outcome: {}", o.outcome.as_str()),
+    }
+    println!("stop rules: {}", o.stop_rules);
     match (&o.failure, o.failure_time_secs) {
         (Some(kind), Some(time_secs)) => {
             let wheel = o.failure_wheel.map_or_else(String::new, |w| {
@@ -427,6 +468,7 @@ pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
         }
         _ => println!("failure: none ({:.3} s simulated)", o.end_time_secs),
     }
+    print_events(&o);
     println!(
         "max speed along {} deg: {:.3} m/s",
         args.heading_deg, o.max_speed_m_per_s

@@ -11,3 +11,4 @@ mod simulate;
 mod sweep;
 mod world_live;
 mod world_log;
+mod world_outcome;

@@ -14,9 +14,13 @@
 //! Layer: imports the physics (`world`), the core and the runtime; nothing above it.
 
 pub mod devices;
+pub mod events;
 pub mod inject;
+pub mod outcome;
 pub mod world_robot;
 
 pub use devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
+pub use events::{Event, EventKind, EventLog};
 pub use inject::{Injector, NoFaults, Tick};
+pub use outcome::{Outcome, OutcomeTracker};
 pub use world_robot::WorldRobot;

@@ -1,6 +1,7 @@
 //! [`WorldRobot`]: the world stepped together with the shipped robot loop.
 
 use super::devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
+use super::events::EventLog;
 use super::inject::{Injector, NoFaults, Tick};
 use crate::world::driver::DriverFault;
 use crate::world::{BallbotWorld, StepTelemetry, WorldError, WorldParams};
@@ -43,6 +44,7 @@ pub struct WorldRobot {
     steps_per_outer: u64,
     step_index: u64,
     last_outer: Option<OuterOutput<f64>>,
+    events: EventLog,
 }
 
 impl WorldRobot {
@@ -99,6 +101,7 @@ impl WorldRobot {
             steps_per_outer: ratio.round() as u64,
             step_index: 0,
             last_outer: None,
+            events: EventLog::default(),
         })
     }
 
@@ -115,6 +118,13 @@ impl WorldRobot {
     /// The robot loop (its controller, supervisor, phase and device error counts).
     pub fn robot(&self) -> &WorldRobotLoop {
         &self.robot
+    }
+
+    /// What happened so far: slips, lift-offs, driver trips, controller faults, traction
+    /// limits, each with its onset, duration and peak ([`EventLog`]), whatever the world's stop
+    /// rules.
+    pub fn events(&self) -> &EventLog {
+        &self.events
     }
 
     /// The last outer-loop output (references, estimated states, safety status).
@@ -180,6 +190,9 @@ impl WorldRobot {
                     request: ModeRequest::None,
                 });
                 self.last_outer = Some(report.output);
+                let outer_dt = self.world.params().dt_secs * self.steps_per_outer as f64;
+                self.events
+                    .observe_controller(m.time_secs, &report.output, outer_dt);
             }
         }
         self.step_index += 1;
@@ -200,6 +213,9 @@ impl WorldRobot {
             Vector3::zeros()
         };
         self.world.step([torque.x, torque.y, torque.z]);
+        let params = self.world.params();
+        self.events
+            .observe_world(self.world.telemetry(), &params.failure, params.dt_secs);
         let feedback = faults.feedback(now_us, self.driver_feedback());
         self.robot.devices_mut().2.feedback = feedback;
         self.world.telemetry()

@@ -3,9 +3,9 @@
 //! push of the body; reduced to a [`WorldOutcome`]. What `ballbot world` runs.
 
 use crate::log::{LogError, LogSink, McapLogger, WorldLogOptions, WorldLogger};
-use crate::rig::WorldRobot;
+use crate::rig::{Event, Outcome, OutcomeTracker, WorldRobot};
 use crate::world::failure::tilt_from_vertical_rad;
-use crate::world::{Failure, WorldError, WorldParams};
+use crate::world::{Failure, StopRules, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use nalgebra::{Rotation3, Vector3};
@@ -34,6 +34,9 @@ pub struct WorldRunSettings {
     pub push_heading_deg: f64,
     /// Simulated time kept running after a failure (s).
     pub after_failure_secs: f64,
+    /// Which failures end the run early ([`StopRules`]; all, as before, by default). With
+    /// none, it ends at its end or when the body touches the floor.
+    pub stop_rules: StopRules,
 }
 
 /// What can go wrong in a logged world run.
@@ -64,6 +67,16 @@ pub enum WorldRunError {
 /// The outcome of a logged world run (`ballbot world`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct WorldOutcome {
+    /// How the run ended: fell, ended by a stop rule, stopped, at rest, recovered or
+    /// unsettled ([`Outcome`]).
+    pub outcome: Outcome,
+    /// What happened, whatever the stop rules: slips, lift-offs, driver trips, controller
+    /// faults, traction limits, each with its onset, duration and peak.
+    pub events: Vec<Event>,
+    /// Events beyond [`crate::rig::EventLog::MAX_EVENTS`], not kept.
+    pub events_dropped: u64,
+    /// The stop rules the run had, e.g. `tilt,slip,lift-off,driver-trip` or `none`.
+    pub stop_rules: String,
     /// The failure that ended the run, e.g. `sustained_slip`; `None` if it ran to the end.
     pub failure: Option<String>,
     /// The wheel concerned by the failure, 1-based (OW1 is 1), if any.
@@ -134,6 +147,8 @@ pub fn run_world_with_sink(
         .map_or_else(|| PathBuf::from("live view"), Path::to_owned);
     let has_file = sink.path().is_some();
     let mut sim = WorldRobot::with_config(params, config)?;
+    sim.world_mut().set_stop_rules(args.stop_rules);
+    let mut judge = OutcomeTracker::default();
     let log_error = |source| WorldRunError::Log {
         path: out.clone(),
         source,
@@ -148,6 +163,10 @@ pub fn run_world_with_sink(
     let mut pushed = args.push_ns <= 0.0;
     let mut failure: Option<Failure> = None;
     let mut outcome = WorldOutcome {
+        outcome: Outcome::Unsettled,
+        events: Vec::new(),
+        events_dropped: 0,
+        stop_rules: args.stop_rules.to_string(),
         failure: None,
         failure_wheel: None,
         failure_time_secs: None,
@@ -203,6 +222,7 @@ pub fn run_world_with_sink(
         log.record_robot(&sim).map_err(log_error)?;
         outcome.end_time_secs = telemetry.time_secs;
         if failure.is_none() {
+            judge.update(&sim, [command.vx_m_per_s, command.vy_m_per_s]);
             failure = sim.world().failure();
         }
         if failure.is_some() {
@@ -225,6 +245,9 @@ pub fn run_world_with_sink(
             .max(tilt_from_vertical_rad(&telemetry).to_degrees());
     }
     log.finish().map_err(log_error)?;
+    outcome.outcome = judge.outcome(failure);
+    outcome.events = sim.events().events().to_vec();
+    outcome.events_dropped = sim.events().dropped();
     if let Some(f) = failure {
         outcome.failure = Some(f.kind.as_str().to_owned());
         outcome.failure_wheel = f.kind.wheel().map(|w| w + 1);

@@ -183,10 +183,130 @@ impl serde::Serialize for Failure {
     }
 }
 
-/// Watches the telemetry step by step and latches the first failure.
+/// Which failures end a run early: the world's **stop rules**. The body touching the floor
+/// (a fall, from the chassis' geometry) always ends it; the others are rules of thumb that save
+/// simulated time, and a study that asks what happens after a slip or a lift-off switches
+/// them off (`ballbot world --stop-on none`). All on by default, as every study ran before.
+///
+/// ```
+/// use ballbot_sim::world::StopRules;
+/// let rules: StopRules = "slip,lift-off".parse()?;
+/// assert!(rules.slip && rules.lift_off && !rules.tilt && !rules.driver_trip);
+/// assert_eq!(rules.to_string(), "slip,lift-off");
+/// assert_eq!("none".parse::<StopRules>()?, StopRules::none());
+/// assert_eq!(StopRules::default().to_string(), "tilt,slip,lift-off,driver-trip");
+/// assert!("slip,wobble".parse::<StopRules>().is_err());
+/// # Ok::<(), String>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct StopRules {
+    /// Tilt beyond [`FailureParams::max_tilt_rad`].
+    pub tilt: bool,
+    /// A wheel slipping for longer than [`FailureParams::max_slip_duration_secs`].
+    pub slip: bool,
+    /// A wheel lifted off for longer than [`FailureParams::max_lift_off_duration_secs`].
+    pub lift_off: bool,
+    /// A motor driver that disarmed.
+    pub driver_trip: bool,
+}
+
+impl StopRules {
+    /// Every rule on: how every study ran before the rules could be switched off.
+    pub const fn all() -> Self {
+        Self {
+            tilt: true,
+            slip: true,
+            lift_off: true,
+            driver_trip: true,
+        }
+    }
+
+    /// No rule: a run ends only at its end or when the body touches the floor.
+    pub const fn none() -> Self {
+        Self {
+            tilt: false,
+            slip: false,
+            lift_off: false,
+            driver_trip: false,
+        }
+    }
+
+    /// The rules' names, in order (`--stop-on` takes them comma-separated, or `all`, `none`).
+    pub const NAMES: [&'static str; 4] = ["tilt", "slip", "lift-off", "driver-trip"];
+
+    fn flags(&self) -> [bool; 4] {
+        [self.tilt, self.slip, self.lift_off, self.driver_trip]
+    }
+
+    /// Whether the rule that `kind` would trigger is on (a body on the floor always ends).
+    pub fn stops_on(&self, kind: &FailureKind) -> bool {
+        match kind {
+            FailureKind::Tilt { .. } => self.tilt,
+            FailureKind::SustainedSlip { .. } => self.slip,
+            FailureKind::LiftOff { .. } => self.lift_off,
+            FailureKind::DriverTrip { .. } => self.driver_trip,
+            FailureKind::BodyTouchedFloor => true,
+        }
+    }
+}
+
+impl Default for StopRules {
+    fn default() -> Self {
+        Self::all()
+    }
+}
+
+/// The rules' names joined by commas (`none` when there is none).
+impl core::fmt::Display for StopRules {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let on: Vec<&str> = Self::NAMES
+            .iter()
+            .zip(self.flags())
+            .filter_map(|(n, on)| on.then_some(*n))
+            .collect();
+        if on.is_empty() {
+            f.write_str("none")
+        } else {
+            f.write_str(&on.join(","))
+        }
+    }
+}
+
+impl core::str::FromStr for StopRules {
+    type Err = String;
+
+    /// `all`, `none`, or rule names separated by commas.
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "all" => return Ok(Self::all()),
+            "none" => return Ok(Self::none()),
+            _ => {}
+        }
+        let mut rules = Self::none();
+        for name in s.split(',').map(str::trim) {
+            match name {
+                "tilt" => rules.tilt = true,
+                "slip" => rules.slip = true,
+                "lift-off" => rules.lift_off = true,
+                "driver-trip" => rules.driver_trip = true,
+                other => {
+                    return Err(format!(
+                        "unknown stop rule `{other}`: expected `all`, `none` or some of {}",
+                        Self::NAMES.join(", ")
+                    ));
+                }
+            }
+        }
+        Ok(rules)
+    }
+}
+
+/// Watches the telemetry step by step and latches the first failure its stop rules end a run
+/// on.
 #[derive(Clone, Debug)]
 pub struct FailureMonitor {
     params: FailureParams,
+    rules: StopRules,
     /// `cos(max_tilt_rad)`: the tilt check compares the body axis' z component with it, so
     /// only a failing step pays for the arc cosine.
     cos_max_tilt: f64,
@@ -196,10 +316,16 @@ pub struct FailureMonitor {
 }
 
 impl FailureMonitor {
-    /// A monitor with no failure yet.
+    /// A monitor with no failure yet, every stop rule on.
     pub fn new(params: FailureParams) -> Self {
+        Self::with_rules(params, StopRules::all())
+    }
+
+    /// A monitor with no failure yet that ends a run only on `rules`.
+    pub fn with_rules(params: FailureParams, rules: StopRules) -> Self {
         Self {
             params,
+            rules,
             cos_max_tilt: params.max_tilt_rad.min(core::f64::consts::PI).cos(),
             slip_secs: [0.0; 3],
             lift_off_secs: [0.0; 3],
@@ -214,7 +340,12 @@ impl FailureMonitor {
 
     /// Clears the latched failure and the timers.
     pub fn reset(&mut self) {
-        *self = Self::new(self.params);
+        *self = Self::with_rules(self.params, self.rules);
+    }
+
+    /// The stop rules.
+    pub fn rules(&self) -> StopRules {
+        self.rules
     }
 
     /// Updates the timers with one step of `dt_secs`; `chassis_lowest_z_m` is the height of
@@ -229,14 +360,22 @@ impl FailureMonitor {
             return self.first;
         }
         let p = &self.params;
+        let rules = self.rules;
+        // The candidates in order of precedence; the first whose rule is on is latched.
         let mut kind = None;
+        let mut consider = |k: FailureKind| {
+            if kind.is_none() && rules.stops_on(&k) {
+                kind = Some(k);
+            }
+        };
         // tilt > max_tilt  <=>  cos(tilt) < cos(max_tilt), for tilts in [0, pi].
         if body_axis_z(t) < self.cos_max_tilt {
-            kind = Some(FailureKind::Tilt {
+            consider(FailureKind::Tilt {
                 tilt_rad: tilt_from_vertical_rad(t),
             });
-        } else if chassis_lowest_z_m <= 0.0 {
-            kind = Some(FailureKind::BodyTouchedFloor);
+        }
+        if chassis_lowest_z_m <= 0.0 {
+            consider(FailureKind::BodyTouchedFloor);
         }
         for (i, w) in t.wheels.iter().enumerate() {
             let slipping =
@@ -251,14 +390,14 @@ impl FailureMonitor {
             } else {
                 0.0
             };
-            if kind.is_none() && w.driver_limit == DriverLimit::Disarmed {
-                kind = Some(FailureKind::DriverTrip { wheel: i });
+            if w.driver_limit == DriverLimit::Disarmed {
+                consider(FailureKind::DriverTrip { wheel: i });
             }
-            if kind.is_none() && self.slip_secs[i] > p.max_slip_duration_secs {
-                kind = Some(FailureKind::SustainedSlip { wheel: i });
+            if self.slip_secs[i] > p.max_slip_duration_secs {
+                consider(FailureKind::SustainedSlip { wheel: i });
             }
-            if kind.is_none() && self.lift_off_secs[i] > p.max_lift_off_duration_secs {
-                kind = Some(FailureKind::LiftOff { wheel: i });
+            if self.lift_off_secs[i] > p.max_lift_off_duration_secs {
+                consider(FailureKind::LiftOff { wheel: i });
             }
         }
         self.first = kind.map(|kind| Failure {

@@ -42,7 +42,7 @@ pub mod telemetry;
 pub use axle_loss::AxleLossParams;
 pub use disturbance::FloorBump;
 pub use driver::{DriverLimit, DriverModel, DriverParams};
-pub use failure::{Failure, FailureKind, wheel_name};
+pub use failure::{Failure, FailureKind, StopRules, wheel_name};
 pub use params::{
     ContactParams, DEFAULT_RIGID_STEP_RATIO, FailureParams, MAX_BALL_CONTACT_PHASE_RAD,
     MAX_RIGID_STEP_RATIO, SensorParams, WorldParams,

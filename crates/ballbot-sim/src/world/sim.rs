@@ -4,7 +4,7 @@ use super::WorldError;
 use super::check::non_negative;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
 use super::driver::{DriverFault, MotorDriver};
-use super::failure::{Failure, FailureMonitor};
+use super::failure::{Failure, FailureMonitor, StopRules};
 use super::params::WorldParams;
 use super::rigid::{RigidState, RigidStepper, Wrench};
 use super::rollers::{RimContact, RollerProfile};
@@ -268,6 +268,25 @@ impl BallbotWorld {
     /// The first failure detected, if any (the simulation keeps running after it).
     pub fn failure(&self) -> Option<Failure> {
         self.monitor.failure()
+    }
+
+    /// Which failures count ([`StopRules`]; all by default). Set before stepping: it clears
+    /// any failure already latched.
+    ///
+    /// ```
+    /// use ballbot_sim::world::{BallbotWorld, StopRules, WorldParams};
+    /// let mut world = BallbotWorld::new(WorldParams::miapure_60kg())?;
+    /// world.set_stop_rules(StopRules::none());
+    /// assert_eq!(world.stop_rules(), StopRules::none());
+    /// # Ok::<(), ballbot_sim::world::WorldError>(())
+    /// ```
+    pub fn set_stop_rules(&mut self, rules: StopRules) {
+        self.monitor = FailureMonitor::with_rules(self.params.failure, rules);
+    }
+
+    /// The stop rules in force.
+    pub fn stop_rules(&self) -> StopRules {
+        self.monitor.rules()
     }
 
     /// Per wheel (OW1..OW3), why its motor driver disarmed, if it has (only the ODrive model
