@@ -4,7 +4,9 @@
 
 use crate::studies::push::{PushOutcome, PushRecovery, PushTrial};
 use crate::studies::world_braking::{BrakingOutcome, BrakingRun, BrakingStudy};
-use crate::studies::world_suite::{PAPER_MIN_BRAKING_TIME_SECS, SEED, WorldSuite};
+use crate::studies::world_suite::{
+    PAPER_MIN_BRAKING_TIME_SECS, PUSH_RULES_RELAXED, SEED, WorldSuite,
+};
 use crate::world::{Failure, wheel_name};
 use serde_json::{Map, Value, json};
 use std::fmt::Write;
@@ -206,6 +208,10 @@ impl WorldSuite {
                 },
                 "headings": self.pushes.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
                 "impulsive": self.impulsive.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
+                "rules_relaxed": {
+                    "stop_rules": PUSH_RULES_RELAXED.to_string(),
+                    "headings": self.pushes_rules_relaxed.iter().map(|p| (key(p.heading_deg), push_json(p))).collect::<Map<_, _>>(),
+                },
             }),
         );
     }
@@ -357,7 +363,12 @@ impl WorldSuite {
             .pushes
             .iter()
             .map(|p| (p, format!("{shove_secs} s")))
-            .chain(self.impulsive.iter().map(|p| (p, "1 step".to_owned())));
+            .chain(self.impulsive.iter().map(|p| (p, "1 step".to_owned())))
+            .chain(
+                self.pushes_rules_relaxed
+                    .iter()
+                    .map(|p| (p, format!("{shove_secs} s*"))),
+            );
         for (p, kind) in rows {
             let how = p.smallest_failing().map_or_else(
                 || "-".to_owned(),
@@ -378,6 +389,12 @@ impl WorldSuite {
                 p.largest_recovered_ns,
                 opt(p.smallest_failing_ns, 1),
                 how
+            );
+        }
+        if !self.pushes_rules_relaxed.is_empty() {
+            let _ = writeln!(
+                out,
+                "  * with the world's slip and lift-off stop rules off (stop rules: {PUSH_RULES_RELAXED})"
             );
         }
         let _ = writeln!(

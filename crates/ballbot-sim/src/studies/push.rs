@@ -17,9 +17,9 @@
 //! for the largest one recovered.
 
 use crate::rig::{Injector, NoFaults, WorldRobot};
-use crate::world::WorldError;
 use crate::world::failure::{Failure, tilt_from_vertical_rad};
 use crate::world::params::WorldParams;
+use crate::world::{StopRules, WorldError};
 use ballbot_core::command::{Command, VelocityCommand};
 use nalgebra::{Rotation3, Vector3};
 
@@ -43,6 +43,10 @@ pub struct PushParams {
     pub rest_tilt_rad: f64,
     /// Sample period of the returned series (s). Default 0.01.
     pub sample_every_secs: f64,
+    /// The world's stop rules during the trial ([`StopRules`]; default all, the paper
+    /// protocol's). With the slip and lift-off rules off, a push that slips or lifts a wheel
+    /// briefly and is recovered counts as recovered (`world_push.rules_relaxed`).
+    pub stop_rules: StopRules,
 }
 
 impl Default for PushParams {
@@ -56,6 +60,7 @@ impl Default for PushParams {
             rest_speed_m_per_s: 0.1,
             rest_tilt_rad: 3.0_f64.to_radians(),
             sample_every_secs: 0.01,
+            stop_rules: StopRules::all(),
         }
     }
 }
@@ -248,6 +253,7 @@ pub fn push_trial_with(
             requirement: "heading must be finite and the impulse finite and >= 0",
         });
     }
+    sim.world_mut().set_stop_rules(params.stop_rules);
     let dt = sim.world().params().dt_secs;
     let push_step = (params.settle_secs / dt).round() as u64;
     let push_steps = (params.push_duration_secs / dt).round().max(1.0) as u64;

@@ -20,7 +20,7 @@ use crate::studies::world_braking::{
     braking_problem, braking_study,
 };
 use crate::trajopt::{MinTimeOptions, SolveOptions, min_braking_time};
-use crate::world::WorldParams;
+use crate::world::{StopRules, WorldParams};
 
 /// The paper's minimum braking time from 1.4 m/s at 180 deg (s).
 pub const PAPER_MIN_BRAKING_TIME_SECS: f64 = 2.0;
@@ -50,8 +50,19 @@ pub enum SuiteJob {
         search: PushSearch,
         /// The push's duration (s); 0: one physics step.
         duration_secs: f64,
+        /// The world's stop rules: all (the paper protocol's), or the slip and lift-off rules
+        /// off (`world_push.rules_relaxed`).
+        stop_rules: StopRules,
     },
 }
+
+/// The stop rules of `world_push.rules_relaxed`: the slip and lift-off rules off, the tilt and
+/// driver-trip rules on (a fall still ends the run; so does the protocol's own 15 deg bound).
+pub const PUSH_RULES_RELAXED: StopRules = StopRules {
+    slip: false,
+    lift_off: false,
+    ..StopRules::all()
+};
 
 /// The protocol of the suite.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,6 +119,16 @@ impl WorldSuiteSettings {
                         resolution_ns: 12.0,
                     },
                     duration_secs: PushParams::default().push_duration_secs,
+                    stop_rules: StopRules::all(),
+                },
+                SuiteJob::Push {
+                    heading_deg: 180.0,
+                    search: PushSearch {
+                        upper_ns: 96.0,
+                        resolution_ns: 12.0,
+                    },
+                    duration_secs: PushParams::default().push_duration_secs,
+                    stop_rules: PUSH_RULES_RELAXED,
                 },
             ],
             planar_headings_deg: vec![180.0],
@@ -129,14 +150,17 @@ impl WorldSuiteSettings {
         };
         let braking =
             |heading_deg, feedforward, bisect| braking_with(heading_deg, feedforward, bisect, 0.0);
-        let push = |heading_deg, duration_secs| SuiteJob::Push {
+        let push_with = |heading_deg, duration_secs, stop_rules| SuiteJob::Push {
             heading_deg,
             search: PushSearch {
                 upper_ns: 200.0,
                 resolution_ns: 0.5,
             },
             duration_secs,
+            stop_rules,
         };
+        let push =
+            |heading_deg, duration_secs| push_with(heading_deg, duration_secs, StopRules::all());
         let shove = PushParams::default().push_duration_secs;
         Self {
             braking: BrakingParams::default(),
@@ -159,6 +183,9 @@ impl WorldSuiteSettings {
                     push(0.0, 0.0),
                     push(90.0, 0.0),
                     push(180.0, 0.0),
+                    push_with(0.0, shove, PUSH_RULES_RELAXED),
+                    push_with(90.0, shove, PUSH_RULES_RELAXED),
+                    push_with(180.0, shove, PUSH_RULES_RELAXED),
                 ])
                 .collect(),
             planar_headings_deg: vec![180.0, 0.0, 90.0],
@@ -207,6 +234,9 @@ pub struct WorldSuite {
     pub pushes: Vec<PushRecovery>,
     /// The push searches with another duration (one physics step), in job order.
     pub impulsive: Vec<PushRecovery>,
+    /// The push searches with the protocol's duration and [`PUSH_RULES_RELAXED`], in job
+    /// order.
+    pub pushes_rules_relaxed: Vec<PushRecovery>,
     /// The planar model's minimum braking time per heading: `(heading_deg, T_s)`, `None` if
     /// none was found in the searched range.
     pub planar_min_braking_time_secs: Vec<(f64, Option<f64>)>,
@@ -244,7 +274,7 @@ impl WorldSuite {
 
 enum JobResult {
     Braking(BrakingStudy, TrajectoryFeedforward, f64),
-    Push(PushRecovery, f64),
+    Push(PushRecovery, f64, StopRules),
 }
 
 fn run_job(
@@ -283,9 +313,11 @@ fn run_job(
             heading_deg,
             search,
             duration_secs,
+            stop_rules,
         } => {
             let params = PushParams {
                 push_duration_secs: *duration_secs,
+                stop_rules: *stop_rules,
                 ..s.push
             };
             let result = push_recovery_limit(world, &params, search, *heading_deg, &mut |t| {
@@ -296,7 +328,7 @@ fn run_job(
                     t.outcome.label()
                 ));
             })?;
-            Ok(JobResult::Push(result, *duration_secs))
+            Ok(JobResult::Push(result, *duration_secs, *stop_rules))
         }
     }
 }
@@ -335,6 +367,7 @@ pub fn run_world_suite(
         ablation: None,
         pushes: Vec::new(),
         impulsive: Vec::new(),
+        pushes_rules_relaxed: Vec::new(),
         planar_min_braking_time_secs: planar,
         margin_sweep,
     };
@@ -353,8 +386,11 @@ pub fn run_world_suite(
             JobResult::Braking(study, TrajectoryFeedforward::Core, _) => {
                 suite.ablation = Some(study);
             }
-            JobResult::Push(p, d) if d == shove_secs => suite.pushes.push(p),
-            JobResult::Push(p, _) => suite.impulsive.push(p),
+            JobResult::Push(p, _, rules) if rules != StopRules::all() => {
+                suite.pushes_rules_relaxed.push(p);
+            }
+            JobResult::Push(p, d, _) if d == shove_secs => suite.pushes.push(p),
+            JobResult::Push(p, _, _) => suite.impulsive.push(p),
         }
     }
     Ok(suite)
