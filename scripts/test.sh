@@ -36,6 +36,12 @@ step "crates.io: ballbot-core and ballbot-runtime package, and build from their 
 # each .crate unpacked on its own (the verify step), so a file missing from a package or a path
 # outside it fails here (the READMEs' examples are the crates' docs, run by `cargo test --doc`
 # below). Needs crates.io's index only. --allow-dirty: packages the work tree as it is.
+# The verify step extracts the local registry's crates into $CARGO_HOME/registry/src/-<hash>/
+# (the hash is of target/package/tmp-registry's path) and reuses an extraction of the same name
+# and version: a second run from the same checkout after a change to the core's API would build
+# the runtime against the first run's core. Our own crates' extractions go first.
+cargo_home="${CARGO_HOME:-$HOME/.cargo}"
+rm -rf "$cargo_home"/registry/src/-*/ballbot-core-* "$cargo_home"/registry/src/-*/ballbot-runtime-*
 cargo package -p ballbot-core -p ballbot-runtime --allow-dirty
 
 step "no_std: ballbot-core pulls in no std or alloc feature"
