@@ -31,6 +31,12 @@ pub(crate) fn max<T: RealField + Copy>(a: T, b: T) -> T {
     if a > b { a } else { b }
 }
 
+/// Whether `x` is NaN (it compares with nothing; `RealField` has no `is_nan`).
+#[inline]
+pub(crate) fn is_nan<T: RealField + Copy>(x: T) -> bool {
+    x.partial_cmp(&T::zero()).is_none()
+}
+
 /// The smallest positive normal number of `T` (up to a factor below 2): `4 / T::MAX`, i.e.
 /// `2^-1022` for `f64` and `2^-126` for `f32`. A square at or above it kept every bit.
 #[inline]

@@ -3,7 +3,7 @@
 
 use crate::Error;
 use crate::check::{lit, positive};
-use crate::num::max;
+use crate::num::is_nan;
 use crate::wip::{BALL_RATE, TILT, TILT_RATE, WipState};
 use nalgebra::RealField;
 
@@ -225,7 +225,6 @@ impl<T: RealField + Copy> TrajectoryLimits<T> {
 
     fn check_unexplained(&self, unexplained: &Unexplained<T>) -> Result<(), Error> {
         let budget_secs: T = lit(Self::CONSISTENCY_SECS);
-
         let slack = T::one() + lit::<T>(8.0) * T::default_epsilon();
         let lean_budget =
             self.lean_per_ball_accel_s2 * self.max_ball_accel_rad_per_s2 * budget_secs * slack;
@@ -316,12 +315,21 @@ impl<T: RealField + Copy> TrajectoryLimits<T> {
         // What the interpolant leaves unexplained on this interval, beyond rounding.
         let mean_tilt = (a[TILT] + b[TILT]) * lit(0.5);
         let lean_error = (mean_tilt - lean_rad).abs() - round(a[TILT], b[TILT]);
-        let rate_error = max((a[TILT_RATE] - slope).abs(), (b[TILT_RATE] - slope).abs())
+        let (ea, eb) = ((a[TILT_RATE] - slope).abs(), (b[TILT_RATE] - slope).abs());
+        let rate_error = if eb > ea || is_nan(eb) { eb } else { ea }
             - round(a[TILT], b[TILT]) / h
             - round(a[TILT_RATE], b[TILT_RATE]);
+        // The positive part; a NaN (an overflow of loose limits) stays NaN and is refused.
+        let excess = |e: T| {
+            if e > T::zero() || is_nan(e) {
+                e * h
+            } else {
+                T::zero()
+            }
+        };
         Ok(Unexplained {
-            lean_rad_s: max(lean_error, T::zero()) * h,
-            tilt_rad: max(rate_error, T::zero()) * h,
+            lean_rad_s: excess(lean_error),
+            tilt_rad: excess(rate_error),
         })
     }
 }
@@ -338,8 +346,16 @@ struct Unexplained<T> {
 
 impl<T: RealField + Copy> Unexplained<T> {
     fn worst(&mut self, other: Self) {
-        self.lean_rad_s = max(self.lean_rad_s, other.lean_rad_s);
-        self.tilt_rad = max(self.tilt_rad, other.tilt_rad);
+        // A NaN, once in, stays (`max` would drop it).
+        let worse = |mine: T, theirs: T| {
+            if is_nan(mine) || !(theirs > mine || is_nan(theirs)) {
+                mine
+            } else {
+                theirs
+            }
+        };
+        self.lean_rad_s = worse(self.lean_rad_s, other.lean_rad_s);
+        self.tilt_rad = worse(self.tilt_rad, other.tilt_rad);
     }
 }
 
