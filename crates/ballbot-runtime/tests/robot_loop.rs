@@ -438,7 +438,7 @@ fn an_outer_task_longer_than_its_period_is_an_overrun() {
     bench.robot.devices_mut().3.per_read_us = 3_000;
     let p = bench.stop();
     assert!(bench.latched(Fault::LoopOverrun));
-    // A controlled stop, not the motors off.
-    assert!(p.outer.output.motors.enabled || bench.robot.mode() == Mode::ControlledStop);
+    // A controlled stop, the motors still on.
     assert_eq!(bench.robot.mode(), Mode::ControlledStop);
+    assert!(p.outer.output.motors.enabled);
 }

@@ -40,10 +40,11 @@ fn main() -> Result<(), Box<dyn Error>> {
                 payload_mass: payload,
                 ..Mismatch::none(heading_deg)
             };
-            let mut world = count.apply_to(mismatch.apply(&nominal));
+            let mut world = mismatch.apply(&nominal);
             world.sensors.seed = settings.seed;
             let params = ballbot_sim::studies::push::PushParams {
                 settle_secs: settings.settle_secs,
+                stop_rules: count.stop_rules(),
                 ..Default::default()
             };
             let mut trial_at = |impulse_ns: f64| -> Result<PushTrial, WorldError> {

@@ -19,7 +19,6 @@
 use super::WorldRobot;
 use crate::world::{Failure, FailureKind};
 use ballbot_core::safety::Mode;
-use nalgebra::{Rotation3, Vector3};
 
 /// How a run ended (see the [module](self) docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -116,10 +115,15 @@ impl OutcomeTracker {
     /// Ball speed error within which a robot follows its command (m/s).
     pub const TRACK_M_PER_S: f64 = 0.2;
 
-    /// One step of `sim`, whose command was `command_m_per_s` (body yaw frame: x, y).
-    pub fn update(&mut self, sim: &WorldRobot, command_m_per_s: [f64; 2]) {
-        let t = sim.world().telemetry();
-        let now = t.time_secs;
+    /// One step of `sim`, whose ball moved at `ball_velocity_m_per_s` and was commanded
+    /// `command_m_per_s` (both in the body's yaw frame: x, y).
+    pub fn update(
+        &mut self,
+        sim: &WorldRobot,
+        ball_velocity_m_per_s: [f64; 2],
+        command_m_per_s: [f64; 2],
+    ) {
+        let now = sim.world().time_secs();
         if sim.mode() != Mode::Balancing {
             self.left_balancing.get_or_insert(now);
             self.rest_since = None;
@@ -127,14 +131,13 @@ impl OutcomeTracker {
             return;
         }
         self.left_balancing = None;
-        let (_, _, yaw) = t.body_orientation.euler_angles();
-        let v = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * t.ball_velocity_m_per_s;
-        let error = (v.x - command_m_per_s[0]).hypot(v.y - command_m_per_s[1]);
+        let [vx, vy] = ball_velocity_m_per_s;
+        let error = (vx - command_m_per_s[0]).hypot(vy - command_m_per_s[1]);
         let standing = command_m_per_s == [0.0, 0.0];
         let since = |s: Option<f64>, ok: bool| if ok { Some(s.unwrap_or(now)) } else { None };
         self.rest_since = since(
             self.rest_since,
-            standing && v.x.hypot(v.y) < Self::REST_M_PER_S,
+            standing && vx.hypot(vy) < Self::REST_M_PER_S,
         );
         self.track_since = since(self.track_since, error < Self::TRACK_M_PER_S);
     }

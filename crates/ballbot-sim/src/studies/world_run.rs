@@ -221,17 +221,22 @@ pub fn run_world_with_sink(
         let telemetry = *sim.step(Command::Velocity(command));
         log.record_robot(&sim).map_err(log_error)?;
         outcome.end_time_secs = telemetry.time_secs;
-        if failure.is_none() {
-            judge.update(&sim, [command.vx_m_per_s, command.vy_m_per_s]);
-            failure = sim.world().failure();
-        }
         if failure.is_some() {
             continue;
         }
-        // Ball velocity in the body's yaw frame, along the heading.
+        // Ball velocity in the body's yaw frame.
         let (_, _, yaw) = telemetry.body_orientation.euler_angles();
         let v_yaw =
             Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * telemetry.ball_velocity_m_per_s;
+        judge.update(
+            &sim,
+            [v_yaw.x, v_yaw.y],
+            [command.vx_m_per_s, command.vy_m_per_s],
+        );
+        failure = sim.world().failure();
+        if failure.is_some() {
+            continue;
+        }
         outcome.max_speed_m_per_s = outcome.max_speed_m_per_s.max(v_yaw.dot(&heading));
         for (i, w) in telemetry.wheels.iter().enumerate() {
             if w.cone_utilisation > outcome.peak_cone_utilisation {

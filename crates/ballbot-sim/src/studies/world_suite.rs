@@ -58,11 +58,7 @@ pub enum SuiteJob {
 
 /// The stop rules of `world_push.rules_relaxed`: the slip and lift-off rules off, the tilt and
 /// driver-trip rules on (a fall still ends the run; so does the protocol's own 15 deg bound).
-pub const PUSH_RULES_RELAXED: StopRules = StopRules {
-    slip: false,
-    lift_off: false,
-    ..StopRules::all()
-};
+pub const PUSH_RULES_RELAXED: StopRules = StopRules::contact_rules_off();
 
 /// The protocol of the suite.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,6 +95,15 @@ impl WorldSuiteSettings {
             cruise_secs: 1.5,
             ..BrakingParams::default()
         };
+        let push = |stop_rules| SuiteJob::Push {
+            heading_deg: 180.0,
+            search: PushSearch {
+                upper_ns: 96.0,
+                resolution_ns: 12.0,
+            },
+            duration_secs: PushParams::default().push_duration_secs,
+            stop_rules,
+        };
         Self {
             braking,
             push: PushParams::default(),
@@ -112,24 +117,8 @@ impl WorldSuiteSettings {
                     },
                     normal_force_margin_n: 0.0,
                 },
-                SuiteJob::Push {
-                    heading_deg: 180.0,
-                    search: PushSearch {
-                        upper_ns: 96.0,
-                        resolution_ns: 12.0,
-                    },
-                    duration_secs: PushParams::default().push_duration_secs,
-                    stop_rules: StopRules::all(),
-                },
-                SuiteJob::Push {
-                    heading_deg: 180.0,
-                    search: PushSearch {
-                        upper_ns: 96.0,
-                        resolution_ns: 12.0,
-                    },
-                    duration_secs: PushParams::default().push_duration_secs,
-                    stop_rules: PUSH_RULES_RELAXED,
-                },
+                push(StopRules::all()),
+                push(PUSH_RULES_RELAXED),
             ],
             planar_headings_deg: vec![180.0],
             planar_resolution_secs: 0.05,

@@ -231,6 +231,21 @@ impl StopRules {
         }
     }
 
+    /// The slip and lift-off rules off, tilt and driver trip on: what counting falls instead
+    /// of contact events needs (the Monte Carlo's `falls` count, `world_push.rules_relaxed`).
+    ///
+    /// ```
+    /// use ballbot_sim::world::StopRules;
+    /// assert_eq!(StopRules::contact_rules_off().to_string(), "tilt,driver-trip");
+    /// ```
+    pub const fn contact_rules_off() -> Self {
+        Self {
+            slip: false,
+            lift_off: false,
+            ..Self::all()
+        }
+    }
+
     /// The rules' names, in order (`--stop-on` takes them comma-separated, or `all`, `none`).
     pub const NAMES: [&'static str; 4] = ["tilt", "slip", "lift-off", "driver-trip"];
 

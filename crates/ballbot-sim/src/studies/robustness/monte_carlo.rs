@@ -15,7 +15,7 @@ use crate::studies::push::{
     PushOutcome, PushParams, PushSearch, PushTrial, push_recovery_limit_by, push_trial_with,
 };
 use crate::studies::runner::run_jobs;
-use crate::world::{WorldError, WorldParams};
+use crate::world::{StopRules, WorldError, WorldParams};
 use serde::Serialize;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -88,20 +88,20 @@ impl MonteCarloCount {
         }
     }
 
-    /// `world` with this count's failure rules.
+    /// The world's stop rules this count runs with: all of them, or the slip and lift-off
+    /// rules off ([`StopRules::contact_rules_off`]).
     ///
     /// ```
     /// use ballbot_sim::studies::robustness::MonteCarloCount;
-    /// use ballbot_sim::world::WorldParams;
-    /// let world = MonteCarloCount::Falls.apply_to(WorldParams::miapure_60kg());
-    /// assert_eq!(world.failure.max_lift_off_duration_secs, f64::MAX);
+    /// use ballbot_sim::world::StopRules;
+    /// assert_eq!(MonteCarloCount::Falls.stop_rules(), StopRules::contact_rules_off());
+    /// assert_eq!(MonteCarloCount::StopRules.stop_rules(), StopRules::all());
     /// ```
-    pub fn apply_to(self, mut world: WorldParams) -> WorldParams {
-        if self == Self::Falls {
-            world.failure.max_slip_duration_secs = f64::MAX;
-            world.failure.max_lift_off_duration_secs = f64::MAX;
+    pub fn stop_rules(self) -> StopRules {
+        match self {
+            Self::StopRules => StopRules::all(),
+            Self::Falls => StopRules::contact_rules_off(),
         }
-        world
     }
 }
 
@@ -196,6 +196,7 @@ impl MonteCarloSettings {
     fn push_params(&self) -> PushParams {
         PushParams {
             settle_secs: self.settle_secs,
+            stop_rules: self.count.stop_rules(),
             ..PushParams::default()
         }
     }
@@ -334,7 +335,7 @@ pub fn run_one(
     let seed = run_seed(settings.seed, index);
     let mismatch = Mismatch::sample(seed, settings.fraction);
     let config = settings.controller.config(nominal)?;
-    let mut world = settings.count.apply_to(mismatch.apply(nominal));
+    let mut world = mismatch.apply(nominal);
     world.sensors.seed = seed;
     let params = settings.push_params();
     let mut trial_at = |impulse_ns: f64| -> Result<PushTrial, WorldError> {
