@@ -151,6 +151,36 @@ def test_braking_run_without_a_plan_and_is_deterministic() -> None:
         ballbot.braking_run(duration_secs=float("nan"))
 
 
+def test_braking_with_the_lift_off_rule_off_records_what_happened() -> None:
+    # The Rust test a_braking_the_lift_off_rule_fails_comes_to_rest_without_it: at 180 deg in
+    # 1.5 s OW1 lifts off at the onset; the rule ends the run, without it the robot comes to
+    # rest and the lift-off is an event.
+    ruled = ballbot.braking_run(heading_deg=180.0, duration_secs=1.5, settings=FAST_BRAKING)
+    relaxed_settings = FAST_BRAKING.replace(stop_on="tilt,slip,driver-trip")
+    relaxed = ballbot.braking_run(heading_deg=180.0, duration_secs=1.5, settings=relaxed_settings)
+    assert ruled.happened is not None and relaxed.happened is not None
+    assert ruled.outcome is ballbot.BrakingOutcome.FAILED
+    assert ruled.happened["outcome"]["kind"] == "ended_by_stop_rule"
+    assert ruled.happened["outcome"]["stop_rule"] == "lift_off"
+    assert relaxed.success and relaxed.happened["outcome"]["kind"] == "at_rest"
+    lifts = [e for e in relaxed.happened["events"] if e["kind"] == "lift_off" and e["wheel"] == "OW1"]
+    assert lifts and lifts[0]["duration_secs"] > 0.02 and not lifts[0]["ongoing"]
+    assert relaxed.happened["events_dropped"] == 0
+    # Not flown, nothing happened.
+    none = ballbot.braking_run(heading_deg=180.0, duration_secs=0.3, settings=FAST_BRAKING)
+    assert none.happened is None
+
+
+def test_stop_on_is_checked_and_kept_in_canonical_form() -> None:
+    assert ballbot.BrakingSettings().stop_on == "tilt,slip,lift-off,driver-trip"
+    assert ballbot.PushSettings(stop_on="lift-off, tilt").stop_on == "tilt,lift-off"
+    assert ballbot.PushSettings(stop_on="none").stop_on == "none"
+    with pytest.raises(ballbot.ParameterError, match="stop_on.*wobble"):
+        ballbot.BrakingSettings(stop_on="slip,wobble")
+    with pytest.raises(ballbot.ParameterError, match="stop_on"):
+        ballbot.push_trial(impulse_ns=5.0, stop_on="wobble")
+
+
 def test_push_recovery() -> None:
     small = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH)
     assert small.outcome is ballbot.PushOutcome.RECOVERED and small.recovered
@@ -158,6 +188,8 @@ def test_push_recovery() -> None:
     assert small.ball_velocity_m_per_s.shape == (small.time_secs.size, 2)
     huge = ballbot.push_trial(heading_deg=90.0, impulse_ns=150.0, settings=FAST_PUSH)
     assert not huge.recovered
+    assert small.happened["outcome"]["kind"] == "at_rest" and small.happened["events"] == []
+    assert huge.happened["outcome"]["kind"] in ("fell", "ended_by_stop_rule")
     again = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH)
     assert again.telemetry_hash == small.telemetry_hash
     r = ballbot.push_recovery_limit(heading_deg=90.0, upper_ns=160.0, resolution_ns=20.0, settings=FAST_PUSH)

@@ -11,6 +11,7 @@
 
 use ballbot_sim::studies::world_braking::{BrakingStudyParams, TrajectoryFeedforward};
 use ballbot_sim::studies::world_suite::{SuiteJob, WorldSuiteSettings, run_world_suite};
+use ballbot_sim::world::StopRules;
 use std::error::Error;
 
 fn main() -> Result<(), Box<dyn Error>> {
@@ -39,6 +40,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                         ..BrakingStudyParams::paper()
                     },
                     normal_force_margin_n: m,
+                    stop_rules: StopRules::all(),
                 });
             }
         }

@@ -2,12 +2,12 @@
 //! independence of the thread count, and that a sampled robot differs from the nominal one.
 
 use ballbot_core::ballbot::BallbotControllerConfig;
-use ballbot_sim::rig::{EventKind, NoFaults, WorldRobot};
+use ballbot_sim::rig::{EventKind, NoFaults, Outcome, WorldRobot};
 use ballbot_sim::studies::push::{PushParams, push_trial_with};
 use ballbot_sim::studies::robustness::{
     Mismatch, MonteCarloCount, MonteCarloSettings, run_monte_carlo, run_one, run_seed,
 };
-use ballbot_sim::world::WorldParams;
+use ballbot_sim::world::{FailureKind, WorldParams};
 
 #[test]
 fn the_sampler_stays_within_its_ranges_and_uses_them() {
@@ -110,21 +110,42 @@ fn counting_falls_relaxes_the_slip_and_lift_off_rules_only() {
             stop_rules: count.stop_rules(),
             ..PushParams::default()
         };
-        let mut lift_offs = 0;
-        let t = push_trial_with(sim, &mut NoFaults, &params, 180.0, 86.0, &mut |sim| {
-            lift_offs = sim
-                .events()
-                .events()
-                .iter()
-                .filter(|e| matches!(e.kind, EventKind::LiftOff { .. }))
-                .count();
-        })
-        .unwrap();
+        let t = push_trial_with(sim, &mut NoFaults, &params, 180.0, 86.0, &mut |_| {}).unwrap();
+        let lift_offs = t
+            .happened
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::LiftOff { .. }))
+            .count();
         (t, lift_offs)
     };
-    let (by_rules, _) = trial(MonteCarloCount::StopRules);
+    let (by_rules, ruled_lift_offs) = trial(MonteCarloCount::StopRules);
     let (by_falls, lift_offs) = trial(MonteCarloCount::Falls);
     assert!(lift_offs > 0, "no lift-off recorded with the rules off");
+    assert!(
+        ruled_lift_offs > 0,
+        "no lift-off recorded with the rules on"
+    );
+    // What happened: the rule ended one run, the other came to rest.
+    assert!(
+        matches!(
+            by_rules.happened.outcome,
+            Outcome::EndedByStopRule {
+                rule: FailureKind::LiftOff { .. },
+                ..
+            }
+        ),
+        "{:?}",
+        by_rules.happened.outcome
+    );
+    assert!(
+        matches!(
+            by_falls.happened.outcome,
+            Outcome::AtRest { .. } | Outcome::Recovered { .. }
+        ),
+        "{:?}",
+        by_falls.happened.outcome
+    );
     println!(
         "stop rules: {:?}; falls: {:?}",
         by_rules.outcome, by_falls.outcome

@@ -1,5 +1,6 @@
 //! Minimum braking time and push recovery in the 3D world (`studies::world_braking`, `studies::push`).
 
+use ballbot_sim::rig::{EventKind, Happened, Outcome};
 use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSearch, push_recovery_limit, push_trial,
 };
@@ -8,7 +9,7 @@ use ballbot_sim::studies::world_braking::{
     braking_study, fly_braking,
 };
 use ballbot_sim::trajopt::SolveStatus;
-use ballbot_sim::world::{FailureKind, WorldParams};
+use ballbot_sim::world::{FailureKind, StopRules, WorldParams};
 
 /// The protocol with a shorter approach and cruise (the tests run in debug builds).
 fn fast_braking() -> BrakingParams {
@@ -88,6 +89,54 @@ fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bise
     assert_eq!(seen, vec![3.0, 1.0, 2.0]);
     assert_eq!(r.shortest_success().unwrap().duration_secs, 3.0);
     assert_eq!(r.first_failure().unwrap().duration_secs, 1.0);
+}
+
+/// Issue 27: braking's limit at 180 deg is a lift-off of OW1 a few tens of ms into the stop,
+/// and the lift-off stop rule called it a failure. With the rule off the same run goes on: OW1
+/// comes back down and the robot is at rest in the window, the lift-off kept as an event.
+/// Both runs record what happened; only the verdict and the outcome differ.
+#[test]
+fn a_braking_the_lift_off_rule_fails_comes_to_rest_without_it() {
+    let world = WorldParams::miapure_60kg();
+    let ruled = braking_run(world, &fast_braking(), 180.0, 1.5, None).unwrap();
+    let relaxed_params = BrakingParams {
+        stop_rules: StopRules {
+            lift_off: false,
+            ..StopRules::all()
+        },
+        ..fast_braking()
+    };
+    let relaxed = braking_run(world, &relaxed_params, 180.0, 1.5, None).unwrap();
+    let ow1_lift_off = |h: &Happened| {
+        h.events
+            .iter()
+            .find(|e| matches!(e.kind, EventKind::LiftOff { wheel: 0, .. }))
+            .copied()
+    };
+    // With the rule: failed by OW1's lift-off, less than 0.1 s into braking.
+    let ruled_happened = ruled.happened.as_ref().unwrap();
+    match ruled_happened.outcome {
+        Outcome::EndedByStopRule {
+            rule: FailureKind::LiftOff { wheel: 0 },
+            time_secs,
+        } => assert!(time_secs - ruled.brake_start_secs < 0.1, "{time_secs}"),
+        o => panic!("expected the lift-off rule on OW1, got {o:?}"),
+    }
+    assert!(matches!(ruled.outcome, BrakingOutcome::Failed(_)));
+    // Without it: stopped and at rest, the lift-off an event of more than the rule's 20 ms.
+    let happened = relaxed.happened.as_ref().unwrap();
+    assert!(relaxed.outcome.is_success(), "{:?}", relaxed.outcome);
+    assert!(
+        matches!(happened.outcome, Outcome::AtRest { time_secs } if time_secs < relaxed.brake_start_secs + 1.5 + 0.5),
+        "{:?}",
+        happened.outcome
+    );
+    let lift = ow1_lift_off(happened).expect("OW1 lifts off");
+    assert!(!lift.ongoing && lift.duration_secs > world.failure.max_lift_off_duration_secs);
+    assert!(lift.onset_secs - relaxed.brake_start_secs < 0.1, "{lift:?}");
+    // The same lift-off began in the ruled run.
+    let ruled_lift = ow1_lift_off(ruled_happened).expect("OW1 lifts off with the rule");
+    assert_eq!(ruled_lift.onset_secs, lift.onset_secs);
 }
 
 #[test]

@@ -128,6 +128,7 @@ __all__ = [
     "max_speed_study",
     "slow_ramp_trial",
     "braking_run",
+    "canonical_stop_rules",
     "braking_study",
     "push_trial",
     "push_recovery_limit",
@@ -1722,6 +1723,7 @@ def braking_run(
     intervals: Optional[int] = None,
     sample_every_secs: Optional[float] = None,
     feedforward: Literal["full", "core"] = "full",
+    stop_on: str = "all",
 ) -> BrakingRun: ...
 
 
@@ -1739,6 +1741,7 @@ def braking_study(
     intervals: Optional[int] = None,
     sample_every_secs: Optional[float] = None,
     feedforward: Literal["full", "core"] = "full",
+    stop_on: str = "all",
 ) -> BrakingStudy: ...
 
 
@@ -1752,7 +1755,11 @@ def push_trial(
     observe_secs: Optional[float] = None,
     rest_within_secs: Optional[float] = None,
     sample_every_secs: Optional[float] = None,
+    stop_on: str = "all",
 ) -> PushTrial: ...
+
+
+def canonical_stop_rules(stop_on: str) -> str: ...
 
 
 def robustness_json(
@@ -1773,4 +1780,5 @@ def push_recovery_limit(
     observe_secs: Optional[float] = None,
     rest_within_secs: Optional[float] = None,
     sample_every_secs: Optional[float] = None,
+    stop_on: str = "all",
 ) -> PushRecovery: ...

@@ -363,6 +363,11 @@ class BrakingRun(_Result):
     """Actuator utilisation per wheel, ``(n, 3)``."""
     telemetry_hash: int
     """Hash of the run's telemetry (determinism checks)."""
+    happened: Optional[dict[str, Any]]
+    """How the flown run ended and its contact events, whatever the stop rules:
+    ``{"outcome": {"kind": "at_rest", "time_secs": ...}, "events": [...], "events_dropped": 0}``
+    (kinds ``fell``, ``ended_by_stop_rule``, ``stopped``, ``at_rest``, ``recovered``,
+    ``unsettled``); ``None`` when no trajectory was flown."""
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
@@ -417,6 +422,9 @@ class PushTrial(_Result):
     """Horizontal ball velocity (m/s), ``(n, 2)``."""
     telemetry_hash: int
     """Hash of the run's telemetry (determinism checks)."""
+    happened: dict[str, Any]
+    """How the run ended and its contact events, whatever the stop rules (the form of
+    ``BrakingRun.happened``)."""
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)

@@ -68,6 +68,15 @@ class FaultCell(_Result):
     """Whether the fault could act (a bump ahead of a standing robot cannot)."""
     log: Optional[CellLog]
     """The run's MCAP log."""
+    outcome: dict[str, Any]
+    """How the run ended (``MonteCarloRun.outcome``'s form). The cell's world stops only on
+    the tilt rule, its fall limit: ``ended_by_stop_rule`` with ``stop_rule`` ``tilt`` is a
+    fall."""
+    events: list[dict[str, Any]]
+    """Slips, lift-offs, driver trips, controller faults and traction limits
+    (``MonteCarloRun.events``' form)."""
+    events_dropped: int
+    """Events beyond the log's bound, not kept."""
 
     @classmethod
     def _from_json(cls, d: dict[str, Any]) -> FaultCell:
@@ -149,8 +158,9 @@ class MonteCarloRun(_Result):
     """The run's seed."""
     mismatch: Mismatch
     """The sampled mismatch."""
-    outcome: str
-    """``recovered``, ``not_at_rest``, ``tilt_exceeded`` or ``failed``."""
+    verdict: str
+    """The protocol's verdict: ``recovered``, ``not_at_rest``, ``tilt_exceeded`` or
+    ``failed``."""
     stayed_up: bool
     """No failure and tilt below 15 deg after the push."""
     recovered: bool
@@ -163,6 +173,15 @@ class MonteCarloRun(_Result):
     """Largest ball speed in the rest window (m/s)."""
     largest_recovered_ns: Optional[float]
     """Largest push it stays up after (N s), for the bisected runs."""
+    outcome: dict[str, Any]
+    """How the run ended: ``{"kind": "fell" | "ended_by_stop_rule" | "stopped" | "at_rest" |
+    "recovered" | "unsettled", "time_secs": ...}`` (a stop rule adds ``stop_rule`` and
+    ``wheel``)."""
+    events: list[dict[str, Any]]
+    """Slips, lift-offs, driver trips, controller faults and traction limits, each with
+    ``kind``, ``onset_secs``, ``duration_secs``, ``ongoing`` and its peak."""
+    events_dropped: int
+    """Events beyond the log's bound, not kept."""
 
     @classmethod
     def _from_json(cls, d: dict[str, Any]) -> MonteCarloRun:

@@ -16,6 +16,7 @@ import math
 from collections.abc import Sequence
 from typing import Any, Optional, TypeVar, Union
 
+from ballbot import _core
 from ballbot._enums import Feedforward
 from ballbot._errors import ParameterError
 
@@ -44,6 +45,13 @@ def _check_list(name: str, values: Any) -> None:
         return
     if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
         raise ParameterError(f"invalid parameter `{name}`: must be finite numbers, got {values!r}")
+
+
+def _check_stop_on(settings: Any) -> None:
+    if not isinstance(settings.stop_on, str):
+        raise ParameterError(f"`stop_on` must be a string, got {settings.stop_on!r}")
+    canonical = _core.canonical_stop_rules(settings.stop_on)
+    object.__setattr__(settings, "stop_on", canonical)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -158,8 +166,13 @@ class BrakingSettings(_Settings):
     feedforward: Union[Feedforward, str] = Feedforward.FULL
     """What the trajectory command feeds forward: ``FULL`` (the paper) or ``CORE``
     (ablation)."""
+    stop_on: str = "all"
+    """The world's stop rules: ``"all"`` (the paper protocol's), ``"none"``, or some of
+    ``tilt,slip,lift-off,driver-trip``; ``"tilt,slip,driver-trip"`` is the summary's
+    ``world_braking.lift_off_rule_relaxed``. Stored in canonical form."""
 
     def __post_init__(self) -> None:
+        _check_stop_on(self)
         for name in ("cruise_speed_m_per_s", "approach_accel_m_per_s2", "sample_every_secs"):
             _check_number(name, getattr(self, name), positive=True)
         _check_number("trajectory_tilt_limit_rad", self.trajectory_tilt_limit_rad, positive=True)
@@ -188,8 +201,13 @@ class PushSettings(_Settings):
     """At rest from this long after the push on (s; protocol 3.0); below ``observe_secs``."""
     sample_every_secs: Optional[float] = None
     """Sampling period of the returned series (s; protocol 0.01)."""
+    stop_on: str = "all"
+    """The world's stop rules: ``"all"`` (the protocol's), ``"none"``, or some of
+    ``tilt,slip,lift-off,driver-trip``; ``"tilt,driver-trip"`` is the summary's
+    ``world_push.rules_relaxed``. Stored in canonical form."""
 
     def __post_init__(self) -> None:
+        _check_stop_on(self)
         for name in ("observe_secs", "sample_every_secs"):
             _check_number(name, getattr(self, name), positive=True)
         for name in ("push_duration_secs", "settle_secs", "rest_within_secs"):

@@ -31,6 +31,7 @@ fn braking_params(
     intervals: Option<usize>,
     sample_every_secs: Option<f64>,
     feedforward: &str,
+    stop_on: &str,
 ) -> PyResult<BrakingParams> {
     let mut p = BrakingParams::default();
     if let Some(v) = settle_secs {
@@ -65,6 +66,7 @@ fn braking_params(
             ));
         }
     };
+    p.stop_rules = super::stop_rules(py, stop_on)?;
     p.validate().map_err(|e| braking_error(py, e))?;
     Ok(p)
 }
@@ -125,6 +127,13 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
         triples(py, s, |x| x.actuator_utilisation)?,
     )?;
     d.set_item("telemetry_hash", run.telemetry_hash)?;
+    d.set_item(
+        "happened",
+        run.happened
+            .as_ref()
+            .map(|h| super::happened_dict(py, h))
+            .transpose()?,
+    )?;
     crate::results::make(py, "BrakingRun", d)
 }
 
@@ -133,13 +142,15 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
 /// `cruise_speed_m_per_s` along `heading_deg`, cruise for `cruise_secs`, then the optimal braking
 /// trajectory to rest in `duration_secs` (solved here under the actuator, traction and tilt
 /// limits), flown through the core's trajectory command. `feedforward` is `"full"` (the
-/// trajectory's whole torque) or `"core"` (ablation: the equilibrium-lean feedforward only). Runs
-/// without the GIL.
+/// trajectory's whole torque) or `"core"` (ablation: the equilibrium-lean feedforward only).
+/// `stop_on` names the world's stop rules (`"all"`, the default and the paper protocol's;
+/// `"none"`; or some of `tilt,slip,lift-off,driver-trip`). Runs without the GIL.
 ///
 /// Returns a `BrakingRun`: `outcome` (a `BrakingOutcome`),
 /// `success`, `failure`, `rest_speed_m_per_s`, `solve_status` (for `no_trajectory`),
 /// `brake_start_secs`, `plan_peak_tilt_rad`, `plan_cost_n2m2s`, `peaks` (braking-phase extremes),
-/// `telemetry_hash` (equal for bit-identical runs) and samples every `sample_every_secs`:
+/// `telemetry_hash` (equal for bit-identical runs), `happened` (how the run ended: fell, ended
+/// by a stop rule, at rest...; and its contact events) and samples every `sample_every_secs`:
 /// `time_secs`, `command_m_per_s`, `speed_m_per_s`, `command_tilt_rad`, `tilt_rad` (n,);
 /// `cone_utilisation`, `normal_force_n`, `actuator_utilisation` (n, 3).
 #[pyfunction(name = "braking_run")]
@@ -147,7 +158,7 @@ fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'p
     params = None, *, duration_secs, heading_deg = 0.0, cruise_speed_m_per_s = None,
     approach_accel_m_per_s2 = None, settle_secs = None, cruise_secs = None,
     trajectory_tilt_limit_rad = None, intervals = None, sample_every_secs = None,
-    feedforward = "full",
+    feedforward = "full", stop_on = "all",
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn py_braking_run<'py>(
@@ -163,6 +174,7 @@ pub(crate) fn py_braking_run<'py>(
     intervals: Option<usize>,
     sample_every_secs: Option<f64>,
     feedforward: &str,
+    stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = braking_params(
@@ -175,6 +187,7 @@ pub(crate) fn py_braking_run<'py>(
         intervals,
         sample_every_secs,
         feedforward,
+        stop_on,
     )?;
     let run = py
         .detach(|| braking_run(world, &protocol, heading_deg, duration_secs, None))
@@ -196,7 +209,7 @@ pub(crate) fn py_braking_run<'py>(
     params = None, *, heading_deg = 0.0, durations_secs = None, bisection_resolution_secs = Some(0.05),
     cruise_speed_m_per_s = None, approach_accel_m_per_s2 = None, settle_secs = None,
     cruise_secs = None, trajectory_tilt_limit_rad = None, intervals = None, sample_every_secs = None,
-    feedforward = "full",
+    feedforward = "full", stop_on = "all",
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn py_braking_study<'py>(
@@ -213,6 +226,7 @@ pub(crate) fn py_braking_study<'py>(
     intervals: Option<usize>,
     sample_every_secs: Option<f64>,
     feedforward: &str,
+    stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = braking_params(
@@ -225,6 +239,7 @@ pub(crate) fn py_braking_study<'py>(
         intervals,
         sample_every_secs,
         feedforward,
+        stop_on,
     )?;
     let mut study = BrakingStudyParams::paper();
     if let Some(d) = durations_secs {

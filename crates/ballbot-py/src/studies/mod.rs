@@ -6,7 +6,34 @@ mod max_speed;
 mod push;
 mod robustness;
 
+use crate::errors::{Kind, error};
+use ballbot_sim::rig::Happened;
+use ballbot_sim::world::StopRules;
 use pyo3::prelude::*;
+
+/// The world's stop rules from `stop_on` (`"all"`, `"none"` or names separated by commas,
+/// as `ballbot world --stop-on` takes them); an unknown name is a `ParameterError` naming it.
+fn stop_rules(py: Python<'_>, stop_on: &str) -> PyResult<StopRules> {
+    stop_on
+        .parse()
+        .map_err(|e| error(py, Kind::Parameter, format!("invalid `stop_on`: {e}")))
+}
+
+/// The canonical form of `stop_on` (`"all"` -> `"tilt,slip,lift-off,driver-trip"`, names in
+/// their order, `"none"`), or a `ParameterError` naming the unknown rule: how the settings
+/// classes check their `stop_on` without a second list of the rules.
+#[pyfunction(name = "canonical_stop_rules")]
+fn py_canonical_stop_rules(py: Python<'_>, stop_on: &str) -> PyResult<String> {
+    Ok(stop_rules(py, stop_on)?.to_string())
+}
+
+/// What happened in a world run as plain Python objects: `{"outcome": {"kind": ...,
+/// "time_secs": ...}, "events": [...], "events_dropped": n}` (the summary's JSON form).
+fn happened_dict<'py>(py: Python<'py>, happened: &Happened) -> PyResult<Bound<'py, PyAny>> {
+    let value =
+        serde_json::to_value(happened).map_err(|e| error(py, Kind::Other, e.to_string()))?;
+    crate::log::json_to_py(py, &value)
+}
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(braking::py_braking_run, m)?)?;
@@ -17,5 +44,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(max_speed::py_failing_acceleration, m)?)?;
     m.add_function(wrap_pyfunction!(max_speed::py_max_speed_study, m)?)?;
     m.add_function(wrap_pyfunction!(robustness::py_robustness_json, m)?)?;
+    m.add_function(wrap_pyfunction!(py_canonical_stop_rules, m)?)?;
     Ok(())
 }

@@ -17,8 +17,12 @@ fn push_params(
     observe_secs: Option<f64>,
     rest_within_secs: Option<f64>,
     sample_every_secs: Option<f64>,
+    stop_rules: ballbot_sim::world::StopRules,
 ) -> PushParams {
-    let mut p = PushParams::default();
+    let mut p = PushParams {
+        stop_rules,
+        ..PushParams::default()
+    };
     if let Some(v) = rest_within_secs {
         p.rest_within_secs = v;
     }
@@ -60,6 +64,7 @@ fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, P
     let v: Vec<[f64; 2]> = s.iter().map(|x| x.ball_velocity_m_per_s).collect();
     d.set_item("ball_velocity_m_per_s", crate::world::table(py, v)?)?;
     d.set_item("telemetry_hash", t.telemetry_hash)?;
+    d.set_item("happened", super::happened_dict(py, &t.happened)?)?;
     crate::results::make(py, "PushTrial", d)
 }
 
@@ -68,15 +73,17 @@ fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, P
 /// `heading_deg` (body frame) spread over `push_duration_secs` hits the body's centre of mass,
 /// and the run is watched for `observe_secs` (defaults 1.0, 0.1, 4.0 s); recovered means no
 /// failure, tilt below 15 deg, and at rest (ball under 0.1 m/s, tilt under 3 deg) from
-/// `rest_within_secs` (default 3.0 s) after the push on. Runs without the GIL.
+/// `rest_within_secs` (default 3.0 s) after the push on. `stop_on` names the world's stop rules
+/// (`"all"`, the default; `"none"`; or some of `tilt,slip,lift-off,driver-trip`). Runs without
+/// the GIL.
 /// Returns a `PushTrial`: `outcome` (a `PushOutcome`),
 /// `recovered`, `failure`, `peak_tilt_rad`, `peak_speed_m_per_s`, `rest_speed_m_per_s`,
-/// `telemetry_hash`, and samples: `time_secs` (since the push), `tilt_rad`, `speed_m_per_s`,
+/// `telemetry_hash`, `happened` (how the run ended and its contact events), and samples: `time_secs` (since the push), `tilt_rad`, `speed_m_per_s`,
 /// `max_cone_utilisation` (n,), `ball_velocity_m_per_s` (n, 2).
 #[pyfunction(name = "push_trial")]
 #[pyo3(signature = (
     params = None, *, impulse_ns, heading_deg = 0.0, push_duration_secs = None, settle_secs = None,
-    observe_secs = None, rest_within_secs = None, sample_every_secs = None,
+    observe_secs = None, rest_within_secs = None, sample_every_secs = None, stop_on = "all",
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn py_push_trial<'py>(
@@ -89,6 +96,7 @@ pub(crate) fn py_push_trial<'py>(
     observe_secs: Option<f64>,
     rest_within_secs: Option<f64>,
     sample_every_secs: Option<f64>,
+    stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = push_params(
@@ -97,6 +105,7 @@ pub(crate) fn py_push_trial<'py>(
         observe_secs,
         rest_within_secs,
         sample_every_secs,
+        super::stop_rules(py, stop_on)?,
     );
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(impulse_ns.is_finite() && heading_deg.is_finite()) {
@@ -121,7 +130,7 @@ pub(crate) fn py_push_trial<'py>(
 #[pyo3(signature = (
     params = None, *, heading_deg = 0.0, upper_ns = 100.0, resolution_ns = 0.5,
     push_duration_secs = None, settle_secs = None, observe_secs = None, rest_within_secs = None,
-    sample_every_secs = None,
+    sample_every_secs = None, stop_on = "all",
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn py_push_recovery_limit<'py>(
@@ -135,6 +144,7 @@ pub(crate) fn py_push_recovery_limit<'py>(
     observe_secs: Option<f64>,
     rest_within_secs: Option<f64>,
     sample_every_secs: Option<f64>,
+    stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
     let protocol = push_params(
@@ -143,6 +153,7 @@ pub(crate) fn py_push_recovery_limit<'py>(
         observe_secs,
         rest_within_secs,
         sample_every_secs,
+        super::stop_rules(py, stop_on)?,
     );
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(resolution_ns.is_finite() && resolution_ns > 0.0 && upper_ns / resolution_ns <= 1e9) {

@@ -272,7 +272,7 @@ pub fn monte_carlo_table(mc: &MonteCarlo) -> String {
             "  run {:>4} seed {:>20}: {:<13} peak tilt {:>5.1} deg, heading {:>5.1} deg, payload x{:.2}, COM x{:.2}, tilt bias [{:+.3}, {:+.3}] rad{}",
             r.index,
             r.seed,
-            r.outcome,
+            r.verdict,
             r.peak_tilt_deg,
             m.heading_deg,
             m.payload_mass,

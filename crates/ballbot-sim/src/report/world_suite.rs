@@ -2,10 +2,12 @@
 //! summary's JSON (`min_braking_time_3d_secs`, `push_recovery_ns`, `world_braking`,
 //! `world_push`) and as comparison tables.
 
+use crate::rig::Happened;
 use crate::studies::push::{PushOutcome, PushRecovery, PushTrial};
 use crate::studies::world_braking::{BrakingOutcome, BrakingRun, BrakingStudy};
 use crate::studies::world_suite::{
-    PAPER_MIN_BRAKING_TIME_SECS, PUSH_RULES_RELAXED, SEED, WorldSuite,
+    BRAKING_LIFT_OFF_RULE_RELAXED, PAPER_MIN_BRAKING_TIME_SECS, PUSH_RULES_RELAXED, SEED,
+    WorldSuite,
 };
 use crate::world::{Failure, wheel_name};
 use serde_json::{Map, Value, json};
@@ -52,6 +54,20 @@ pub fn limiting(run: &BrakingRun) -> String {
     }
 }
 
+/// `record` with what happened in its run: `outcome` (how it ended: fell, ended by a stop
+/// rule, at rest...), `events` and `events_dropped`; a run never flown has a null outcome and
+/// no events.
+pub(crate) fn with_happened(mut record: Value, happened: Option<&Happened>) -> Value {
+    let fields = happened.map_or_else(
+        || json!({ "outcome": null, "events": [], "events_dropped": 0 }),
+        |h| serde_json::to_value(h).unwrap_or(Value::Null),
+    );
+    if let (Value::Object(r), Value::Object(f)) = (&mut record, fields) {
+        r.extend(f);
+    }
+    record
+}
+
 fn run_json(run: &BrakingRun) -> Value {
     let p = &run.peaks;
     let outcome = match run.outcome {
@@ -68,9 +84,9 @@ fn run_json(run: &BrakingRun) -> Value {
             "rest_tilt_deg": rest_tilt_rad.to_degrees(),
         }),
     };
-    json!({
+    let record = json!({
         "duration_secs": run.duration_secs,
-        "outcome": run.outcome.label(),
+        "verdict": run.outcome.label(),
         "success": run.outcome.is_success(),
         "detail": outcome,
         "limiting": limiting(run),
@@ -83,7 +99,8 @@ fn run_json(run: &BrakingRun) -> Value {
         "peak_speed_error_m_per_s": p.speed_error_m_per_s,
         "slip_secs": p.slip_secs,
         "brake_start_secs": run.brake_start_secs,
-    })
+    });
+    with_happened(record, run.happened.as_ref())
 }
 
 fn study_json(study: &BrakingStudy, planar_secs: Option<f64>) -> Value {
@@ -101,9 +118,9 @@ fn study_json(study: &BrakingStudy, planar_secs: Option<f64>) -> Value {
 
 fn push_json(r: &PushRecovery) -> Value {
     let trial = |t: &PushTrial| {
-        json!({
+        let record = json!({
             "impulse_ns": t.impulse_ns,
-            "outcome": t.outcome.label(),
+            "verdict": t.outcome.label(),
             "failure": match t.outcome {
                 PushOutcome::Failed(f) => failure_json(&f),
                 _ => Value::Null,
@@ -111,7 +128,8 @@ fn push_json(r: &PushRecovery) -> Value {
             "peak_tilt_deg": t.peak_tilt_rad.to_degrees(),
             "peak_speed_m_per_s": t.peak_speed_m_per_s,
             "rest_speed_m_per_s": t.rest_speed_m_per_s,
-        })
+        });
+        with_happened(record, Some(&t.happened))
     };
     json!({
         "heading_deg": r.heading_deg,
@@ -184,6 +202,10 @@ impl WorldSuite {
                 },
                 "headings": headings,
                 "ablation_core_feedforward_180": ablation,
+                "lift_off_rule_relaxed": {
+                    "stop_rules": BRAKING_LIFT_OFF_RULE_RELAXED.to_string(),
+                    "headings": self.braking_lift_off_rule_relaxed.iter().map(|st| (key(st.heading_deg), study_json(st, planar_at(st.heading_deg)))).collect::<Map<_, _>>(),
+                },
                 "planar_min_braking_time_secs": planar,
             }),
         );
@@ -321,17 +343,28 @@ impl WorldSuite {
             "first failure",
             "planar min T",
         );
-        for st in &self.braking {
+        let rows = self.braking.iter().map(|st| (st, "°")).chain(
+            self.braking_lift_off_rule_relaxed
+                .iter()
+                .map(|st| (st, "°*")),
+        );
+        for (st, mark) in rows {
             let fail = st.first_failure().map_or_else(|| "-".to_owned(), limiting);
             let _ = writeln!(
                 out,
-                "  {:>6.0}° | {:>22} s | {:>13} s | {:>13} s | {:>11} s | {}",
+                "  {:>6.0}{mark:<2}| {:>22} s | {:>13} s | {:>13} s | {:>11} s | {}",
                 st.heading_deg,
                 opt(st.shortest_success_secs, 2),
                 opt(st.limit_secs, 3),
                 opt(st.first_failure_secs, 2),
                 opt(self.planar_at(st.heading_deg), 3),
                 fail
+            );
+        }
+        if !self.braking_lift_off_rule_relaxed.is_empty() {
+            let _ = writeln!(
+                out,
+                "  * with the world's lift-off stop rule off (stop rules: {BRAKING_LIFT_OFF_RULE_RELAXED})"
             );
         }
         let _ = writeln!(

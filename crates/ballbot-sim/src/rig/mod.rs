@@ -22,5 +22,5 @@ pub mod world_robot;
 pub use devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
 pub use events::{Event, EventKind, EventLog};
 pub use inject::{Injector, NoFaults, Tick};
-pub use outcome::{Outcome, OutcomeTracker};
+pub use outcome::{Happened, Outcome, OutcomeTracker};
 pub use world_robot::WorldRobot;

@@ -16,7 +16,7 @@
 //!   from the time given to the end.
 //! - **Unsettled**: none of these when the run ended (still in a transient).
 
-use super::WorldRobot;
+use super::{Event, WorldRobot};
 use crate::world::{Failure, FailureKind};
 use ballbot_core::safety::Mode;
 
@@ -166,5 +166,37 @@ impl OutcomeTracker {
         } else {
             Outcome::Unsettled
         }
+    }
+}
+
+/// What happened in one closed-loop run, in its one canonical form: how it ended and the
+/// events on the way, whatever the stop rules. Every world study's run record carries one.
+///
+/// JSON: `{"outcome": {"kind": "at_rest", "time_secs": 6.1}, "events": [...],
+/// "events_dropped": 0}`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Happened {
+    /// How the run ended ([`Outcome`]).
+    pub outcome: Outcome,
+    /// Slips, lift-offs, driver trips, controller faults and traction limits, in order of
+    /// onset ([`crate::rig::EventLog`]).
+    pub events: Vec<Event>,
+    /// Events beyond [`crate::rig::EventLog::MAX_EVENTS`], not kept.
+    pub events_dropped: u64,
+}
+
+impl Happened {
+    /// The run of `sim` so far, as `judge` saw it.
+    pub fn of(sim: &WorldRobot, judge: &OutcomeTracker) -> Self {
+        Self {
+            outcome: judge.outcome(sim.world().failure()),
+            events: sim.events().events().to_vec(),
+            events_dropped: sim.events().dropped(),
+        }
+    }
+
+    /// Whether the body reached the floor.
+    pub fn fell(&self) -> bool {
+        matches!(self.outcome, Outcome::Fell { .. })
     }
 }

@@ -5,6 +5,8 @@
 //! loop, [`crate::trajopt`] and [`crate::log`]; never [`crate::report`] or the command line.
 //!
 //! - [`runner`]: the one job runner: independent jobs on every core, results in job order.
+//! - [`driver`]: the one experiment driver: a study is a type ([`driver::Study`]: jobs, a
+//!   trial or a bisection per job, what passes), run on the runner with progress and replay.
 //! - [`piptb`]: the PIPTB controller comparison (paper Sec. IV-C) and [`planar_braking`], the
 //!   braking reference its controllers track.
 //! - [`ramp`]: a velocity ramp in the 3D world until failure (the maximum-speed protocol's run).
@@ -18,6 +20,7 @@
 //! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
 
+pub mod driver;
 pub mod max_speed;
 pub mod mechanisms;
 pub mod piptb;

@@ -16,7 +16,8 @@
 //! tilt below `rest_tilt_rad` ([`PushParams`]). [`push_recovery_limit`] bisects the impulse
 //! for the largest one recovered.
 
-use crate::rig::{Injector, NoFaults, WorldRobot};
+use crate::studies::driver::{Bisection, bisect};
+use crate::rig::{Happened, Injector, NoFaults, OutcomeTracker, WorldRobot};
 use crate::world::failure::{Failure, tilt_from_vertical_rad};
 use crate::world::params::WorldParams;
 use crate::world::{StopRules, WorldError};
@@ -190,6 +191,9 @@ pub struct PushTrial {
     pub samples: Vec<PushSample>,
     /// FNV-1a hash of every step's telemetry (bit-identical runs have equal hashes).
     pub telemetry_hash: u64,
+    /// How the run ended (fell, ended by a stop rule, at rest...) and its contact events,
+    /// whatever the stop rules.
+    pub happened: Happened,
 }
 
 impl PushTrial {
@@ -271,7 +275,9 @@ pub fn push_trial_with(
         rest_speed_m_per_s: 0.0,
         samples: Vec::with_capacity((end_step / every + 1) as usize),
         telemetry_hash: crate::world::telemetry::FNV_OFFSET_BASIS,
+        happened: Happened::of(&sim, &OutcomeTracker::default()),
     };
+    let mut judge = OutcomeTracker::default();
     let mut rest_tilt: f64 = 0.0;
     let after_failure_steps = (super::world_braking::AFTER_FAILURE_SECS / dt).round() as u64;
     let mut failed_at: Option<u64> = None;
@@ -293,6 +299,11 @@ pub fn push_trial_with(
         let v = &tel.ball_velocity_m_per_s;
         let speed = v.x.hypot(v.y);
         let failed = failed_at.is_some();
+        if !failed {
+            let (_, _, yaw) = tel.body_orientation.euler_angles();
+            let v_yaw = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * v;
+            judge.update(&sim, [v_yaw.x, v_yaw.y], [0.0, 0.0]);
+        }
         if k >= push_step && !failed {
             trial.peak_tilt_rad = trial.peak_tilt_rad.max(tilt);
             trial.peak_speed_m_per_s = trial.peak_speed_m_per_s.max(speed);
@@ -319,10 +330,11 @@ pub fn push_trial_with(
                 trial.outcome = PushOutcome::Failed(failure);
                 failed_at = Some(k);
             }
-            (Some(at), _) if k >= at + after_failure_steps => return Ok(trial),
+            (Some(at), _) if k >= at + after_failure_steps => break,
             _ => {}
         }
     }
+    trial.happened = Happened::of(&sim, &judge);
     if failed_at.is_some() {
         return Ok(trial);
     }
@@ -436,34 +448,19 @@ pub fn push_recovery_limit_by(
         });
     }
     let mut trials = Vec::new();
-    let first = trial(search.upper_ns)?;
-    on_trial(&first);
-    let first_recovered = recovered(&first);
-    trials.push(first);
-    if first_recovered {
-        return Ok(PushRecovery {
-            heading_deg,
-            largest_recovered_ns: search.upper_ns,
-            smallest_failing_ns: None,
-            trials,
-        });
-    }
-    let (mut lo, mut hi) = (0.0, search.upper_ns);
-    while hi - lo > search.resolution_ns {
-        let mid = 0.5 * (lo + hi);
-        let t = trial(mid)?;
+    let bisection = Bisection {
+        passing: 0.0,
+        failing: search.upper_ns,
+        resolution: search.resolution_ns,
+    };
+    let bracket = bisect(&bisection, &mut *trial, recovered, |_, t| {
         on_trial(&t);
-        if recovered(&t) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
         trials.push(t);
-    }
+    })?;
     Ok(PushRecovery {
         heading_deg,
-        largest_recovered_ns: lo,
-        smallest_failing_ns: Some(hi),
+        largest_recovered_ns: bracket.passed,
+        smallest_failing_ns: bracket.failed,
         trials,
     })
 }

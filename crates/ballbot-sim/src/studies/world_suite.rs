@@ -9,9 +9,12 @@
 //! pulse and applied in one physics step (see [`crate::studies::push`]); the braking study at
 //! all three headings again with a normal-force margin in the planner's traction cones
 //! ([`WorldSuiteSettings::normal_force_margins_n`], 100, 200 and 250 N), with the planar
-//! minimum braking time under each margin. Quick
+//! minimum braking time under each margin; the braking study at the three headings and the
+//! pushes with the protocol's duration again with stop rules relaxed
+//! ([`BRAKING_LIFT_OFF_RULE_RELAXED`], [`PUSH_RULES_RELAXED`]). Quick
 //! ([`WorldSuiteSettings::quick`]): T = 5, 3, 2 s at 180 deg with a shorter approach, and a
-//! coarse push bisection (12 N s) at 180 deg.
+//! coarse push bisection (12 N s) at 180 deg; T = 2, 1.5, 1 s at 180 deg with the lift-off
+//! rule off and the push bisection with the slip and lift-off rules off.
 
 use crate::studies::push::{PushParams, PushRecovery, PushSearch, push_recovery_limit};
 use crate::studies::runner;
@@ -41,6 +44,9 @@ pub enum SuiteJob {
         study: BrakingStudyParams,
         /// The planner's normal-force margin (N); 0: the plain traction cones.
         normal_force_margin_n: f64,
+        /// The world's stop rules: all (the paper protocol's), or the lift-off rule off
+        /// (`world_braking.lift_off_rule_relaxed`).
+        stop_rules: StopRules,
     },
     /// A push-recovery search at one heading.
     Push {
@@ -59,6 +65,15 @@ pub enum SuiteJob {
 /// The stop rules of `world_push.rules_relaxed`: the slip and lift-off rules off, the tilt and
 /// driver-trip rules on (a fall still ends the run; so does the protocol's own 15 deg bound).
 pub const PUSH_RULES_RELAXED: StopRules = StopRules::contact_rules_off();
+
+/// The stop rules of `world_braking.lift_off_rule_relaxed`: every rule but lift-off. Braking's
+/// limits were OW1 lift-offs 43-49 ms into the stop; with the rule off the run goes on, and it
+/// fails only if the robot then falls, slips for longer than the slip rule allows, or is not at
+/// rest in the rest window.
+pub const BRAKING_LIFT_OFF_RULE_RELAXED: StopRules = StopRules {
+    lift_off: false,
+    ..StopRules::all()
+};
 
 /// The protocol of the suite.
 #[derive(Clone, Debug, PartialEq)]
@@ -104,21 +119,25 @@ impl WorldSuiteSettings {
             duration_secs: PushParams::default().push_duration_secs,
             stop_rules,
         };
+        let brake = |durations_secs, stop_rules| SuiteJob::Braking {
+            heading_deg: 180.0,
+            feedforward: TrajectoryFeedforward::Full,
+            study: BrakingStudyParams {
+                durations_secs,
+                bisection_resolution_secs: None,
+            },
+            normal_force_margin_n: 0.0,
+            stop_rules,
+        };
         Self {
             braking,
             push: PushParams::default(),
             jobs: vec![
-                SuiteJob::Braking {
-                    heading_deg: 180.0,
-                    feedforward: TrajectoryFeedforward::Full,
-                    study: BrakingStudyParams {
-                        durations_secs: vec![5.0, 3.0, 2.0],
-                        bisection_resolution_secs: None,
-                    },
-                    normal_force_margin_n: 0.0,
-                },
+                brake(vec![5.0, 3.0, 2.0], StopRules::all()),
                 push(StopRules::all()),
                 push(PUSH_RULES_RELAXED),
+                // Where the full study's limits lie (1.5 s with the rule off, 2 s with it).
+                brake(vec![2.0, 1.5, 1.0], BRAKING_LIFT_OFF_RULE_RELAXED),
             ],
             planar_headings_deg: vec![180.0],
             planar_resolution_secs: 0.05,
@@ -128,17 +147,31 @@ impl WorldSuiteSettings {
 
     /// The full suite (`ballbot reproduce`).
     pub fn paper() -> Self {
-        let braking_with = |heading_deg, feedforward, bisect: bool, margin_n| SuiteJob::Braking {
-            heading_deg,
-            feedforward,
-            study: BrakingStudyParams {
-                bisection_resolution_secs: bisect.then_some(0.05),
-                ..BrakingStudyParams::paper()
-            },
-            normal_force_margin_n: margin_n,
+        let braking_rules =
+            |heading_deg, feedforward, bisect: bool, margin_n, stop_rules| SuiteJob::Braking {
+                heading_deg,
+                feedforward,
+                study: BrakingStudyParams {
+                    bisection_resolution_secs: bisect.then_some(0.05),
+                    ..BrakingStudyParams::paper()
+                },
+                normal_force_margin_n: margin_n,
+                stop_rules,
+            };
+        let braking_with = |heading_deg, feedforward, bisect, margin_n| {
+            braking_rules(heading_deg, feedforward, bisect, margin_n, StopRules::all())
         };
         let braking =
             |heading_deg, feedforward, bisect| braking_with(heading_deg, feedforward, bisect, 0.0);
+        let relaxed = |heading_deg| {
+            braking_rules(
+                heading_deg,
+                TrajectoryFeedforward::Full,
+                true,
+                0.0,
+                BRAKING_LIFT_OFF_RULE_RELAXED,
+            )
+        };
         let push_with = |heading_deg, duration_secs, stop_rules| SuiteJob::Push {
             heading_deg,
             search: PushSearch {
@@ -162,6 +195,9 @@ impl WorldSuiteSettings {
                         .map(|h| braking_with(h, TrajectoryFeedforward::Full, true, m))
                 })
                 .chain([
+                    relaxed(180.0),
+                    relaxed(0.0),
+                    relaxed(90.0),
                     braking(180.0, TrajectoryFeedforward::Full, true),
                     braking(0.0, TrajectoryFeedforward::Full, true),
                     braking(90.0, TrajectoryFeedforward::Full, true),
@@ -219,6 +255,8 @@ pub struct WorldSuite {
     pub braking: Vec<BrakingStudy>,
     /// The braking study with the core's equilibrium feedforward only, if it ran.
     pub ablation: Option<BrakingStudy>,
+    /// The braking studies with [`BRAKING_LIFT_OFF_RULE_RELAXED`], in job order.
+    pub braking_lift_off_rule_relaxed: Vec<BrakingStudy>,
     /// The push searches with the protocol's push duration, in job order.
     pub pushes: Vec<PushRecovery>,
     /// The push searches with another duration (one physics step), in job order.
@@ -262,7 +300,7 @@ impl WorldSuite {
 }
 
 enum JobResult {
-    Braking(BrakingStudy, TrajectoryFeedforward, f64),
+    Braking(BrakingStudy, TrajectoryFeedforward, f64, StopRules),
     Push(PushRecovery, f64, StopRules),
 }
 
@@ -278,10 +316,12 @@ fn run_job(
             feedforward,
             study,
             normal_force_margin_n,
+            stop_rules,
         } => {
             let params = BrakingParams {
                 feedforward: *feedforward,
                 normal_force_margin_n: *normal_force_margin_n,
+                stop_rules: *stop_rules,
                 ..s.braking
             };
             let result = braking_study(world, &params, study, *heading_deg, &mut |run| {
@@ -296,6 +336,7 @@ fn run_job(
                 result,
                 *feedforward,
                 *normal_force_margin_n,
+                *stop_rules,
             ))
         }
         SuiteJob::Push {
@@ -354,6 +395,7 @@ pub fn run_world_suite(
         world,
         braking: Vec::new(),
         ablation: None,
+        braking_lift_off_rule_relaxed: Vec::new(),
         pushes: Vec::new(),
         impulsive: Vec::new(),
         pushes_rules_relaxed: Vec::new(),
@@ -362,7 +404,10 @@ pub fn run_world_suite(
     };
     for r in results {
         match r {
-            JobResult::Braking(study, TrajectoryFeedforward::Full, m) if m > 0.0 => {
+            JobResult::Braking(study, _, _, rules) if rules != StopRules::all() => {
+                suite.braking_lift_off_rule_relaxed.push(study);
+            }
+            JobResult::Braking(study, TrajectoryFeedforward::Full, m, _) if m > 0.0 => {
                 if let Some(e) = suite
                     .margin_sweep
                     .iter_mut()
@@ -371,8 +416,10 @@ pub fn run_world_suite(
                     e.studies.push(study);
                 }
             }
-            JobResult::Braking(study, TrajectoryFeedforward::Full, _) => suite.braking.push(study),
-            JobResult::Braking(study, TrajectoryFeedforward::Core, _) => {
+            JobResult::Braking(study, TrajectoryFeedforward::Full, _, _) => {
+                suite.braking.push(study);
+            }
+            JobResult::Braking(study, TrajectoryFeedforward::Core, _, _) => {
                 suite.ablation = Some(study);
             }
             JobResult::Push(p, _, rules) if rules != StopRules::all() => {

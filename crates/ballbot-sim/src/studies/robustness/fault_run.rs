@@ -4,9 +4,9 @@
 use super::faults::{Condition, FaultClass, FaultMagnitudes, SafeState};
 use super::injector::FaultInjector;
 use crate::log::{LogError, McapLog, WorldLogOptions, WorldLogger};
-use crate::rig::WorldRobot;
+use crate::rig::{Happened, OutcomeTracker, WorldRobot};
 use crate::world::failure::tilt_from_vertical_rad;
-use crate::world::{FloorBump, WorldError, WorldParams};
+use crate::world::{FloorBump, StopRules, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_core::safety::{Fault, Mode};
@@ -162,6 +162,12 @@ pub struct CellResult {
     pub exercised: bool,
     /// The log, when one was written.
     pub log: Option<CellLog>,
+    /// How the run ended and its contact events (JSON: `outcome`, `events`,
+    /// `events_dropped` in the cell's record). The world's only stop rule here is the tilt
+    /// rule, the cell's own fall limit, so `ended_by_stop_rule` (tilt) is a fall; the cell
+    /// still runs 0.5 s past it.
+    #[serde(flatten)]
+    pub happened: Happened,
 }
 
 impl CellResult {
@@ -216,6 +222,9 @@ pub fn run_cell(
     params.sensors.seed = cell.seed;
     let config = cell.controller.config(&params)?;
     let mut sim = WorldRobot::with_config(params, config)?;
+    // The cell's fall limit is the world's tilt limit: the only rule that records a failure.
+    sim.world_mut().set_stop_rules(CELL_STOP_RULES);
+    let mut judge = OutcomeTracker::default();
     let mut logger = match log {
         Some(path) => Some(
             WorldLogger::with_options(
@@ -255,6 +264,13 @@ pub fn run_cell(
         }
         run.update_patch(&mut sim)?;
         run.observe(&sim, params.dt_secs);
+        if sim.world().failure().is_none() {
+            judge.update(
+                &sim,
+                yaw_frame_ball_velocity(&sim),
+                [command.vx_m_per_s, command.vy_m_per_s],
+            );
+        }
         if run.fallen_for_secs(sim.world().time_secs()) > 0.5 {
             break;
         }
@@ -266,7 +282,23 @@ pub fn run_cell(
         }
         _ => None,
     };
-    Ok(run.result(&sim, cell_log))
+    Ok(run.result(&sim, cell_log, Happened::of(&sim, &judge)))
+}
+
+/// The stop rules of a cell's world: tilt only (the cell's fall limit); slips, lift-offs and
+/// driver trips are events, and the fault classes make them on purpose.
+const CELL_STOP_RULES: StopRules = StopRules {
+    tilt: true,
+    ..StopRules::none()
+};
+
+/// The ball's horizontal velocity in the body's yaw frame (m/s: x, y).
+fn yaw_frame_ball_velocity(sim: &WorldRobot) -> [f64; 2] {
+    let tel = sim.world().telemetry();
+    let (_, _, yaw) = tel.body_orientation.euler_angles();
+    let v =
+        nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
+    [v.x, v.y]
 }
 
 fn log_error(path: &Path, source: LogError) -> CellError {
@@ -509,7 +541,7 @@ impl CellRun {
         self.fell_at_secs.map_or(0.0, |f| t_secs - f)
     }
 
-    fn result(&self, sim: &WorldRobot, log: Option<CellLog>) -> CellResult {
+    fn result(&self, sim: &WorldRobot, log: Option<CellLog>, happened: Happened) -> CellResult {
         let tel = sim.world().telemetry();
         let mode = sim.mode();
         let fell = self.fell_at_secs.is_some();
@@ -568,6 +600,7 @@ impl CellRun {
             faults_before_injection: self.before.iter().map(|f| f.as_str()).collect(),
             exercised,
             log,
+            happened,
         }
     }
 }

@@ -10,7 +10,7 @@
 
 use super::fault_run::ControllerVariant;
 use super::mismatch::Mismatch;
-use crate::rig::WorldRobot;
+use crate::rig::{Happened, WorldRobot};
 use crate::studies::push::{
     PushOutcome, PushParams, PushSearch, PushTrial, push_recovery_limit_by, push_trial_with,
 };
@@ -229,8 +229,9 @@ pub struct MonteCarloRun {
     pub seed: u64,
     /// The sampled mismatch.
     pub mismatch: Mismatch,
-    /// How the push ended (`recovered`, `tilt_exceeded`, `failed`, `not_at_rest`).
-    pub outcome: &'static str,
+    /// The protocol's verdict on the push (`recovered`, `tilt_exceeded`, `failed`,
+    /// `not_at_rest`).
+    pub verdict: &'static str,
     /// Whether it stayed up ([`MonteCarloCount::stayed_up`]): with the stop rules, no failure
     /// of the world and the tilt below 15 deg (outcome `recovered` or `not_at_rest`); counting
     /// falls, no failure of the world.
@@ -246,6 +247,11 @@ pub struct MonteCarloRun {
     pub rest_speed_m_per_s: f64,
     /// Largest push it stays up after (N s), for the bisected runs.
     pub largest_recovered_ns: Option<f64>,
+    /// How the run ended (fell, ended by a stop rule, at rest...) and its contact events,
+    /// whatever the stop rules; in JSON its fields `outcome`, `events` and `events_dropped`
+    /// sit in the run's record. For the bisected runs, the trial at the fixed impulse.
+    #[serde(flatten)]
+    pub happened: Happened,
 }
 
 /// Quantiles of the largest push the bisected runs stay up after (N s).
@@ -370,13 +376,14 @@ pub fn run_one(
         index,
         seed,
         mismatch,
-        outcome: trial.outcome.label(),
+        verdict: trial.outcome.label(),
         stayed_up: settings.count.stayed_up(&trial),
         recovered: trial.recovered(),
         failure,
         peak_tilt_deg: trial.peak_tilt_rad.to_degrees(),
         rest_speed_m_per_s: trial.rest_speed_m_per_s,
         largest_recovered_ns,
+        happened: trial.happened,
     })
 }
 
@@ -426,9 +433,9 @@ fn summarise(
     let at_rest = all_runs.iter().filter(|r| r.recovered).count();
     let mut outcomes: Vec<(&'static str, usize)> = Vec::new();
     for r in &all_runs {
-        match outcomes.iter_mut().find(|(o, _)| *o == r.outcome) {
+        match outcomes.iter_mut().find(|(o, _)| *o == r.verdict) {
             Some((_, n)) => *n += 1,
-            None => outcomes.push((r.outcome, 1)),
+            None => outcomes.push((r.verdict, 1)),
         }
     }
     let mut worst: Vec<MonteCarloRun> = all_runs.iter().filter(|r| !r.stayed_up).cloned().collect();

@@ -2,7 +2,7 @@
 //! flown by the core's controller to rest, with the samples and peaks the study reports.
 
 use super::*;
-use crate::rig::WorldRobot;
+use crate::rig::{Happened, OutcomeTracker, WorldRobot};
 use crate::world::failure::tilt_from_vertical_rad;
 use crate::world::telemetry::StepTelemetry;
 use ballbot_core::command::TrajectoryLimits;
@@ -19,15 +19,16 @@ fn sample_linear(samples: &[WipState<f64>], period_secs: f64, t_secs: f64) -> Wi
     }
 }
 
-/// Ball speed along `dir` in the body's yaw frame, signed tilt in the plane of `heading`.
-fn along_heading(tel: &StepTelemetry, cos_h: f64, sin_h: f64) -> (f64, f64) {
+/// Ball speed along the heading in the body's yaw frame, signed tilt in the plane of the
+/// heading, and the ball's velocity in the yaw frame (m/s: x, y).
+fn along_heading(tel: &StepTelemetry, cos_h: f64, sin_h: f64) -> (f64, f64, [f64; 2]) {
     let (_, _, yaw) = tel.body_orientation.euler_angles();
     let v_body = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
     let speed = v_body.x * cos_h + v_body.y * sin_h;
     // The command maps a planar tilt to the sagittal plane as cos(h) and to the frontal plane
     // as -sin(h); project back the same way.
     let tilt = cos_h * tel.tilt_rad[1] - sin_h * tel.tilt_rad[0];
-    (speed, tilt)
+    (speed, tilt, [v_body.x, v_body.y])
 }
 
 fn actuator_utilisation(world_params: &WorldParams, tel: &StepTelemetry) -> [f64; 3] {
@@ -85,6 +86,7 @@ pub fn braking_run(
             peaks: BrakingPeaks::default(),
             samples: Vec::new(),
             telemetry_hash: crate::world::telemetry::FNV_OFFSET_BASIS,
+            happened: None,
         });
     }
     let mut run = fly_braking(
@@ -151,6 +153,7 @@ pub fn fly_braking(
         peaks: BrakingPeaks::default(),
         samples: Vec::new(),
         telemetry_hash: crate::world::telemetry::FNV_OFFSET_BASIS,
+        happened: None,
     };
     let radius = plane.ball_radius_m;
     let period = config.outer_dt_secs;
@@ -195,6 +198,8 @@ pub fn fly_braking(
     };
 
     let mut sim = WorldRobot::with_config(world_params, config)?;
+    sim.world_mut().set_stop_rules(params.stop_rules);
+    let mut judge = OutcomeTracker::default();
     let (sin_h, cos_h) = heading_rad.sin_cos();
     let ramp_limits = AxisLimits {
         max_value: params.cruise_speed_m_per_s,
@@ -208,6 +213,7 @@ pub fn fly_braking(
     let end_step = rest_from_step + (params.rest_hold_secs / dt).round() as u64;
     let every = (params.sample_every_secs / dt).round().max(1.0) as u64;
     let after_failure_steps = (AFTER_FAILURE_SECS / dt).round() as u64;
+    let plan_steps = (duration_secs / dt).round() as u64;
     let mut failed_at: Option<u64> = None;
     let mut peaks = BrakingPeaks {
         min_normal_force_n: [f64::INFINITY; 3],
@@ -245,8 +251,17 @@ pub fn fly_braking(
             _ => observe(&sim, None),
         }
         tel.hash_into(&mut run.telemetry_hash);
-        let (speed, tilt) = along_heading(&tel, cos_h, sin_h);
+        let (speed, tilt, v_yaw) = along_heading(&tel, cos_h, sin_h);
         let braking = k >= brake_step;
+        if failed_at.is_none() {
+            // The plan ends at rest: past its end the command is to stand.
+            let planned = if k >= brake_step + plan_steps {
+                0.0
+            } else {
+                command_speed
+            };
+            judge.update(&sim, v_yaw, [planned * cos_h, planned * sin_h]);
+        }
         let utilisation = if braking || k % every == 0 {
             actuator_utilisation(&world_params, &tel)
         } else {
@@ -316,6 +331,7 @@ pub fn fly_braking(
         }
     }
     run.peaks = peaks;
+    run.happened = Some(Happened::of(&sim, &judge));
     Ok(run)
 }
 

@@ -35,13 +35,14 @@ mod study;
 pub use fly::{braking_run, fly_braking};
 pub use study::{BrakingStudy, BrakingStudyParams, braking_study};
 
+use crate::rig::Happened;
 use crate::trajopt::{
     BrakingProblem, BrakingSolution, Drive, InitialGuess, Limits, Method, SolveOptions,
     SolveStatus, Trajectory, TrajoptError,
 };
-use crate::world::WorldError;
 use crate::world::failure::Failure;
 use crate::world::params::WorldParams;
+use crate::world::{StopRules, WorldError};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{
     AxisLimits, Command, JerkLimiter, Trajectory as CommandTrajectory, VelocityCommand,
@@ -132,6 +133,9 @@ pub struct BrakingParams {
     /// `|F_i| <= mu (N_i - margin)` at every knot ([`Limits::normal_force_margin_n`]), so
     /// every planned normal force is at least the margin. Default 0 (the plain cone).
     pub normal_force_margin_n: f64,
+    /// The world's stop rules during the run. Default all on, the protocol as it always ran;
+    /// `world_braking.lift_off_rule_relaxed` runs the study with the lift-off rule off.
+    pub stop_rules: StopRules,
 }
 
 impl Default for BrakingParams {
@@ -151,6 +155,7 @@ impl Default for BrakingParams {
             sample_every_secs: 0.01,
             feedforward: TrajectoryFeedforward::Full,
             normal_force_margin_n: 0.0,
+            stop_rules: StopRules::all(),
         }
     }
 }
@@ -392,6 +397,9 @@ pub struct BrakingRun {
     pub samples: Vec<BrakingSample>,
     /// FNV-1a hash of every step's telemetry (bit-identical runs have equal hashes).
     pub telemetry_hash: u64,
+    /// How the flown run ended (fell, ended by a stop rule, at rest...) and its contact
+    /// events, whatever the stop rules; `None` when no trajectory was flown.
+    pub happened: Option<Happened>,
 }
 
 /// Solves the braking trajectory of a run (warm-started from `warm` if given).

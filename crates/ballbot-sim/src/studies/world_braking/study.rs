@@ -2,6 +2,7 @@
 //! that refines the limit beyond it.
 
 use super::*;
+use crate::studies::driver::halve;
 
 /// The paper's protocol and the refinement beyond it.
 #[derive(Clone, Debug, PartialEq)]
@@ -111,27 +112,33 @@ pub fn braking_study(
     }
     out.limit_secs = out.shortest_success_secs;
     out.limit_failure_secs = out.first_failure_secs;
-    if let (Some(resolution), Some(mut lo), Some(mut hi)) = (
+    if let (Some(resolution), Some(lo), Some(hi)) = (
         study.bisection_resolution_secs,
         out.first_failure_secs,
         out.shortest_success_secs,
-    ) {
-        while (hi - lo).abs() > resolution + 1e-9 && lo < hi {
-            let mid = 0.5 * (lo + hi);
-            let run = braking_run(world_params, params, heading_deg, mid, warm.as_ref())?;
-            on_run(&run);
-            if run.plan.is_some() {
-                warm.clone_from(&run.plan);
-            }
-            if run.outcome.is_success() {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-            out.bisection.push(run);
-        }
-        out.limit_secs = Some(hi);
-        out.limit_failure_secs = Some(lo);
+    ) && lo < hi
+    {
+        let mut bisection = Vec::new();
+        let bracket = halve(
+            hi,
+            lo,
+            resolution + 1e-9,
+            |t| {
+                let run = braking_run(world_params, params, heading_deg, t, warm.as_ref())?;
+                if run.plan.is_some() {
+                    warm.clone_from(&run.plan);
+                }
+                Ok::<_, BrakingError>(run)
+            },
+            |run| run.outcome.is_success(),
+            |_, run| {
+                on_run(&run);
+                bisection.push(run);
+            },
+        )?;
+        out.bisection = bisection;
+        out.limit_secs = Some(bracket.passed);
+        out.limit_failure_secs = bracket.failed;
     }
     Ok(out)
 }
