@@ -8,7 +8,7 @@ would silently switch the check off.
 
 from os import PathLike
 from pathlib import Path
-from typing import Any, Literal, Optional, Union, final
+from typing import Any, Literal, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -1453,6 +1453,7 @@ class GymEnv:
         randomization: Union[str, dict[str, Any], None] = None,
         commands: Optional[dict[str, float]] = None,
         reward: Optional[dict[str, float]] = None,
+        stop_on: Union[str, Sequence[str], None] = None,
     ) -> GymEnv: ...
     @property
     def observation_high(self) -> npt.NDArray[np.float32]: ...
@@ -1462,6 +1463,8 @@ class GymEnv:
     def control_hz(self) -> float: ...
     @property
     def max_episode_secs(self) -> float: ...
+    @property
+    def stop_on(self) -> str: ...
     @property
     def params(self) -> WorldParams: ...
     @property
@@ -1493,6 +1496,7 @@ class GymVecEnv:
         randomization: Union[str, dict[str, Any], None] = None,
         commands: Optional[dict[str, float]] = None,
         reward: Optional[dict[str, float]] = None,
+        stop_on: Union[str, Sequence[str], None] = None,
     ) -> GymVecEnv: ...
     @property
     def num_envs(self) -> int: ...
@@ -1504,6 +1508,8 @@ class GymVecEnv:
     def params(self) -> WorldParams: ...
     @property
     def control_hz(self) -> float: ...
+    @property
+    def stop_on(self) -> str: ...
     def telemetry(self, index: int) -> Optional[StepTelemetry]: ...
     def reset(
         self, seeds: list[Optional[int]], options: Optional[dict[str, Any]] = None
