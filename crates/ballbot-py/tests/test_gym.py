@@ -1,7 +1,9 @@
 """``ballbot.gym``: Gymnasium's own checker on every registered environment, seeded rollouts,
-randomisation through ``reset(options=...)``, rendering, and the native vector env against
-``SyncVectorEnv`` bit for bit."""
+randomisation through ``reset(options=...)``, the stop rules (``stop_on``) and the contact
+events in ``info``, rendering, and the native vector env against ``SyncVectorEnv`` bit for
+bit."""
 
+import pickle
 from typing import Any
 
 import gymnasium as gym
@@ -63,6 +65,8 @@ def test_balance_terminates_on_a_fall_and_velocity_truncates_at_the_time_limit()
             break
     assert term and not trunc
     assert info["failure"].kind == ballbot.FailureKind.TILT
+    assert info["termination"] == "tilt"
+    assert isinstance(info["episode_events"], list) and info["events_dropped"] == 0
     with pytest.raises(ballbot.BallbotError, match="reset"):
         env.step(np.zeros(3, dtype=np.float32))
     # The LQR-PI underneath, no residual: stays up until the time limit.
@@ -75,6 +79,7 @@ def test_balance_terminates_on_a_fall_and_velocity_truncates_at_the_time_limit()
         if term or trunc:
             break
     assert trunc and not term and k == 399
+    assert info["termination"] is None and "episode_events" in info
     assert total > 0.8 * 400
     assert obs[9] == pytest.approx(0.3)
 
@@ -155,11 +160,102 @@ def test_the_native_vector_env_equals_sync_vector_env_bit_for_bit(task: str) -> 
     a_obs, _ = native.reset(seed=5)
     b_obs, _ = sync.reset(seed=5)
     assert np.array_equal(a_obs, b_obs)
-    resets = 0
+    resets = events = 0
     for k in range(steps):
         a = native.step(actions[k])
         b = sync.step(actions[k])
         for x, y in zip(a[:4], b[:4]):
             assert np.array_equal(x, y), k
         resets += int(a[4]["_episode_seed"].sum())
+        # The infos the single environments give, per environment where it gave them.
+        for key in ("events", "termination", "episode_events", "events_dropped"):
+            assert key_values(a[4], key, n) == key_values(b[4], key, n), (k, key)
+        events += sum(len(e) for e in key_values(a[4], "events", n) if e)
     assert resets >= n, "every environment ended and was autoreset"
+    if task == "balance":
+        assert events > 0, "the random torques make contact events"
+
+
+def key_values(infos: dict[str, Any], key: str, n: int) -> list[Any]:
+    """A vector info's values for ``n`` environments where set (``None`` elsewhere)."""
+    if key not in infos:
+        return [None] * n
+    return [v if m else None for v, m in zip(infos[key].tolist(), infos["_" + key])]
+
+
+LEAN = np.array([0.5, -0.5, 0.0], dtype=np.float32)
+
+
+def lean_and_let_go(**kwargs: Any) -> list[tuple[bool, bool, dict[str, Any]]]:
+    """Balance from upright (seed 0): opposite torques on OW1 and OW2 for ten steps, then
+    nothing, until the episode ends (the Rust test's scenario, ``tests/gym.rs``)."""
+    env = gym.make("ballbot/Balance-v0", **kwargs)
+    env.reset(seed=0, options={"initial_tilt_rad": [0.0, 0.0]})
+    out = []
+    for k in range(2000):
+        action = LEAN if k < 10 else np.zeros(3, dtype=np.float32)
+        _, _, term, trunc, info = env.step(action)
+        out.append((term, trunc, info))
+        if term or trunc:
+            break
+    return out
+
+
+def test_a_lift_off_is_an_event_by_default_and_stop_on_all_ends_the_episode_on_it() -> None:
+    old = lean_and_let_go(stop_on="all")
+    term, _, info = old[-1]
+    k = len(old) - 1
+    assert term and info["termination"] == "lift_off" and k < 20
+    assert info["failure"].kind == ballbot.FailureKind.LIFT_OFF
+    wheel = info["failure"].wheel
+
+    new = lean_and_let_go()
+    term, trunc, info = new[k]
+    assert not term and not trunc and info["termination"] is None and info["failure"] is None
+    lift_offs = [e for e in info["events"] if e["kind"] == "lift_off" and e["wheel"] == wheel]
+    assert len(lift_offs) == 1, info["events"]
+    e = lift_offs[0]
+    assert e["ongoing"] and e["duration_secs"] > 0.02
+    assert e["onset_secs"] < info["time_secs"] and e["min_normal_force_n"] < 1.0
+    keys = {"kind", "wheel", "min_normal_force_n", "onset_secs", "duration_secs", "ongoing"}
+    assert set(e) == keys
+    assert "episode_events" not in info, "the whole log only at the episode's end"
+    assert len(new) > k + 50, "the episode goes on"
+    term, _, end = new[-1]
+    assert term and end["termination"] in ("tilt", "fell")
+    # The log at the end has the lift-off, as it was when it ended.
+    ended = [x for x in end["episode_events"] if x["onset_secs"] == e["onset_secs"]]
+    assert ended and not ended[0]["ongoing"] and ended[0]["duration_secs"] > e["duration_secs"]
+    assert end["events_dropped"] == 0
+    kinds = {x["kind"] for x in end["episode_events"]}
+    assert kinds <= {"slip", "lift_off", "driver_trip"}, "no controller underneath"
+
+
+def test_stop_on_takes_the_cli_rules_names_them_back_and_rejects_others() -> None:
+    assert BallbotEnv().stop_on == "tilt,driver-trip"
+    assert BallbotEnv(stop_on="all").stop_on == "tilt,slip,lift-off,driver-trip"
+    assert BallbotEnv(stop_on="none").stop_on == "none"
+    assert BallbotEnv(stop_on=["slip", "lift-off"]).stop_on == "slip,lift-off"
+    assert BallbotEnv(stop_on=[]).stop_on == "none"
+    assert BallbotVectorEnv(num_envs=2, stop_on="tilt").stop_on == "tilt"
+    with pytest.raises(ballbot.ParameterError, match="stop_on.*unknown stop rule `wobble`"):
+        BallbotEnv(stop_on="slip,wobble")
+    with pytest.raises(ballbot.ParameterError, match="stop_on.*unknown stop rule `lift_off`"):
+        BallbotEnv(stop_on=["lift_off"])
+    with pytest.raises(ballbot.ParameterError, match="stop_on"):
+        BallbotEnv(stop_on=3)  # type: ignore[arg-type]
+    with pytest.raises(ballbot.ParameterError, match="stop_on"):
+        BallbotVectorEnv(num_envs=2, stop_on="wobble")
+
+
+def test_stop_on_survives_the_env_spec_round_trips() -> None:
+    env = gym.make("ballbot/Balance-v0", stop_on="slip,lift-off")
+    assert env.spec is not None and env.spec.kwargs["stop_on"] == "slip,lift-off"
+    from_json = gym.envs.registration.EnvSpec.from_json(env.spec.to_json())
+    for spec in (pickle.loads(pickle.dumps(env.spec)), from_json):
+        again = gym.make(spec)
+        assert again.unwrapped.stop_on == "slip,lift-off"
+    envs = gym.make_vec(
+        "ballbot/Balance-v0", num_envs=2, vectorization_mode="vector_entry_point", stop_on="none"
+    )
+    assert envs.unwrapped.stop_on == "none"

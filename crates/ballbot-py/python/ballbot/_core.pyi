@@ -8,7 +8,7 @@ would silently switch the check off.
 
 from os import PathLike
 from pathlib import Path
-from typing import Any, Literal, Optional, Union, final
+from typing import Any, Literal, Optional, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -1454,6 +1454,7 @@ class GymEnv:
         randomization: Union[str, dict[str, Any], None] = None,
         commands: Optional[dict[str, float]] = None,
         reward: Optional[dict[str, float]] = None,
+        stop_on: Union[str, Sequence[str], None] = None,
     ) -> GymEnv: ...
     @property
     def observation_high(self) -> npt.NDArray[np.float32]: ...
@@ -1463,6 +1464,8 @@ class GymEnv:
     def control_hz(self) -> float: ...
     @property
     def max_episode_secs(self) -> float: ...
+    @property
+    def stop_on(self) -> str: ...
     @property
     def params(self) -> WorldParams: ...
     @property
@@ -1494,6 +1497,7 @@ class GymVecEnv:
         randomization: Union[str, dict[str, Any], None] = None,
         commands: Optional[dict[str, float]] = None,
         reward: Optional[dict[str, float]] = None,
+        stop_on: Union[str, Sequence[str], None] = None,
     ) -> GymVecEnv: ...
     @property
     def num_envs(self) -> int: ...
@@ -1505,6 +1509,8 @@ class GymVecEnv:
     def params(self) -> WorldParams: ...
     @property
     def control_hz(self) -> float: ...
+    @property
+    def stop_on(self) -> str: ...
     def telemetry(self, index: int) -> Optional[StepTelemetry]: ...
     def reset(
         self, seeds: list[Optional[int]], options: Optional[dict[str, Any]] = None

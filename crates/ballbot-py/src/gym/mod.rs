@@ -8,11 +8,13 @@ mod vector;
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use ballbot_sim::gym::{
-    CommandRanges, EnvConfig, EpisodeDraw, GymError, Randomization, ResetInfo, ResetOptions,
-    RewardWeights, StepInfo, Task,
+    BallbotEnv, CommandRanges, EnvConfig, EpisodeDraw, GymError, Randomization, ResetInfo,
+    ResetOptions, RewardWeights, StepInfo, Task,
 };
+use ballbot_sim::rig::{Event, EventKind};
+use ballbot_sim::world::{StopRules, wheel_name};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyString};
 use serde::de::DeserializeOwned;
 
 pub(crate) use single::PyGymEnv;
@@ -60,6 +62,7 @@ pub(crate) fn config(
     randomization: Option<&Bound<'_, PyAny>>,
     commands: Option<&Bound<'_, PyAny>>,
     reward: Option<&Bound<'_, PyAny>>,
+    stop_on: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<EnvConfig> {
     let task: Task = task.parse().map_err(|e| gym_error(py, e))?;
     let mut config = EnvConfig::new(task);
@@ -102,8 +105,43 @@ pub(crate) fn config(
     if let Some(w) = reward {
         config.reward = from_dict::<RewardWeights>(py, w, "reward")?;
     }
+    if let Some(rules) = stop_on {
+        config.stop_rules = stop_rules(py, rules)?;
+    }
     config.validate().map_err(|e| gym_error(py, e))?;
     Ok(config)
+}
+
+/// `stop_on=`: the stop rules as `ballbot world --stop-on` takes them (`"all"`, `"none"`, or
+/// names among `tilt`, `slip`, `lift-off`, `driver-trip` separated by commas), or a list of the
+/// names (an empty list: none).
+fn stop_rules(py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<StopRules> {
+    let invalid = |detail: String| {
+        error(
+            py,
+            Kind::Parameter,
+            format!("invalid parameter `stop_on`: {detail}"),
+        )
+    };
+    let text = if value.is_instance_of::<PyString>() {
+        value.extract::<String>()?
+    } else {
+        let names: Vec<String> = value.extract().map_err(|_| {
+            invalid(format!(
+                "a string or a list of rule names, got {}",
+                value
+                    .get_type()
+                    .name()
+                    .map_or_else(|_| "?".into(), |n| n.to_string())
+            ))
+        })?;
+        if names.is_empty() {
+            "none".to_owned()
+        } else {
+            names.join(",")
+        }
+    };
+    text.parse().map_err(invalid)
 }
 
 /// `reset(options=...)`: `randomization` (a dict of ranges overriding the environment's),
@@ -165,15 +203,90 @@ fn draw_dict<'py>(py: Python<'py>, draw: &EpisodeDraw) -> PyResult<Bound<'py, Py
     py.import("json")?.call_method1("loads", (text,))
 }
 
-/// The step's info dict: `time_secs`, `failure` (`Failure` or `None`), `controller_off`,
-/// `push_ns` (a tuple or `None`), `command`.
-pub(crate) fn step_info<'py>(py: Python<'py>, info: &StepInfo) -> PyResult<Bound<'py, PyDict>> {
+/// The step's info dict: `time_secs`, `termination` (its name or `None`), `failure`
+/// (`Failure` or `None`), `controller_off`, `push_ns` (a tuple or `None`), `command`, `events`
+/// (the events in progress during the step, [`step_events`]); at the episode's end
+/// (`ended`: terminated or truncated) also `episode_events` and `events_dropped`
+/// ([`episode_events`]).
+pub(crate) fn step_info<'py>(
+    py: Python<'py>,
+    info: &StepInfo,
+    env: &BallbotEnv,
+    ended: bool,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("time_secs", info.time_secs)?;
+    d.set_item("termination", info.termination.map(|t| t.as_str()))?;
     d.set_item("failure", info.failure.map(crate::world::PyFailure::from))?;
     d.set_item("controller_off", info.controller_off)?;
     d.set_item("push_ns", info.push_ns.map(|j| (j[0], j[1])))?;
     d.set_item("command", PyList::new(py, info.command)?)?;
+    d.set_item("events", step_events(py, env)?)?;
+    if ended {
+        let (events, dropped) = episode_events(py, env)?;
+        d.set_item("episode_events", events)?;
+        d.set_item("events_dropped", dropped)?;
+    }
+    Ok(d)
+}
+
+/// The events in progress during `env`'s last step (`BallbotEnv::step_events`), as dicts.
+pub(crate) fn step_events<'py>(py: Python<'py>, env: &BallbotEnv) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for e in env.step_events() {
+        list.append(event_dict(py, e)?)?;
+    }
+    Ok(list)
+}
+
+/// The episode's events so far (`BallbotEnv::events`) as dicts, and how many were not kept
+/// (beyond `EventLog::MAX_EVENTS`).
+pub(crate) fn episode_events<'py>(
+    py: Python<'py>,
+    env: &BallbotEnv,
+) -> PyResult<(Bound<'py, PyList>, u64)> {
+    let list = PyList::empty(py);
+    let Some(log) = env.events() else {
+        return Ok((list, 0));
+    };
+    for e in log.events() {
+        list.append(event_dict(py, e)?)?;
+    }
+    Ok((list, log.dropped()))
+}
+
+/// One event as a dict, the keys of its JSON form (`ballbot world --json`): `kind` (`slip`,
+/// `lift_off`, `driver_trip`, `controller_fault`, `traction_limit`), `wheel` (`"OW1"`..) for
+/// the wheel events, `fault` for a controller fault, the peak under a key naming its unit
+/// (`peak_slip_m_per_s`, `min_normal_force_n`, `min_accel_limit_m_per_s2`), `onset_secs`,
+/// `duration_secs`, `ongoing`.
+fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("kind", e.kind.as_str())?;
+    match e.kind {
+        EventKind::Slip {
+            wheel,
+            peak_slip_m_per_s,
+        } => {
+            d.set_item("wheel", wheel_name(wheel))?;
+            d.set_item("peak_slip_m_per_s", peak_slip_m_per_s)?;
+        }
+        EventKind::LiftOff {
+            wheel,
+            min_normal_force_n,
+        } => {
+            d.set_item("wheel", wheel_name(wheel))?;
+            d.set_item("min_normal_force_n", min_normal_force_n)?;
+        }
+        EventKind::DriverTrip { wheel } => d.set_item("wheel", wheel_name(wheel))?,
+        EventKind::ControllerFault { fault } => d.set_item("fault", fault.as_str())?,
+        EventKind::TractionLimit {
+            min_accel_limit_m_per_s2,
+        } => d.set_item("min_accel_limit_m_per_s2", min_accel_limit_m_per_s2)?,
+    }
+    d.set_item("onset_secs", e.onset_secs)?;
+    d.set_item("duration_secs", e.duration_secs)?;
+    d.set_item("ongoing", e.ongoing)?;
     Ok(d)
 }
 

@@ -24,7 +24,7 @@ impl PyGymEnv {
     #[pyo3(signature = (
         task, params = None, *, control_hz = 400.0, max_episode_secs = None,
         last_action_in_observation = false, residual = true, residual_fraction = 0.2,
-        randomization = None, commands = None, reward = None,
+        randomization = None, commands = None, reward = None, stop_on = None,
     ))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
@@ -39,6 +39,7 @@ impl PyGymEnv {
         randomization: Option<&Bound<'_, PyAny>>,
         commands: Option<&Bound<'_, PyAny>>,
         reward: Option<&Bound<'_, PyAny>>,
+        stop_on: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let config = config(
             py,
@@ -52,6 +53,7 @@ impl PyGymEnv {
             randomization,
             commands,
             reward,
+            stop_on,
         )?;
         let inner = BallbotEnv::new(config).map_err(|e| gym_error(py, e))?;
         Ok(Self {
@@ -82,6 +84,12 @@ impl PyGymEnv {
     #[getter]
     fn max_episode_secs(&self) -> f64 {
         self.inner.config().max_episode_secs
+    }
+
+    /// The stop rules in force, as `stop_on=` takes them (`"tilt,driver-trip"` by default).
+    #[getter]
+    fn stop_on(&self) -> String {
+        self.inner.config().stop_rules.to_string()
     }
 
     /// The nominal world.
@@ -119,7 +127,9 @@ impl PyGymEnv {
     }
 
     /// One agent step with `action` (3 numbers, clipped to [-1, 1]). Returns `(observation,
-    /// reward, terminated, truncated, info)`.
+    /// reward, terminated, truncated, info)`; `info` has `time_secs`, `termination`, `failure`,
+    /// `controller_off`, `push_ns`, `command`, `events`, and at the episode's end
+    /// `episode_events` and `events_dropped`.
     #[allow(clippy::type_complexity)]
     fn step<'py>(
         &mut self,
@@ -142,7 +152,7 @@ impl PyGymEnv {
             out.reward,
             out.terminated,
             out.truncated,
-            step_info(py, &out.info)?,
+            step_info(py, &out.info, &self.inner, out.terminated || out.truncated)?,
         ))
     }
 }

@@ -1,7 +1,7 @@
 //! `GymVecEnv`: N environments stepped in Rust on a thread pool without the GIL
 //! (`ballbot_sim::gym::VecEnv`).
 
-use super::{config, gym_error, reset_info, reset_options};
+use super::{config, episode_events, gym_error, reset_info, reset_options, step_events};
 use crate::errors::{Kind, error};
 use crate::params::PyWorldParams;
 use crate::world::{PyFailure, PyStepTelemetry};
@@ -26,6 +26,7 @@ impl PyGymVecEnv {
         task, num_envs, params = None, *, threads = 0, control_hz = 400.0,
         max_episode_secs = None, last_action_in_observation = false, residual = true,
         residual_fraction = 0.2, randomization = None, commands = None, reward = None,
+        stop_on = None,
     ))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
@@ -42,6 +43,7 @@ impl PyGymVecEnv {
         randomization: Option<&Bound<'_, PyAny>>,
         commands: Option<&Bound<'_, PyAny>>,
         reward: Option<&Bound<'_, PyAny>>,
+        stop_on: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let config = config(
             py,
@@ -55,6 +57,7 @@ impl PyGymVecEnv {
             randomization,
             commands,
             reward,
+            stop_on,
         )?;
         let inner = VecEnv::new(config, num_envs, threads).map_err(|e| gym_error(py, e))?;
         Ok(Self {
@@ -93,6 +96,12 @@ impl PyGymVecEnv {
     #[getter]
     fn control_hz(&self) -> f64 {
         self.inner.envs()[0].config().control_hz
+    }
+
+    /// The stop rules in force, as `stop_on=` takes them (`"tilt,driver-trip"` by default).
+    #[getter]
+    fn stop_on(&self) -> String {
+        self.inner.envs()[0].config().stop_rules.to_string()
     }
 
     /// Environment `index`'s last step record (`None` before the first reset).
@@ -139,9 +148,12 @@ impl PyGymVecEnv {
 
     /// Steps every environment (`actions`: shape (n, 3)), autoresetting those that ended at the
     /// previous step. Returns `(observations, rewards, terminated, truncated, infos)`; `infos`
-    /// is a dict of arrays: `time_secs` (n,), `reset` (n,) bool (the environment was reset
-    /// this step), `episode_seed` (n,) uint64 (0 where not reset), `failure` (a list of
-    /// `Failure` or `None`).
+    /// is a dict of arrays and lists, one entry per environment: `time_secs` (n,), `reset` (n,)
+    /// bool (the environment was reset this step), `episode_seed` (n,) uint64 (0 where not
+    /// reset), `failure` (`Failure` or `None`), `termination` (its name or `None`), `events`
+    /// (the events in progress during the step, as `GymEnv.step` gives them; empty where
+    /// reset), `episode_events` (the episode's events where it ended this step, else `None`),
+    /// `events_dropped` (n,) uint64 (0 where it did not end).
     #[allow(clippy::type_complexity)]
     fn step<'py>(
         &mut self,
@@ -178,21 +190,37 @@ impl PyGymVecEnv {
         let mut time = Vec::with_capacity(n);
         let mut reset = Vec::with_capacity(n);
         let mut seed = Vec::with_capacity(n);
+        let mut dropped = Vec::with_capacity(n);
         let failure = PyList::empty(py);
-        for info in &out.infos {
+        let termination = PyList::empty(py);
+        let events = PyList::empty(py);
+        let ended_events = PyList::empty(py);
+        for (i, (info, env)) in out.infos.iter().zip(self.inner.envs()).enumerate() {
+            // An environment's events stay on it until its next step (VecInfo's docs).
+            events.append(step_events(py, env)?)?;
             match info {
                 VecInfo::Step(s) => {
                     time.push(s.time_secs);
                     reset.push(false);
                     seed.push(0_u64);
                     failure.append(s.failure.map(PyFailure::from))?;
+                    termination.append(s.termination.map(|t| t.as_str()))?;
                 }
                 VecInfo::Reset(r) => {
                     time.push(0.0);
                     reset.push(true);
                     seed.push(r.draw.seed);
                     failure.append(py.None())?;
+                    termination.append(py.None())?;
                 }
+            }
+            if out.terminated[i] || out.truncated[i] {
+                let (list, count) = episode_events(py, env)?;
+                ended_events.append(list)?;
+                dropped.push(count);
+            } else {
+                ended_events.append(py.None())?;
+                dropped.push(0);
             }
         }
         let infos = PyDict::new(py);
@@ -200,6 +228,10 @@ impl PyGymVecEnv {
         infos.set_item("reset", PyArray1::from_vec(py, reset))?;
         infos.set_item("episode_seed", PyArray1::from_vec(py, seed))?;
         infos.set_item("failure", failure)?;
+        infos.set_item("termination", termination)?;
+        infos.set_item("events", events)?;
+        infos.set_item("episode_events", ended_events)?;
+        infos.set_item("events_dropped", PyArray1::from_vec(py, dropped))?;
         Ok((
             rows(py, out.obs.clone(), n)?,
             PyArray1::from_slice(py, &out.rewards),

@@ -3,7 +3,7 @@
 
 pub use super::error::GymError;
 use super::randomize::Randomization;
-use crate::world::WorldParams;
+use crate::world::{StopRules, WorldParams};
 use serde::{Deserialize, Serialize};
 
 /// What the agent does.
@@ -78,8 +78,8 @@ impl Default for CommandRanges {
 ///      - action |a|^2 / 3`
 ///
 /// with the body's true tilt and rates, the ball's velocity in the heading frame and the
-/// normalised action `a`. A fall ends the episode (`terminated`) and forfeits the alive reward
-/// of the steps it did not live.
+/// normalised action `a`. A termination ([`EnvConfig::stop_rules`]) ends the episode and
+/// forfeits the alive reward of the steps it did not live.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RewardWeights {
@@ -134,9 +134,38 @@ pub struct EnvConfig {
     pub reward: RewardWeights,
     /// The domain randomisation of every episode (none by default).
     pub randomization: Randomization,
+    /// Which world failures end an episode `terminated`, besides the chassis touching the
+    /// floor (which always does). Default [`Self::DEFAULT_STOP_RULES`]: tilt beyond the failure
+    /// tilt and a motor driver trip; a wheel's slip and lift-off are reported as events
+    /// ([`super::BallbotEnv::step_events`]) and the episode goes on. [`StopRules::all()`] ends
+    /// it at the first slip longer than `world.failure.max_slip_duration_secs` or lift-off
+    /// longer than `max_lift_off_duration_secs` too, as every episode did before.
+    pub stop_rules: StopRules,
 }
 
 impl EnvConfig {
+    /// The stop rules of [`Self::new`]: [`StopRules::contact_rules_off`], the project's
+    /// definition of a fall (the Monte Carlo's fall count, `world_push.rules_relaxed`).
+    ///
+    /// - The chassis on the floor always ends an episode: a fall, by geometry.
+    /// - Tilt beyond `world.failure.max_tilt_rad` (25 deg) is on: a fall called before the
+    ///   chassis reaches the floor. It is 5 deg past the tilt the core's supervisor gives up at
+    ///   as unrecoverable (`SafetyParams::tilt_limit_rad`, 20 deg); running on would only add
+    ///   the steps of the fall.
+    /// - A driver trip is on: not a fall, but the end of the robot's balance. The driver stays
+    ///   disarmed for the rest of the episode, so that wheel has no torque whatever the agent
+    ///   does (and in `Velocity` the controller's motor-health monitor switches the motors off).
+    /// - Slip and lift-off are off: contact events a robot can recover from (a push that lifts
+    ///   a wheel for longer than 20 ms can be recovered: `world_push.rules_relaxed`,
+    ///   docs/results.md). They are reported as events, and an agent can learn what they cost.
+    ///
+    /// ```
+    /// use ballbot_sim::gym::{EnvConfig, Task};
+    /// assert_eq!(EnvConfig::DEFAULT_STOP_RULES.to_string(), "tilt,driver-trip");
+    /// assert_eq!(EnvConfig::new(Task::Balance).stop_rules, EnvConfig::DEFAULT_STOP_RULES);
+    /// ```
+    pub const DEFAULT_STOP_RULES: StopRules = StopRules::contact_rules_off();
+
     /// The task's defaults on MiaPURE with 60 kg. `Balance` starts each episode from a tilt
     /// uniform in [0, 0.1] rad at a uniform direction; `Velocity` from upright.
     ///
@@ -166,6 +195,7 @@ impl EnvConfig {
             commands: CommandRanges::default(),
             reward: RewardWeights::default(),
             randomization,
+            stop_rules: Self::DEFAULT_STOP_RULES,
         }
     }
 

@@ -5,7 +5,8 @@ use super::error::GymError;
 use super::observe::{observation_high, observation_len, observe};
 use super::plant::{DelayLine, Plant};
 use super::randomize::{EpisodeDraw, Randomization};
-use crate::world::{Failure, StepTelemetry, WorldParams};
+use crate::rig::{Event, EventLog};
+use crate::world::{Failure, FailureKind, StepTelemetry, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use nalgebra::Vector3;
 use rand_chacha::ChaCha8Rng;
@@ -32,12 +33,65 @@ pub struct ResetInfo {
     pub params: WorldParams,
 }
 
-/// What a step reports besides observation and reward.
+/// Why an episode ended `terminated`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Termination {
+    /// The chassis touched the floor: a fall (whatever the stop rules).
+    Fell,
+    /// A stop rule in force ([`EnvConfig::stop_rules`]) ended the episode: the failure it
+    /// called. [`FailureKind::Tilt`] is a fall called before the chassis reaches the floor.
+    StopRule(FailureKind),
+    /// The controller underneath (`Velocity` with the residual) switched the motors off.
+    ControllerOff,
+}
+
+impl Termination {
+    /// The canonical name: `fell`, the stop rule's failure ([`FailureKind::as_str`]: `tilt`,
+    /// `sustained_slip`, `lift_off`, `driver_trip`), or `controller_off`.
+    ///
+    /// ```
+    /// use ballbot_sim::gym::Termination;
+    /// use ballbot_sim::world::FailureKind;
+    /// assert_eq!(Termination::Fell.as_str(), "fell");
+    /// assert_eq!(Termination::StopRule(FailureKind::LiftOff { wheel: 0 }).as_str(), "lift_off");
+    /// ```
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Fell => "fell",
+            Self::StopRule(kind) => kind.as_str(),
+            Self::ControllerOff => "controller_off",
+        }
+    }
+
+    /// Whether the robot fell: the chassis on the floor, or the tilt rule.
+    pub fn is_fall(&self) -> bool {
+        matches!(self, Self::Fell | Self::StopRule(FailureKind::Tilt { .. }))
+    }
+
+    /// The termination of a step that ended with the world's latched `failure` (the world
+    /// latches only what its stop rules end a run on) and the controller `controller_off`.
+    fn judge(failure: Option<Failure>, controller_off: bool) -> Option<Self> {
+        match failure.map(|f| f.kind) {
+            Some(FailureKind::BodyTouchedFloor) => Some(Self::Fell),
+            Some(kind) => Some(Self::StopRule(kind)),
+            None if controller_off => Some(Self::ControllerOff),
+            None => None,
+        }
+    }
+}
+
+/// What a step reports besides observation and reward. The contact events (slips, lift-offs,
+/// driver trips; controller faults and traction limits with the controller underneath) are on
+/// the environment: [`BallbotEnv::step_events`] for this step's, [`BallbotEnv::events`] for the
+/// episode's.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepInfo {
     /// Simulated time at the end of the step (s).
     pub time_secs: f64,
-    /// The world's failure that ended the episode, if any.
+    /// Why the episode ended, when it ended `terminated`.
+    pub termination: Option<Termination>,
+    /// The world's failure that ended the episode, if any (only the stop rules in force and
+    /// the chassis on the floor are latched).
     pub failure: Option<Failure>,
     /// `true` when the controller (`Velocity` task with the residual) switched the motors off.
     pub controller_off: bool,
@@ -52,8 +106,9 @@ pub struct StepInfo {
 pub struct StepOutcome {
     /// The reward ([`super::RewardWeights`]).
     pub reward: f64,
-    /// The robot fell (a world failure: tilt, chassis on the floor, slip, lift-off, driver
-    /// trip) or its controller switched the motors off.
+    /// The episode ended: the chassis touched the floor, a stop rule in force called a
+    /// failure ([`EnvConfig::stop_rules`]: by default tilt or a driver trip, not slip or
+    /// lift-off), or the controller switched the motors off ([`StepInfo::termination`]).
     pub terminated: bool,
     /// The time limit was reached.
     pub truncated: bool,
@@ -74,6 +129,8 @@ struct Episode {
     delay: DelayLine,
     done: bool,
     ranges: Randomization,
+    /// The events in progress during the last step.
+    step_events: StepEvents,
 }
 
 /// A ballbot environment: the Gymnasium protocol on the rapier3d world, in Rust.
@@ -162,6 +219,48 @@ impl BallbotEnv {
         self.episode.as_ref().map(|e| e.plant.world().time_secs())
     }
 
+    /// The episode's events so far, once reset: per wheel its slips (faster than
+    /// `failure.slip_speed_threshold_m_per_s`), lift-offs (normal force below
+    /// `failure.lift_off_force_n`) and a driver trip, every physics step; with the controller
+    /// underneath, its faults and traction limits too, every outer step. Each has its onset,
+    /// duration and peak ([`EventLog`]: at most [`EventLog::MAX_EVENTS`] kept, the rest
+    /// counted). Recorded whatever the stop rules.
+    pub fn events(&self) -> Option<&EventLog> {
+        self.episode.as_ref().map(|e| e.plant.events())
+    }
+
+    /// The events in progress at any time during the last step, in order of onset: the ones
+    /// still going on from before it and the ones that began in it ([`Event::ongoing`] tells
+    /// whether each was still going on at the step's end). Nothing before the first step of an
+    /// episode. At most one event per condition (slip, lift-off, trip per wheel; each fault;
+    /// the traction limit) comes from before the step.
+    ///
+    /// ```
+    /// use ballbot_sim::gym::{BallbotEnv, EnvConfig, ResetOptions, Task};
+    /// let mut env = BallbotEnv::new(EnvConfig::new(Task::Balance))?;
+    /// let mut obs = vec![0.0_f32; env.observation_len()];
+    /// let upright = ResetOptions { initial_tilt_rad: Some([0.0; 2]), ..ResetOptions::default() };
+    /// env.reset(Some(0), Some(&upright), &mut obs)?;
+    /// // Opposite torques on OW1 and OW2 lift a wheel off the ball for longer than 20 ms: an
+    /// // event, not the end of the episode.
+    /// let mut longest_lift_off_secs = 0.0_f64;
+    /// for _ in 0..20 {
+    ///     let out = env.step([0.5, -0.5, 0.0], &mut obs)?;
+    ///     assert!(!out.terminated);
+    ///     for e in env.step_events().filter(|e| e.kind.as_str() == "lift_off") {
+    ///         longest_lift_off_secs = longest_lift_off_secs.max(e.duration_secs);
+    ///     }
+    /// }
+    /// assert!(longest_lift_off_secs > 0.02);
+    /// # Ok::<(), ballbot_sim::gym::GymError>(())
+    /// ```
+    pub fn step_events(&self) -> impl Iterator<Item = &Event> {
+        self.episode.iter().flat_map(|ep| {
+            let events = ep.plant.events().events();
+            ep.step_events.indices.iter().filter_map(|&i| events.get(i))
+        })
+    }
+
     /// Starts an episode (see the type's docs for the seeding) and writes its first
     /// observation into `obs` (length [`Self::observation_len`]).
     pub fn reset(
@@ -226,6 +325,7 @@ impl BallbotEnv {
             }
             _ => Plant::torque(params)?,
         };
+        plant.world_mut().set_stop_rules(self.config.stop_rules);
         if draw.initial_tilt_rad != [0.0; 2] {
             plant.world_mut().tilt_body(draw.initial_tilt_rad);
         }
@@ -246,6 +346,7 @@ impl BallbotEnv {
             delay: DelayLine::new(delay_steps, m),
             done: false,
             ranges,
+            step_events: StepEvents::default(),
         };
         self.update_command(&mut episode);
         episode.next_push_step = self.next_push(&mut episode);
@@ -255,7 +356,7 @@ impl BallbotEnv {
     }
 
     /// One agent step with `action` (three numbers, clipped to [-1, 1]): the action is held
-    /// for [`Self::steps_per_action`] physics steps (fewer if the robot falls). Writes the
+    /// for [`Self::steps_per_action`] physics steps (fewer if the episode ends). Writes the
     /// next observation into `obs`.
     pub fn step(&mut self, action: [f64; 3], obs: &mut [f32]) -> Result<StepOutcome, GymError> {
         if !action.iter().all(|a| a.is_finite()) {
@@ -298,9 +399,10 @@ impl BallbotEnv {
         let peak = self.config.world.robot.drivetrain.actuator.peak_torque_nm;
         let scale = match ep.plant {
             Plant::Controlled(..) => peak * self.config.residual_fraction,
-            Plant::Torque(_) => peak,
+            Plant::Torque(..) => peak,
         };
         let torque = a.map(|x| x * scale);
+        ep.step_events.begin(ep.plant.events());
         for _ in 0..self.steps_per_action {
             ep.plant.step(torque, ep.command);
             if ep.delay.delays() {
@@ -313,6 +415,7 @@ impl BallbotEnv {
         }
         ep.steps += 1;
         ep.last_action = a;
+        ep.step_events.end(ep.plant.events());
         let m = match ep.delay.oldest() {
             Some(m) if ep.delay.delays() => *m,
             _ => ep.plant.world_mut().measure(),
@@ -321,7 +424,8 @@ impl BallbotEnv {
         let world = ep.plant.world();
         let failure = world.failure();
         let controller_off = ep.plant.mode().is_some_and(|m| !m.motors_enabled());
-        let terminated = failure.is_some() || controller_off;
+        let termination = Termination::judge(failure, controller_off);
+        let terminated = termination.is_some();
         let truncated = !terminated && ep.steps >= ep.max_steps;
         ep.done = terminated || truncated;
         let reward = self.reward(world.telemetry(), ep.command, a, terminated);
@@ -331,6 +435,7 @@ impl BallbotEnv {
             truncated,
             info: StepInfo {
                 time_secs: world.time_secs(),
+                termination,
                 failure,
                 controller_off,
                 push_ns,
@@ -426,5 +531,29 @@ fn check_arming(
             ))
         }
         _ => Ok(()),
+    }
+}
+
+/// Which events of an episode's [`EventLog`] were in progress during a step, as indices into
+/// its events (which are in order of onset and never removed).
+#[derive(Debug, Default)]
+struct StepEvents {
+    indices: Vec<usize>,
+    count_before: usize,
+}
+
+impl StepEvents {
+    /// Before a step: keeps the events still going on (each began before the step and may
+    /// end during it) and notes where the step's new events will start.
+    fn begin(&mut self, log: &EventLog) {
+        let events = log.events();
+        self.indices
+            .retain(|&i| events.get(i).is_some_and(|e| e.ongoing));
+        self.count_before = events.len();
+    }
+
+    /// After a step: adds the events that began during it.
+    fn end(&mut self, log: &EventLog) {
+        self.indices.extend(self.count_before..log.events().len());
     }
 }

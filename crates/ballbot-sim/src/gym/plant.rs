@@ -1,8 +1,9 @@
 //! What an environment steps: the world driven by the agent's torques, or the world with the
-//! core's controller in the loop and the agent's residual torque added to the drivers'; and
-//! the sensor delay between the world and whoever reads it.
+//! core's controller in the loop and the agent's residual torque added to the drivers'; the
+//! events of both ([`EventLog`], every physics step); and the sensor delay between the world
+//! and whoever reads it.
 
-use crate::rig::{Injector, WorldRobot};
+use crate::rig::{EventLog, Injector, WorldRobot};
 use crate::world::{BallbotWorld, Measurement, StepTelemetry, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
@@ -13,15 +14,18 @@ use std::collections::VecDeque;
 
 /// The world an episode steps.
 pub(crate) enum Plant {
-    /// The agent's torques drive the wheels.
-    Torque(Box<BallbotWorld>),
+    /// The agent's torques drive the wheels; the log records the world's events.
+    Torque(Box<BallbotWorld>, Box<EventLog>),
     /// The core's robot loop drives the wheels; the agent's torque adds to it.
     Controlled(Box<WorldRobot>, Box<DelayedLink>),
 }
 
 impl Plant {
     pub(crate) fn torque(params: WorldParams) -> Result<Self, WorldError> {
-        Ok(Self::Torque(Box::new(BallbotWorld::new(params)?)))
+        Ok(Self::Torque(
+            Box::new(BallbotWorld::new(params)?),
+            Box::default(),
+        ))
     }
 
     pub(crate) fn controlled(
@@ -38,23 +42,38 @@ impl Plant {
 
     pub(crate) fn world(&self) -> &BallbotWorld {
         match self {
-            Self::Torque(w) => w,
+            Self::Torque(w, _) => w,
             Self::Controlled(r, _) => r.world(),
         }
     }
 
     pub(crate) fn world_mut(&mut self) -> &mut BallbotWorld {
         match self {
-            Self::Torque(w) => w,
+            Self::Torque(w, _) => w,
             Self::Controlled(r, _) => r.world_mut(),
         }
     }
 
+    /// The events so far: the world's slips, lift-offs and driver trips (both plants), the
+    /// controller's faults and traction limits (controlled plant).
+    pub(crate) fn events(&self) -> &EventLog {
+        match self {
+            Self::Torque(_, log) => log,
+            Self::Controlled(r, _) => r.events(),
+        }
+    }
+
     /// One physics step: `torque_nm` is the wheel torque (torque plant) or the residual added
-    /// to the controller's (controlled plant, which follows `command`).
+    /// to the controller's (controlled plant, which follows `command`). The step's events go to
+    /// the log (the controlled plant's [`WorldRobot`] keeps its own).
     pub(crate) fn step(&mut self, torque_nm: [f64; 3], command: [f64; 3]) -> &StepTelemetry {
         match self {
-            Self::Torque(w) => w.step(torque_nm),
+            Self::Torque(w, log) => {
+                w.step(torque_nm);
+                let params = w.params();
+                log.observe_world(w.telemetry(), &params.failure, params.dt_secs);
+                w.telemetry()
+            }
             Self::Controlled(r, link) => {
                 link.residual_nm = Vector3::from(torque_nm);
                 let command = VelocityCommand {
@@ -70,7 +89,7 @@ impl Plant {
     /// The controller's mode (`None` for the torque plant).
     pub(crate) fn mode(&self) -> Option<Mode> {
         match self {
-            Self::Torque(_) => None,
+            Self::Torque(..) => None,
             Self::Controlled(r, _) => Some(r.mode()),
         }
     }

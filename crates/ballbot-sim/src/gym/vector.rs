@@ -5,10 +5,12 @@ use super::config::EnvConfig;
 use super::env::{BallbotEnv, ResetInfo, ResetOptions, StepInfo};
 use super::error::GymError;
 
-/// What one environment of a vector step reports.
+/// What one environment of a vector step reports. Its events are on the environment until the
+/// next vector step: `envs()[i].step_events()` and `envs()[i].events()` (an environment that was
+/// reset has a new episode, without events).
 #[derive(Clone, Debug, PartialEq)]
 pub enum VecInfo {
-    /// The environment stepped.
+    /// The environment stepped (its termination, if it ended, in [`StepInfo::termination`]).
     Step(StepInfo),
     /// The environment had ended at the previous step and was reset instead (its action was
     /// ignored; reward 0, neither terminated nor truncated).

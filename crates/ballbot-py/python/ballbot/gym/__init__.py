@@ -10,11 +10,16 @@ Importing this module registers:
   control as in Balance).
 
 Both run MiaPURE with 60 kg by default (``params=`` takes any ``WorldParams``), at 400 agent
-steps per second (``control_hz=``) over the 8 kHz physics, ``terminated`` on a fall (tilt,
-chassis on the floor, sustained slip, lift-off, driver trip, or the controller switching the
-motors off) and ``truncated`` at the time limit (``max_episode_secs=``, 10 s). Observations
-(float32, bounded): IMU roll, pitch, yaw, gyro rates, encoder wheel speeds, the command, and
-with ``last_action_in_observation=True`` the last action.
+steps per second (``control_hz=``) over the 8 kHz physics, ``terminated`` on a fall (the
+chassis on the floor, or tilt beyond 25 deg), a motor driver trip, or the controller switching
+the motors off, and ``truncated`` at the time limit (``max_episode_secs=``, 10 s). A wheel's
+slip or lift-off does not end an episode: it is reported in ``info["events"]`` (the contact
+events in progress during the step) and, at the episode's end, ``info["episode_events"]``;
+``info["termination"]`` says why an episode ended. ``stop_on="all"`` ends episodes at a slip
+longer than 0.1 s or a lift-off longer than 20 ms too, as before (``stop_on=`` takes
+``ballbot world --stop-on``'s rules). Observations (float32, bounded): IMU roll, pitch, yaw,
+gyro rates, encoder wheel speeds, the command, and with ``last_action_in_observation=True``
+the last action.
 
 Domain randomisation: ``randomization=`` at construction (``"recommended"``, ``"none"`` or a
 dict of ranges) and ``reset(options={"randomization": {...}})`` per episode, seeded by the

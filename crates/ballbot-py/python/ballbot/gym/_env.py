@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Optional, Union
+from typing import Any, Optional, Sequence, Union
 
 import gymnasium
 import numpy as np
@@ -15,6 +15,7 @@ from ballbot.gym._render import draw
 Obs = NDArray[np.float32]
 Act = NDArray[np.float32]
 Randomization = Union[str, dict[str, Any], None]
+StopOn = Union[str, Sequence[str], None]
 
 
 class BallbotEnv(gymnasium.Env[Obs, Act]):
@@ -35,7 +36,21 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
             (0.5), ``period_secs`` (2.5).
         reward: weights ``alive``, ``tilt``, ``body_rate``, ``velocity_error``,
             ``yaw_rate_error``, ``action``.
+        stop_on: the world failures that end an episode ``terminated`` besides the chassis
+            on the floor, as ``ballbot world --stop-on`` takes them: ``"all"``, ``"none"``,
+            or rule names among ``tilt``, ``slip``, ``lift-off``, ``driver-trip`` (a string
+            separated by commas, or a list). Default (``None``): ``"tilt,driver-trip"``, a
+            fall; slips and lift-offs are ``info["events"]``. ``"all"`` is the old behaviour.
         render_mode: ``"rgb_array"`` (two side views) or ``"ansi"`` (a line of text).
+
+    Info of ``step``: ``time_secs``; ``termination``, why the episode ended ``terminated``
+    (``"fell"``: the chassis on the floor; a stop rule's ``"tilt"``, ``"sustained_slip"``,
+    ``"lift_off"``, ``"driver_trip"``; ``"controller_off"``), else ``None``; ``failure`` (the
+    ``Failure`` that ended it); ``controller_off``; ``push_ns``; ``command``; ``events``, the
+    contact events in progress during the step (dicts: ``kind`` among ``slip``, ``lift_off``,
+    ``driver_trip``, ``controller_fault``, ``traction_limit``; ``wheel``; ``onset_secs``,
+    ``duration_secs``, ``ongoing`` and the peak); at the episode's end (terminated or
+    truncated) ``episode_events``, all of them, and ``events_dropped``.
 
     Seeding: ``reset(seed=s)`` starts the episode seeded ``s``; ``reset()`` continues with the
     next seed of that stream. The first reset without any seed draws one from Gymnasium's
@@ -58,6 +73,7 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
         randomization: Randomization = None,
         commands: Optional[dict[str, float]] = None,
         reward: Optional[dict[str, float]] = None,
+        stop_on: StopOn = None,
         render_mode: Optional[str] = None,
     ) -> None:
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -75,6 +91,7 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
             randomization=randomization,
             commands=commands,
             reward=reward,
+            stop_on=stop_on,
         )
         self.task = task
         high = self._core.observation_high
@@ -88,6 +105,12 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
     def core(self) -> GymEnv:
         """The Rust environment (its ``telemetry``, ``params``, ``steps_per_action``)."""
         return self._core
+
+    @property
+    def stop_on(self) -> str:
+        """The stop rules in force, as ``stop_on=`` takes them (``"tilt,driver-trip"`` by
+        default)."""
+        return self._core.stop_on
 
     def reset(
         self,

@@ -28,9 +28,13 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
     ``reset(seed=s)`` seeds environment ``i`` with ``s + i``, a list gives each its seed, and
     environment ``i`` then produces exactly what a single ``BallbotEnv`` would.
 
-    Infos of ``step``: ``time_secs`` (masked by ``_time_secs`` where the environment stepped),
-    ``episode_seed`` (masked by ``_episode_seed`` where it was reset), ``failure`` (a
-    ``Failure``, masked by ``_failure`` where one ended the episode).
+    Infos of ``step``, each masked by its ``_key``: ``time_secs`` and ``events`` (the contact
+    events in progress during the step, a list of dicts per environment) where the environment
+    stepped; ``episode_seed`` where it was reset; ``failure`` (a ``Failure``) where one ended
+    the episode; ``termination`` (``"fell"``, a stop rule's failure, ``"controller_off"``)
+    where the episode ended ``terminated``; ``episode_events`` (all its events) and
+    ``events_dropped`` where it ended, terminated or truncated (the reset comes at the next
+    step). As ``SyncVectorEnv`` over ``BallbotEnv`` gives them.
     """
 
     metadata = {
@@ -66,6 +70,11 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
         """The Rust vector environment (``telemetry(i)``, ``threads``)."""
         return self._core
 
+    @property
+    def stop_on(self) -> str:
+        """The stop rules in force, as ``stop_on=`` takes them."""
+        return self._core.stop_on
+
     def reset(
         self,
         *,
@@ -95,15 +104,22 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
         a = np.ascontiguousarray(actions, dtype=np.float64).reshape(self.num_envs, 3)
         obs, rewards, terminated, truncated, raw = self._core.step(a)
         reset = raw["reset"]
-        failure = np.empty(self.num_envs, dtype=object)
-        failure[:] = raw["failure"]
+        ended = terminated | truncated
         infos = {
             "time_secs": raw["time_secs"],
             "_time_secs": ~reset,
             "episode_seed": raw["episode_seed"].astype(np.int64),
             "_episode_seed": reset,
-            "failure": failure,
+            "failure": _objects(raw["failure"]),
             "_failure": np.array([f is not None for f in raw["failure"]], dtype=bool),
+            "termination": _objects(raw["termination"]),
+            "_termination": np.array([t is not None for t in raw["termination"]], dtype=bool),
+            "events": _objects(raw["events"]),
+            "_events": ~reset,
+            "episode_events": _objects(raw["episode_events"]),
+            "_episode_events": ended,
+            "events_dropped": raw["events_dropped"].astype(np.int64),
+            "_events_dropped": ended,
         }
         return obs, rewards, terminated, truncated, infos
 
@@ -119,6 +135,14 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
                 return None
             frames.append(draw(t, radius, height))
         return tuple(frames)
+
+
+def _objects(values: Sequence[Any]) -> NDArray[np.object_]:
+    """A 1-D object array of ``values`` (lists stay elements, not a second axis)."""
+    out = np.empty(len(values), dtype=object)
+    for i, v in enumerate(values):
+        out[i] = v
+    return out
 
 
 def _seeded_rng(seed: Optional[int]) -> tuple[np.random.Generator, int]:
