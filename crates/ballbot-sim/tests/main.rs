@@ -23,6 +23,7 @@ mod trajopt;
 mod trajopt_margin;
 mod world;
 mod world_brake;
+mod world_bump;
 mod world_contact;
 mod world_driver;
 mod world_load_transfer;

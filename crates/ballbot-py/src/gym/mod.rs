@@ -12,9 +12,9 @@ use ballbot_sim::gym::{
     ResetOptions, RewardWeights, StepInfo, Task,
 };
 use ballbot_sim::rig::{Event, EventKind};
-use ballbot_sim::world::{StopRules, wheel_name};
+use ballbot_sim::world::wheel_name;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString};
+use pyo3::types::{PyDict, PyList};
 use serde::de::DeserializeOwned;
 
 pub(crate) use single::PyGymEnv;
@@ -106,42 +106,10 @@ pub(crate) fn config(
         config.reward = from_dict::<RewardWeights>(py, w, "reward")?;
     }
     if let Some(rules) = stop_on {
-        config.stop_rules = stop_rules(py, rules)?;
+        config.stop_rules = crate::world::stop_rules(py, rules)?;
     }
     config.validate().map_err(|e| gym_error(py, e))?;
     Ok(config)
-}
-
-/// `stop_on=`: the stop rules as `ballbot world --stop-on` takes them (`"all"`, `"none"`, or
-/// names among `tilt`, `slip`, `lift-off`, `driver-trip` separated by commas), or a list of the
-/// names (an empty list: none).
-fn stop_rules(py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<StopRules> {
-    let invalid = |detail: String| {
-        error(
-            py,
-            Kind::Parameter,
-            format!("invalid parameter `stop_on`: {detail}"),
-        )
-    };
-    let text = if value.is_instance_of::<PyString>() {
-        value.extract::<String>()?
-    } else {
-        let names: Vec<String> = value.extract().map_err(|_| {
-            invalid(format!(
-                "a string or a list of rule names, got {}",
-                value
-                    .get_type()
-                    .name()
-                    .map_or_else(|_| "?".into(), |n| n.to_string())
-            ))
-        })?;
-        if names.is_empty() {
-            "none".to_owned()
-        } else {
-            names.join(",")
-        }
-    };
-    text.parse().map_err(invalid)
 }
 
 /// `reset(options=...)`: `randomization` (a dict of ranges overriding the environment's),

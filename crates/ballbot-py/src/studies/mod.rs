@@ -10,13 +10,13 @@ use crate::errors::{Kind, error};
 use ballbot_sim::rig::Happened;
 use ballbot_sim::world::StopRules;
 use pyo3::prelude::*;
+use pyo3::types::PyString;
 
 /// The world's stop rules from `stop_on` (`"all"`, `"none"` or names separated by commas,
-/// as `ballbot world --stop-on` takes them); an unknown name is a `ParameterError` naming it.
+/// as `ballbot world --stop-on` takes them), by the gym's parser ([`crate::world::stop_rules`]);
+/// an unknown name is a `ParameterError` naming `stop_on`.
 fn stop_rules(py: Python<'_>, stop_on: &str) -> PyResult<StopRules> {
-    stop_on
-        .parse()
-        .map_err(|e| error(py, Kind::Parameter, format!("invalid `stop_on`: {e}")))
+    crate::world::stop_rules(py, PyString::new(py, stop_on).as_any())
 }
 
 /// The canonical form of `stop_on` (`"all"` -> `"tilt,slip,lift-off,driver-trip"`, names in

@@ -14,9 +14,10 @@ mod world_loop;
 
 use crate::errors::{Kind, error};
 use crate::params::PyWorldParams;
-use ballbot_sim::world::WorldParams;
+use ballbot_sim::world::{StopRules, WorldParams};
 use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::PyString;
 
 pub(crate) use class::*;
 pub(crate) use export::*;
@@ -125,4 +126,36 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(max_speed_ramp, m)?)?;
     m.add_function(wrap_pyfunction!(py_export, m)?)?;
     Ok(())
+}
+
+/// `stop_on=`: the stop rules as `ballbot world --stop-on` takes them (`"all"`, `"none"`, or
+/// names among `tilt`, `slip`, `lift-off`, `driver-trip` separated by commas), or a list of the
+/// names (an empty list: none).
+pub(crate) fn stop_rules(py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<StopRules> {
+    let invalid = |detail: String| {
+        error(
+            py,
+            Kind::Parameter,
+            format!("invalid parameter `stop_on`: {detail}"),
+        )
+    };
+    let text = if value.is_instance_of::<PyString>() {
+        value.extract::<String>()?
+    } else {
+        let names: Vec<String> = value.extract().map_err(|_| {
+            invalid(format!(
+                "a string or a list of rule names, got {}",
+                value
+                    .get_type()
+                    .name()
+                    .map_or_else(|_| "?".into(), |n| n.to_string())
+            ))
+        })?;
+        if names.is_empty() {
+            "none".to_owned()
+        } else {
+            names.join(",")
+        }
+    };
+    text.parse().map_err(invalid)
 }

@@ -113,6 +113,9 @@ pub fn reproduce(
     // Traction-aware control against the same controller without it (issue 14).
     traction_section(options, observer, &mut summary)?;
 
+    // The highest floor bump crossed (issue 28), on the experiment driver.
+    bump_section(options, observer, &mut summary)?;
+
     let summary = Value::Object(summary);
     write_json(&out.join("summary.json"), &summary, observer)?;
     Ok(summary)
@@ -347,6 +350,36 @@ fn traction_section(
         }
     }
     summary.insert("traction_aware".to_owned(), study.summary_json());
+    Ok(())
+}
+
+fn bump_section(
+    options: &ReproduceOptions,
+    observer: &dyn ReproduceObserver,
+    summary: &mut Map<String, Value>,
+) -> Result<(), ReportError> {
+    use crate::studies::bump::{BumpSettings, BumpStudy};
+    use crate::studies::driver::{Study, execute};
+    let settings = if options.quick {
+        BumpSettings::quick()
+    } else {
+        BumpSettings::full()
+    };
+    settings.validate()?;
+    let study = BumpStudy {
+        settings,
+        world: crate::world::WorldParams::miapure_60kg(),
+    };
+    let runs = study.jobs().iter().map(|j| study.runs_estimate(j)).sum();
+    observer.start("bump", runs);
+    let records = execute(&study, 0, &|what| observer.step(what))?;
+    observer.finish();
+    let table = super::bump::table(&study, &records);
+    observer.text(table.strip_suffix('\n').unwrap_or(&table));
+    summary.insert(
+        "bump_tolerance".to_owned(),
+        super::bump::summary_json(&study, &records),
+    );
     Ok(())
 }
 

@@ -7,6 +7,7 @@
 //! - [`runner`]: the one job runner: independent jobs on every core, results in job order.
 //! - [`driver`]: the one experiment driver: a study is a type ([`driver::Study`]: jobs, a
 //!   trial or a bisection per job, what passes), run on the runner with progress and replay.
+//! - [`bump`]: the highest floor bump crossed per speed and heading (a [`driver::Study`]).
 //! - [`piptb`]: the PIPTB controller comparison (paper Sec. IV-C) and [`planar_braking`], the
 //!   braking reference its controllers track.
 //! - [`ramp`]: a velocity ramp in the 3D world until failure (the maximum-speed protocol's run).
@@ -20,6 +21,7 @@
 //! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
 
+pub mod bump;
 pub mod driver;
 pub mod max_speed;
 pub mod mechanisms;

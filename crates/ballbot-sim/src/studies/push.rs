@@ -16,8 +16,8 @@
 //! tilt below `rest_tilt_rad` ([`PushParams`]). [`push_recovery_limit`] bisects the impulse
 //! for the largest one recovered.
 
-use crate::studies::driver::{Bisection, bisect};
 use crate::rig::{Happened, Injector, NoFaults, OutcomeTracker, WorldRobot};
+use crate::studies::driver::{Bisection, bisect};
 use crate::world::failure::{Failure, tilt_from_vertical_rad};
 use crate::world::params::WorldParams;
 use crate::world::{StopRules, WorldError};

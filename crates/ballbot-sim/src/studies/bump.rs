@@ -1,0 +1,390 @@
+//! Bump tolerance (issue 28 item 5, issue 27's proof of the experiment driver): the highest
+//! floor bump MiaPURE with 60 kg crosses at a speed and heading, with traction-aware control
+//! off and on.
+//!
+//! One trial: the robot stands for `settle_secs`, ramps (jerk-limited, `ramp_accel_m_per_s2`)
+//! to the speed along the heading and cruises; `ahead_m` in front of the ball, once it cruises,
+//! a bar lies across its path: a circular arc of the height tried and `width_m` chord
+//! ([`FloorBump`]). The run goes on for `after_secs` after the ball reached the bar. The trial
+//! **passes** when the ball got past the bar's far edge and the robot follows its command again
+//! at the end (outcome `recovered`: balancing, within 0.2 m/s of the command). The world's
+//! slip and lift-off stop rules are off ([`StopRules::contact_rules_off`]): a fall (the tilt
+//! rule's 25 deg, or the body on the floor) is the failure, and slips and lift-offs are events.
+//! A job bisects the height ([`crate::studies::driver::bisect`]).
+//!
+//! The study is a [`Study`]: [`BumpSettings`] is the type, [`execute`](super::driver::execute)
+//! runs it, `report::bump` renders it. What the bar's contact is: the world's rigid floor
+//! contact (rapier's soft constraint), not a compliant coating; that is issue 28's subject,
+//! and this study is the number it should move.
+
+use super::driver::{Bisection, Study};
+use crate::rig::{Happened, Outcome, OutcomeTracker, WorldRobot};
+use crate::world::{FloorBump, StopRules, WorldError, WorldParams};
+use ballbot_core::ballbot::BallbotControllerConfig;
+use ballbot_core::command::{AxisLimits, Command, JerkLimiter, VelocityCommand};
+use nalgebra::{Rotation3, Vector3};
+
+/// The bump study's protocol and grid.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct BumpSettings {
+    /// Cruise speeds (m/s).
+    pub speeds_m_per_s: Vec<f64>,
+    /// Headings of travel in the body frame (deg; 0 towards OW1).
+    pub headings_deg: Vec<f64>,
+    /// Traction-aware control off (`false`), on (`true`), or both.
+    pub traction_control: Vec<bool>,
+    /// The height search (m): `passing` 0, `failing` tried first.
+    pub height_search: Bisection,
+    /// The bar's chord along the path (m).
+    pub width_m: f64,
+    /// Standing before the ramp (s).
+    pub settle_secs: f64,
+    /// The ramp's acceleration (m/s^2); its jerk is the core shaper's 2 m/s^3.
+    pub ramp_accel_m_per_s2: f64,
+    /// Cruising before the bar is laid (s).
+    pub cruise_secs: f64,
+    /// Distance from the ball's centre to the bar's centre line when it is laid (m).
+    pub ahead_m: f64,
+    /// How long the run goes on after the ball reached the bar (s).
+    pub after_secs: f64,
+    /// Sensor-noise seed of every run.
+    pub seed: u64,
+}
+
+/// Jerk of the approach ramp (m/s^3): the core command shaper's default.
+pub const RAMP_JERK_M_PER_S3: f64 = 2.0;
+
+impl BumpSettings {
+    /// The full study (`ballbot reproduce`): 0.5 / 1.0 / 1.4 m/s towards 0 / 90 / 180 deg,
+    /// traction-aware control off and on, heights bisected in (0, 40 mm] to 0.25 mm.
+    ///
+    /// The bar is 100 mm wide along the path, a cable protector's or a door threshold's size
+    /// (a protocol choice, not a measured floor); 40 mm is above any height a 0.2 m ball is
+    /// expected to climb at walking speed.
+    pub fn full() -> Self {
+        Self {
+            speeds_m_per_s: vec![1.4, 1.0, 0.5],
+            headings_deg: vec![0.0, 90.0, 180.0],
+            traction_control: vec![false, true],
+            height_search: Bisection {
+                passing: 0.0,
+                failing: 0.04,
+                resolution: 0.000_25,
+            },
+            width_m: 0.1,
+            settle_secs: 0.5,
+            ramp_accel_m_per_s2: 0.5,
+            cruise_secs: 0.5,
+            ahead_m: 0.5,
+            after_secs: 2.5,
+            seed: 1,
+        }
+    }
+
+    /// The CI smoke variant (`ballbot reproduce --quick`): 1.0 m/s towards 0 and 180 deg,
+    /// traction-aware control off and on, heights to 2 mm.
+    pub fn quick() -> Self {
+        Self {
+            speeds_m_per_s: vec![1.0],
+            headings_deg: vec![0.0, 180.0],
+            height_search: Bisection {
+                resolution: 0.002,
+                ..Self::full().height_search
+            },
+            ..Self::full()
+        }
+    }
+
+    /// Checks every field; the error names it.
+    pub fn validate(&self) -> Result<(), WorldError> {
+        let invalid = |field, requirement| Err(WorldError::InvalidParameter { field, requirement });
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        let non_negative = |v: f64| v.is_finite() && v >= 0.0;
+        if self.speeds_m_per_s.is_empty() || !self.speeds_m_per_s.iter().all(|&v| positive(v)) {
+            return invalid(
+                "bump.speeds_m_per_s",
+                "must be non-empty, each finite and > 0",
+            );
+        }
+        if self.headings_deg.is_empty() || !self.headings_deg.iter().all(|h| h.is_finite()) {
+            return invalid("bump.headings_deg", "must be non-empty, each finite");
+        }
+        if self.traction_control.is_empty() {
+            return invalid("bump.traction_control", "must be non-empty");
+        }
+        if let Err(requirement) = self.height_search.validate() {
+            return invalid("bump.height_search", requirement);
+        }
+        let s = &self.height_search;
+        if s.passing != 0.0 || !positive(s.failing) {
+            return invalid(
+                "bump.height_search",
+                "passing must be 0 and failing a height > 0 (m)",
+            );
+        }
+        for (v, field) in [
+            (self.width_m, "bump.width_m"),
+            (self.ramp_accel_m_per_s2, "bump.ramp_accel_m_per_s2"),
+            (self.ahead_m, "bump.ahead_m"),
+            (self.after_secs, "bump.after_secs"),
+        ] {
+            if !positive(v) {
+                return invalid(field, "must be finite and > 0");
+            }
+        }
+        for (v, field) in [
+            (self.settle_secs, "bump.settle_secs"),
+            (self.cruise_secs, "bump.cruise_secs"),
+        ] {
+            if !non_negative(v) {
+                return invalid(field, "must be finite and >= 0");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One cell of the grid.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct BumpJob {
+    /// Cruise speed (m/s).
+    pub speed_m_per_s: f64,
+    /// Heading of travel (deg, body frame).
+    pub heading_deg: f64,
+    /// Whether traction-aware control is on.
+    pub traction_control: bool,
+}
+
+/// One crossing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BumpTrial {
+    /// The bar's height (m).
+    pub height_m: f64,
+    /// Whether the ball's centre got past the bar's far edge.
+    pub crossed: bool,
+    /// Largest tilt from the vertical after the bar was laid (deg).
+    pub peak_tilt_deg: f64,
+    /// Largest upward speed of the ball after the bar was laid (m/s): how hard it was thrown.
+    pub peak_ball_rise_m_per_s: f64,
+    /// Highest the ball's centre rose above where it was when the bar was laid (m): the bar's
+    /// height when the ball rolled over its crest, more if the bar threw it into the air.
+    pub peak_ball_lift_m: f64,
+    /// How the run ended and its contact events.
+    pub happened: Happened,
+}
+
+impl BumpTrial {
+    /// Whether the trial passed: crossed, and following the command again at the end.
+    pub fn passed(&self) -> bool {
+        self.crossed && matches!(self.happened.outcome, Outcome::Recovered { .. })
+    }
+}
+
+/// The study: settings and the world it runs in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BumpStudy {
+    /// The protocol and grid.
+    pub settings: BumpSettings,
+    /// The world (its sensor seed is replaced by the settings').
+    pub world: WorldParams,
+}
+
+impl BumpStudy {
+    /// The controller of a job: the paper's configuration (the one the paper's studies pin),
+    /// with traction-aware control when the job asks for it.
+    pub fn controller(&self, job: &BumpJob) -> Result<BallbotControllerConfig<f64>, WorldError> {
+        let paper = BallbotControllerConfig::paper(&self.world.robot).map_err(WorldError::Robot)?;
+        Ok(if job.traction_control {
+            paper.with_traction_control()
+        } else {
+            paper
+        })
+    }
+}
+
+impl Study for BumpStudy {
+    type Job = BumpJob;
+    type Trial = BumpTrial;
+    type Error = WorldError;
+
+    fn jobs(&self) -> Vec<BumpJob> {
+        let s = &self.settings;
+        let mut jobs = Vec::new();
+        for &speed_m_per_s in &s.speeds_m_per_s {
+            for &heading_deg in &s.headings_deg {
+                for &traction_control in &s.traction_control {
+                    jobs.push(BumpJob {
+                        speed_m_per_s,
+                        heading_deg,
+                        traction_control,
+                    });
+                }
+            }
+        }
+        jobs
+    }
+
+    fn bisection(&self, _job: &BumpJob) -> Option<Bisection> {
+        Some(self.settings.height_search)
+    }
+
+    fn trial(
+        &self,
+        job: &BumpJob,
+        value: Option<f64>,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<BumpTrial, WorldError> {
+        let height_m = value.unwrap_or(self.settings.height_search.failing);
+        cross_bump(self, job, height_m, observe)
+    }
+
+    fn passed(&self, trial: &BumpTrial) -> bool {
+        trial.passed()
+    }
+
+    fn describe(&self, job: &BumpJob, _value: Option<f64>, trial: &BumpTrial) -> String {
+        format!(
+            "bump {:.0} deg {:.1} m/s traction {}: {:.2} mm {}",
+            job.heading_deg,
+            job.speed_m_per_s,
+            if job.traction_control { "on" } else { "off" },
+            trial.height_m * 1e3,
+            if trial.passed() {
+                "crossed"
+            } else {
+                trial.happened.outcome.as_str()
+            }
+        )
+    }
+}
+
+/// One crossing of a bar `height_m` high (see the [module](self) docs).
+pub fn cross_bump(
+    study: &BumpStudy,
+    job: &BumpJob,
+    height_m: f64,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<BumpTrial, WorldError> {
+    let s = &study.settings;
+    s.validate()?;
+    if !(height_m.is_finite() && height_m > 0.0) {
+        return Err(WorldError::InvalidParameter {
+            field: "bump height_m",
+            requirement: "must be finite and > 0",
+        });
+    }
+    let mut world = study.world;
+    world.sensors.seed = s.seed;
+    let dt = world.dt_secs;
+    let mut sim = WorldRobot::with_config(world, study.controller(job)?)?;
+    sim.world_mut()
+        .set_stop_rules(StopRules::contact_rules_off());
+    let mut judge = OutcomeTracker::default();
+    let (sin_h, cos_h) = job.heading_deg.to_radians().sin_cos();
+    let limits = AxisLimits {
+        max_value: job.speed_m_per_s,
+        max_rate_per_s: s.ramp_accel_m_per_s2,
+        max_jerk_per_s2: RAMP_JERK_M_PER_S3,
+    };
+    let mut ramp = JerkLimiter::at(0.0);
+    let ramp_secs =
+        job.speed_m_per_s / s.ramp_accel_m_per_s2 + s.ramp_accel_m_per_s2 / RAMP_JERK_M_PER_S3;
+    let lay_at_secs = s.settle_secs + ramp_secs + s.cruise_secs;
+    // The run ends `after_secs` after the ball reached the bar, 0.25 s after a fall, or at
+    // the latest at twice the planned time (a robot that never gets to the bar).
+    let planned_secs = lay_at_secs + s.ahead_m / job.speed_m_per_s + s.after_secs;
+    let steps = (2.0 * planned_secs / dt).ceil() as u64;
+    let mut trial = BumpTrial {
+        height_m,
+        crossed: false,
+        peak_tilt_deg: 0.0,
+        peak_ball_rise_m_per_s: 0.0,
+        peak_ball_lift_m: 0.0,
+        happened: Happened::of(&sim, &judge),
+    };
+    let mut bar: Option<(Vector3<f64>, f64)> = None;
+    let mut ball_z_at_lay_m = 0.0;
+    let mut reached_at: Option<f64> = None;
+    for k in 0..steps {
+        let t = k as f64 * dt;
+        if bar.is_none() && t >= lay_at_secs {
+            bar = Some(lay_bar(&mut sim, s, job, height_m)?);
+            ball_z_at_lay_m = sim.world().telemetry().ball_position_m.z;
+        }
+        let v = if t >= s.settle_secs {
+            ramp.step(job.speed_m_per_s, &limits, dt)
+        } else {
+            0.0
+        };
+        let command = VelocityCommand {
+            vx_m_per_s: v * cos_h,
+            vy_m_per_s: v * sin_h,
+            yaw_rate_rad_per_s: 0.0,
+        };
+        let tel = *sim.step(Command::Velocity(command));
+        observe(&sim);
+        if sim.world().failure().is_none() {
+            let (_, _, yaw) = tel.body_orientation.euler_angles();
+            let v_yaw =
+                Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
+            judge.update(
+                &sim,
+                [v_yaw.x, v_yaw.y],
+                [command.vx_m_per_s, command.vy_m_per_s],
+            );
+        }
+        let Some((direction, centre_along)) = bar else {
+            continue;
+        };
+        let along = tel.ball_position_m.dot(&direction);
+        let tilt = crate::world::failure::tilt_from_vertical_rad(&tel);
+        trial.peak_tilt_deg = trial.peak_tilt_deg.max(tilt.to_degrees());
+        trial.peak_ball_rise_m_per_s = trial
+            .peak_ball_rise_m_per_s
+            .max(tel.ball_velocity_m_per_s.z);
+        trial.peak_ball_lift_m = trial
+            .peak_ball_lift_m
+            .max(tel.ball_position_m.z - ball_z_at_lay_m);
+        if along >= centre_along + 0.5 * s.width_m {
+            trial.crossed = true;
+        }
+        let ball_front = along + world.robot.ball_radius_m();
+        if reached_at.is_none() && ball_front >= centre_along - 0.5 * s.width_m {
+            reached_at = Some(t);
+        }
+        let done = reached_at.is_some_and(|r| t >= r + s.after_secs);
+        let fallen = sim
+            .world()
+            .failure()
+            .is_some_and(|f| t >= f.time_secs + 0.25);
+        if done || fallen {
+            break;
+        }
+    }
+    trial.happened = Happened::of(&sim, &judge);
+    Ok(trial)
+}
+
+/// Lays the bar `ahead_m` in front of the ball across its path; returns the path's direction
+/// in the world and the bar's centre line's distance along it (m).
+fn lay_bar(
+    sim: &mut WorldRobot,
+    s: &BumpSettings,
+    job: &BumpJob,
+    height_m: f64,
+) -> Result<(Vector3<f64>, f64), WorldError> {
+    let tel = sim.world().telemetry();
+    let (_, _, yaw) = tel.body_orientation.euler_angles();
+    let heading_world_rad = yaw + job.heading_deg.to_radians();
+    let direction = Vector3::new(heading_world_rad.cos(), heading_world_rad.sin(), 0.0);
+    let ball = tel.ball_position_m;
+    let centre = ball + direction * s.ahead_m;
+    sim.world_mut().add_floor_bump(FloorBump {
+        centre_m: [centre.x, centre.y],
+        heading_deg: heading_world_rad.to_degrees(),
+        height_m,
+        width_m: s.width_m,
+        length_m: 4.0,
+    })?;
+    Ok((direction, centre.dot(&direction)))
+}
