@@ -52,12 +52,12 @@ fn failing_acceleration_is_lower_towards_ow1_than_away_from_it() {
     // The grid: the bracket between surviving and failing is one resolution step.
     let failing = fwd.smallest_failing_m_per_s2.unwrap();
     assert!((failing - a_fwd - 0.3).abs() < 1e-9, "{a_fwd} .. {failing}");
-    let failure = fwd.failing.unwrap().failure.unwrap();
+    let failure = fwd.failing.as_ref().unwrap().failure.unwrap();
     assert!(
         matches!(failure.kind, FailureKind::SustainedSlip { wheel: 1 | 2 }),
         "{failure:?}"
     );
-    assert!(fwd.failing.unwrap().max_speed_m_per_s < 1.5);
+    assert!(fwd.failing.as_ref().unwrap().max_speed_m_per_s < 1.5);
     assert!(fwd.failing_run.as_ref().unwrap().failure.is_some());
     assert_eq!(
         fwd.failed_during_ramp(protocol.fast_top_m_per_s),
@@ -77,7 +77,7 @@ fn censored_and_failed_trials_are_reported_as_such() {
     // the end of the ramp, so its maximum speed is a lower bound, not a failure speed.
     let params = WorldParams::miapure_60kg();
     let failed = run_study(params, &tiny_settings(short_ramp(2.0, 3.0), 0.0), &|_| {}).unwrap();
-    let t = failed.trials[0].trials[0];
+    let t = &failed.trials[0].trials[0];
     assert!(!t.censored());
     assert!(t.max_speed_m_per_s < 1.2, "{}", t.max_speed_m_per_s);
     assert!(!t.speed_text().starts_with(">="));
@@ -90,12 +90,25 @@ fn censored_and_failed_trials_are_reported_as_such() {
         Some("OW2" | "OW3")
     ));
     assert_eq!(json["trials"][0]["mean_is_lower_bound"], false);
+    // What happened: the slip rule ended the ramp, after slip events on the same wheel.
+    assert_eq!(trial["outcome"]["kind"], "ended_by_stop_rule");
+    assert_eq!(trial["outcome"]["stop_rule"], "sustained_slip");
+    let wheel = trial["outcome"]["wheel"].as_str().unwrap();
+    assert!(
+        trial["events"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e["kind"] == "slip" && e["wheel"] == wheel),
+        "{}",
+        trial["events"]
+    );
     // Slip while balancing: the supervisor had not stopped.
     assert_eq!(t.supervisor_stop_secs, None);
     assert!(trial["supervisor_stop_secs"].is_null());
 
     let ok = run_study(params, &tiny_settings(short_ramp(1.0, 1.0), 180.0), &|_| {}).unwrap();
-    let t = ok.trials[0].trials[0];
+    let t = &ok.trials[0].trials[0];
     assert!(t.censored());
     assert!(t.max_speed_m_per_s > 0.9, "{}", t.max_speed_m_per_s);
     assert_eq!(t.speed_text(), format!(">= {:.2}", t.max_speed_m_per_s));

@@ -238,6 +238,10 @@ class TrialOutcome(_Result):
     """Peak tilt from the vertical (rad)."""
     supervisor_stop_secs: Optional[float]
     """When the safety supervisor stopped balancing (s), or ``None``."""
+    happened: dict[str, Any]
+    """How the run ended and its contact events (``BrakingRun.happened``'s form); a ramp
+    ends at the world's first failure, so a failed trial's outcome is ``ended_by_stop_rule``
+    or ``fell``."""
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)

@@ -78,6 +78,7 @@ fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, P
     d.set_item("min_normal_force_n", o.min_normal_force_n)?;
     d.set_item("peak_tilt_rad", o.peak_tilt_rad)?;
     d.set_item("supervisor_stop_secs", o.supervisor_stop_secs)?;
+    d.set_item("happened", super::happened_dict(py, &o.happened)?)?;
     crate::results::make(py, "TrialOutcome", d)
 }
 
@@ -89,9 +90,17 @@ fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, Py
     d.set_item("censored", f.smallest_failing_m_per_s2.is_none())?;
     d.set_item("text", f.text())?;
     d.set_item("runs", f.runs)?;
-    let failing = f.failing.map(|o| outcome_dict(py, &o)).transpose()?;
+    let failing = f
+        .failing
+        .as_ref()
+        .map(|o| outcome_dict(py, o))
+        .transpose()?;
     d.set_item("failing", failing)?;
-    let surviving = f.surviving.map(|o| outcome_dict(py, &o)).transpose()?;
+    let surviving = f
+        .surviving
+        .as_ref()
+        .map(|o| outcome_dict(py, o))
+        .transpose()?;
     d.set_item("surviving", surviving)?;
     let run = f
         .failing_run

@@ -25,8 +25,8 @@ fn failure_text(failure: Option<Failure>) -> String {
 
 impl TrialOutcome {
     /// The JSON record of a trial (summary `max_speed_study.trials[].trials[]`).
-    pub fn to_json(self) -> Value {
-        json!({
+    pub fn to_json(&self) -> Value {
+        let record = json!({
             "heading_deg": self.heading_deg,
             "seed": self.seed,
             "accel_m_per_s2": self.accel_m_per_s2,
@@ -37,7 +37,8 @@ impl TrialOutcome {
             "peak_cone_utilisation": self.peak_cone_utilisation,
             "min_normal_force_n": self.min_normal_force_n,
             "peak_tilt_deg": self.peak_tilt_rad.to_degrees(),
-        })
+        });
+        super::world_suite::with_happened(record, Some(&self.happened))
     }
 }
 
@@ -51,9 +52,9 @@ impl FailingAccel {
             "largest_surviving_m_per_s2": self.largest_surviving_m_per_s2,
             "smallest_failing_m_per_s2": self.smallest_failing_m_per_s2,
             "censored": self.smallest_failing_m_per_s2.is_none(),
-            "failure": failure_json(self.failing.and_then(|f| f.failure)),
-            "speed_at_failure_m_per_s": self.failing.map(|f| f.max_speed_m_per_s),
-            "surviving_peak_cone_utilisation": self.surviving.map(|s| s.peak_cone_utilisation),
+            "failure": failure_json(self.failing.as_ref().and_then(|f| f.failure)),
+            "speed_at_failure_m_per_s": self.failing.as_ref().map(|f| f.max_speed_m_per_s),
+            "surviving_peak_cone_utilisation": self.surviving.as_ref().map(|s| s.peak_cone_utilisation),
             "runs": self.runs,
         })
     }
@@ -240,7 +241,7 @@ impl MaxSpeedStudy {
                     &self.params.robot,
                     h.heading_deg
                 )),
-                f.map_or("-".to_owned(), |f| f.failing.map_or(
+                f.map_or("-".to_owned(), |f| f.failing.as_ref().map_or(
                     "-".to_owned(),
                     |o| format!(
                         "{} ({:.2} m/s, {})",

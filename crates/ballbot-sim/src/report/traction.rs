@@ -21,7 +21,7 @@ fn optional(value: Option<f64>, digits: usize) -> String {
 
 /// One run's JSON record: failure, accelerations, slip detection, limiting.
 fn run_json(r: &RunRecord) -> Value {
-    json!({
+    let record = json!({
         "failed": r.failure.is_some(),
         "failure": failure_json(r.failure),
         "max_accel_m_per_s2": r.max_accel_m_per_s2,
@@ -37,7 +37,8 @@ fn run_json(r: &RunRecord) -> Value {
         "peak_cone_utilisation": r.peak_cone_utilisation,
         "max_floor_slip_m_per_s": r.max_floor_slip_m_per_s,
         "max_tilt_deg": r.max_tilt_rad.to_degrees(),
-    })
+    });
+    super::world_suite::with_happened(record, Some(&r.happened))
 }
 
 /// The ramps start after 0.5 s at rest.
@@ -66,7 +67,7 @@ impl HeadingResult {
             "failing_accel_off_m_per_s2": off.largest_surviving_m_per_s2,
             "off_smallest_failing_m_per_s2": off.smallest_failing_m_per_s2,
             "off_censored": off.smallest_failing_m_per_s2.is_none(),
-            "off_failure": failure_json(off.failing.and_then(|f| f.failure)),
+            "off_failure": failure_json(off.failing.as_ref().and_then(|f| f.failure)),
             "max_accel_on_m_per_s2": self.on_top.max_accel_m_per_s2,
             "mean_accel_on_m_per_s2": self.on_top.mean_accel_m_per_s2(),
             "envelope_accel_m_per_s2": self.envelope_m_per_s2,
@@ -173,7 +174,7 @@ impl TractionStudy {
             let fails = match h.off.smallest_failing_m_per_s2 {
                 Some(a) => format!(
                     "{a:.2}: {}",
-                    failure_cell(h.off.failing.and_then(|f| f.failure))
+                    failure_cell(h.off.failing.as_ref().and_then(|f| f.failure))
                 ),
                 None => "none in the search".to_owned(),
             };

@@ -188,8 +188,23 @@ pub struct Happened {
 impl Happened {
     /// The run of `sim` so far, as `judge` saw it.
     pub fn of(sim: &WorldRobot, judge: &OutcomeTracker) -> Self {
+        Self::with_failure(sim, judge, sim.world().failure())
+    }
+
+    /// The run of a protocol that goes on past the world's stop rules (it watched the whole
+    /// run with `judge`): only the body on the floor ends it; the rule the world latched is
+    /// among the events.
+    pub fn past_stop_rules(sim: &WorldRobot, judge: &OutcomeTracker) -> Self {
+        let fell = sim
+            .world()
+            .failure()
+            .filter(|f| f.kind == FailureKind::BodyTouchedFloor);
+        Self::with_failure(sim, judge, fell)
+    }
+
+    fn with_failure(sim: &WorldRobot, judge: &OutcomeTracker, failure: Option<Failure>) -> Self {
         Self {
-            outcome: judge.outcome(sim.world().failure()),
+            outcome: judge.outcome(failure),
             events: sim.events().events().to_vec(),
             events_dropped: sim.events().dropped(),
         }

@@ -1,7 +1,7 @@
 //! The MiaPURE benchmarks of the paper's Sec. V in the 3D world, with the core's controller:
 //! maximum speed per heading (slow velocity ramp until failure) and push recovery.
 
-use crate::rig::WorldRobot;
+use crate::rig::{Happened, OutcomeTracker, WorldRobot};
 use crate::world::WorldError;
 use crate::world::failure::{Failure, tilt_from_vertical_rad};
 use crate::world::params::WorldParams;
@@ -48,6 +48,9 @@ pub struct RampResult {
     pub supervisor_stop_secs: Option<f64>,
     /// Samples every `sample_every_secs`.
     pub samples: Vec<RampSample>,
+    /// How the run ended (ended by a stop rule: the world's first failure ends a ramp) and
+    /// its contact events up to there.
+    pub happened: Happened,
 }
 
 /// Parameters of the maximum-speed ramp.
@@ -130,6 +133,7 @@ pub fn max_speed_ramp_observed(
     let mut samples = Vec::with_capacity((steps / every + 1) as usize);
     let mut max_speed: f64 = 0.0;
     let mut supervisor_stop_secs = None;
+    let mut judge = OutcomeTracker::default();
     for k in 0..steps {
         let t = k as f64 * dt;
         let v =
@@ -154,6 +158,7 @@ pub fn max_speed_ramp_observed(
         if sim.world().failure().is_some() {
             break;
         }
+        judge.update(&sim, [v_body.x, v_body.y], [cmd.vx_m_per_s, cmd.vy_m_per_s]);
         max_speed = max_speed.max(speed);
         if k.is_multiple_of(every) {
             // x = r phi_y (sagittal), y = -r phi_x (frontal), see ballbot_core::command.
@@ -185,5 +190,6 @@ pub fn max_speed_ramp_observed(
         failure: sim.world().failure(),
         supervisor_stop_secs,
         samples,
+        happened: Happened::of(&sim, &judge),
     })
 }

@@ -155,7 +155,7 @@ fn assemble(
             seed,
         };
         done.iter().find_map(|(j, r)| match r {
-            JobResult::Slow(run, o) if job_eq(j, &want) => Some((run, *o)),
+            JobResult::Slow(run, o) if job_eq(j, &want) => Some((run, o.clone())),
             _ => None,
         })
     };

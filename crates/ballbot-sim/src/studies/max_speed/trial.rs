@@ -2,6 +2,7 @@
 //! heading, and the core's quasi-static prediction of the failing acceleration.
 
 use super::protocol::MaxSpeedProtocol;
+use crate::rig::Happened;
 use crate::studies::ramp::{RampResult, max_speed_ramp_with_config};
 use crate::world::{Failure, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
@@ -9,7 +10,7 @@ use ballbot_core::{BallbotParams, OmniKinematics, Wip};
 use nalgebra::Vector4;
 
 /// One ramp run, reduced to what the study reports.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TrialOutcome {
     /// Heading (deg).
     pub heading_deg: f64,
@@ -30,6 +31,8 @@ pub struct TrialOutcome {
     pub min_normal_force_n: f64,
     /// Largest tilt from the vertical in the samples (rad).
     pub peak_tilt_rad: f64,
+    /// How the run ended and its contact events ([`RampResult::happened`]).
+    pub happened: Happened,
 }
 
 impl TrialOutcome {
@@ -48,6 +51,7 @@ impl TrialOutcome {
                 .flat_map(|x| x.normal_force_n)
                 .fold(f64::INFINITY, f64::min),
             peak_tilt_rad: s.iter().map(|x| x.tilt_rad).fold(0.0, f64::max),
+            happened: run.happened.clone(),
         }
     }
 

@@ -105,7 +105,7 @@ impl MechanismStudySettings {
 }
 
 /// One slow ramp of the study.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct MechanismRun {
     /// The controller.
     pub controller: ControllerVariant,
@@ -116,7 +116,7 @@ pub struct MechanismRun {
 }
 
 /// One point of the ramp-acceleration sweep.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SweepPoint {
     /// Roller-ball friction coefficient `mu`.
     pub wheel_ball_friction: f64,

@@ -1,6 +1,6 @@
 //! [`Probe`]: what one traction run measures, step by step, in the 3D world.
 
-use crate::rig::WorldRobot;
+use crate::rig::{Happened, Outcome, OutcomeTracker, WorldRobot};
 use crate::world::Failure;
 use crate::world::failure::tilt_from_vertical_rad;
 use ballbot_core::safety::Mode;
@@ -63,6 +63,8 @@ pub struct RunRecord {
     pub max_tilt_rad: f64,
     /// Samples.
     pub samples: Vec<TractionSample>,
+    /// How the run ended and its contact events, whatever the stop rules.
+    pub happened: Happened,
 }
 
 impl RunRecord {
@@ -82,6 +84,8 @@ pub struct Probe {
     sample_every: u64,
     steps: u64,
     slip_threshold_m_per_s: f64,
+    judge: OutcomeTracker,
+    past_stop_rules: bool,
     record: RunRecord,
 }
 
@@ -96,6 +100,8 @@ impl Probe {
             sample_every: sample_every.max(1),
             steps: 0,
             slip_threshold_m_per_s,
+            judge: OutcomeTracker::default(),
+            past_stop_rules: false,
             record: RunRecord {
                 heading_deg,
                 failure: None,
@@ -113,8 +119,21 @@ impl Probe {
                 peak_cone_utilisation: 0.0,
                 max_tilt_rad: 0.0,
                 samples: Vec::new(),
+                happened: Happened {
+                    outcome: Outcome::Unsettled,
+                    events: Vec::new(),
+                    events_dropped: 0,
+                },
             },
         }
+    }
+
+    /// For a run that goes on past the world's first failure (a patch crossing): its outcome
+    /// is judged to the end, and only the body on the floor is a fall
+    /// ([`Happened::past_stop_rules`]).
+    pub fn past_stop_rules(mut self) -> Self {
+        self.past_stop_rules = true;
+        self
     }
 
     /// The ball's speed along the heading (m/s), in the body's yaw frame.
@@ -196,12 +215,24 @@ impl Probe {
             });
         }
         self.steps += 1;
+        if self.past_stop_rules || r.failure.is_none() {
+            let (_, _, yaw) = t.body_orientation.euler_angles();
+            let v = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * t.ball_velocity_m_per_s;
+            let command = self.direction * command_m_per_s;
+            self.judge.update(sim, [v.x, v.y], [command.x, command.y]);
+        }
         r.failure = sim.world().failure();
         r.failure.is_some()
     }
 
-    /// The record, with the accelerations from the samples (0.1 s windows).
-    pub fn finish(mut self, sample_period_secs: f64) -> RunRecord {
+    /// The record of the run of `sim` (the one observed), with the accelerations from the
+    /// samples (0.1 s windows) and what happened.
+    pub fn finish(mut self, sim: &WorldRobot, sample_period_secs: f64) -> RunRecord {
+        self.record.happened = if self.past_stop_rules {
+            Happened::past_stop_rules(sim, &self.judge)
+        } else {
+            Happened::of(sim, &self.judge)
+        };
         let r = &mut self.record;
         let window = (0.1 / sample_period_secs).round().max(1.0) as usize;
         let s = &r.samples;

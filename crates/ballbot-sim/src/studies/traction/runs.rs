@@ -110,7 +110,7 @@ pub fn ramp(
             break;
         }
     }
-    Ok(probe.finish(SAMPLE_PERIOD_SECS))
+    Ok(probe.finish(&sim, SAMPLE_PERIOD_SECS))
 }
 
 /// Cruise towards `heading_deg` at `speed_m_per_s` for `cruise_secs` (reached under the
@@ -146,7 +146,7 @@ pub fn stop_from_cruise(
             break;
         }
     }
-    let mut record = probe.finish(SAMPLE_PERIOD_SECS);
+    let mut record = probe.finish(&sim, SAMPLE_PERIOD_SECS);
     // Only the stop's deceleration counts: the samples before it are the cruise's start.
     record.max_decel_m_per_s2 = decel_after(&record, cruise_secs);
     Ok((record, stopped_after))
@@ -208,7 +208,7 @@ pub fn cross_patch(
     after_secs: f64,
 ) -> Result<(RunRecord, Option<PatchCrossing>), WorldError> {
     let mut sim = WorldRobot::with_config(params, config)?;
-    let mut probe = probe_for(&params, heading_deg);
+    let mut probe = probe_for(&params, heading_deg).past_stop_rules();
     let (s, c) = heading_deg.to_radians().sin_cos();
     let along = |sim: &WorldRobot| {
         let p = sim.world().telemetry().ball_position_m;
@@ -257,7 +257,7 @@ pub fn cross_patch(
         entered_secs,
         left_secs: left,
     });
-    Ok((probe.finish(SAMPLE_PERIOD_SECS), window))
+    Ok((probe.finish(&sim, SAMPLE_PERIOD_SECS), window))
 }
 
 /// Whether the body is tilted beyond the world's fall limit (`FailureParams::max_tilt_rad`).
@@ -298,5 +298,5 @@ pub fn rider_lean(
             break;
         }
     }
-    Ok(probe.finish(SAMPLE_PERIOD_SECS))
+    Ok(probe.finish(&sim, SAMPLE_PERIOD_SECS))
 }
