@@ -1,5 +1,5 @@
 //! The bump study ([`crate::studies::bump`]) as the summary's `bump_tolerance` and as a table:
-//! the report function of a [`Study`](crate::studies::driver::Study). It renders; it runs
+//! the report function of a [`Study`]. It renders; it runs
 //! nothing.
 
 use crate::studies::bump::{BumpJob, BumpStudy, BumpTrial};
