@@ -237,6 +237,36 @@ fn a_full_residual_changes_what_the_drivers_apply() {
     );
 }
 
+/// Regression: the loop's motor-health monitor compared the drivers' torque, residual
+/// included, with the loop's own setpoint, so a residual above its tolerance (about action
+/// 0.25 at the default fraction) tripped `MotorStuck` and switched the motors off within a
+/// few steps. The residual is now taken off the feedback the loop reads.
+#[test]
+fn a_large_residual_does_not_read_as_a_stuck_motor() {
+    let mut config = quiet(EnvConfig::new(Task::Velocity));
+    config.max_episode_secs = 0.5;
+    let mut env = BallbotEnv::new(config).unwrap();
+    let mut obs = vec![0.0_f32; env.observation_len()];
+    let fixed = ResetOptions {
+        command: Some([0.0; 3]),
+        ..ResetOptions::default()
+    };
+    env.reset(Some(0), Some(&fixed), &mut obs).unwrap();
+    // Alternating +-0.5 on one wheel: a large residual the controller can balance against.
+    for k in 0..200 {
+        let a = if (k / 10) % 2 == 0 { 0.5 } else { -0.5 };
+        let out = env.step([a, 0.0, 0.0], &mut obs).unwrap();
+        assert!(
+            !out.terminated,
+            "step {k}: {:?}",
+            out.info.termination.map(|t| t.as_str())
+        );
+        if out.truncated {
+            break;
+        }
+    }
+}
+
 #[test]
 fn bad_configuration_and_options_are_rejected_naming_the_field() {
     let mut config = EnvConfig::new(Task::Balance);

@@ -8,6 +8,7 @@ use crate::world::{BallbotWorld, Measurement, StepTelemetry, WorldError, WorldPa
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_core::estimation::{EncoderSample, ImuSample};
+use ballbot_core::hal::MotorFeedback;
 use ballbot_core::safety::Mode;
 use nalgebra::Vector3;
 use std::collections::VecDeque;
@@ -101,6 +102,8 @@ impl Plant {
 pub(crate) struct DelayedLink {
     delay_us: u64,
     pub(crate) residual_nm: Vector3<f64>,
+    /// Whether the drivers applied the residual in this step (they do only while enabled).
+    residual_applied: bool,
     imu: VecDeque<ImuSample<f64>>,
     encoders: VecDeque<EncoderSample<f64>>,
 }
@@ -110,6 +113,7 @@ impl DelayedLink {
         Self {
             delay_us,
             residual_nm: Vector3::zeros(),
+            residual_applied: false,
             imu: VecDeque::new(),
             encoders: VecDeque::new(),
         }
@@ -164,7 +168,25 @@ impl Injector for DelayedLink {
         torque_nm: Vector3<f64>,
         _wheel_speeds_rad_per_s: Vector3<f64>,
     ) -> Vector3<f64> {
+        self.residual_applied = true;
         torque_nm + self.residual_nm
+    }
+
+    /// The drivers' torque as the loop's own: the residual is the agent's, added on the way to
+    /// the drivers, and the loop's motor-health monitor compares what a driver delivers with
+    /// what the loop asked (a residual above its tolerance, about a quarter of the action's
+    /// range, would otherwise read as a stuck motor and switch the motors off).
+    fn feedback(
+        &mut self,
+        _now_us: u64,
+        mut feedback: [MotorFeedback<f64>; 3],
+    ) -> [MotorFeedback<f64>; 3] {
+        if std::mem::take(&mut self.residual_applied) {
+            for (f, r) in feedback.iter_mut().zip(self.residual_nm.iter()) {
+                f.torque_nm -= r;
+            }
+        }
+        feedback
     }
 }
 
