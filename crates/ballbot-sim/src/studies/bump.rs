@@ -22,7 +22,7 @@ use crate::rig::{Happened, Outcome, OutcomeTracker, WorldRobot};
 use crate::world::{FloorBump, StopRules, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{AxisLimits, Command, JerkLimiter, VelocityCommand};
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::Vector3;
 
 /// The bump study's protocol and grid.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -324,9 +324,7 @@ pub fn cross_bump(
         let tel = *sim.step(Command::Velocity(command));
         observe(&sim);
         if sim.world().failure().is_none() {
-            let (_, _, yaw) = tel.body_orientation.euler_angles();
-            let v_yaw =
-                Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
+            let v_yaw = tel.ball_velocity_yaw_frame_m_per_s();
             judge.update(
                 &sim,
                 [v_yaw.x, v_yaw.y],

@@ -300,8 +300,7 @@ pub fn push_trial_with(
         let speed = v.x.hypot(v.y);
         let failed = failed_at.is_some();
         if !failed {
-            let (_, _, yaw) = tel.body_orientation.euler_angles();
-            let v_yaw = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * v;
+            let v_yaw = tel.ball_velocity_yaw_frame_m_per_s();
             judge.update(&sim, [v_yaw.x, v_yaw.y], [0.0, 0.0]);
         }
         if k >= push_step && !failed {

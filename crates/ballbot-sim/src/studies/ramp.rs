@@ -151,9 +151,7 @@ pub fn max_speed_ramp_observed(
             supervisor_stop_secs = Some(tel.time_secs);
         }
         // Ball velocity expressed in the body's yaw frame, along the heading.
-        let (_, _, yaw) = tel.body_orientation.euler_angles();
-        let v_body = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw)
-            * tel.ball_velocity_m_per_s;
+        let v_body = tel.ball_velocity_yaw_frame_m_per_s();
         let speed = v_body.dot(&dir);
         if sim.world().failure().is_some() {
             break;

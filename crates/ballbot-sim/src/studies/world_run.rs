@@ -225,9 +225,7 @@ pub fn run_world_with_sink(
             continue;
         }
         // Ball velocity in the body's yaw frame.
-        let (_, _, yaw) = telemetry.body_orientation.euler_angles();
-        let v_yaw =
-            Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * telemetry.ball_velocity_m_per_s;
+        let v_yaw = telemetry.ball_velocity_yaw_frame_m_per_s();
         judge.update(
             &sim,
             [v_yaw.x, v_yaw.y],

@@ -82,6 +82,13 @@ pub struct StepTelemetry {
 }
 
 impl StepTelemetry {
+    /// The ball's velocity in the body's yaw frame (m/s): the world velocity turned by minus
+    /// the body's yaw, the frame velocity commands are given in.
+    pub fn ball_velocity_yaw_frame_m_per_s(&self) -> Vector3<f64> {
+        let (_, _, yaw) = self.body_orientation.euler_angles();
+        nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * self.ball_velocity_m_per_s
+    }
+
     /// Feeds every field's bits into an FNV-1a 64-bit hash: equal hashes mean bit-identical
     /// telemetry (the determinism check).
     pub fn hash_into(&self, hash: &mut u64) {

@@ -265,11 +265,8 @@ pub fn run_cell(
         run.update_patch(&mut sim)?;
         run.observe(&sim, params.dt_secs);
         if sim.world().failure().is_none() {
-            judge.update(
-                &sim,
-                yaw_frame_ball_velocity(&sim),
-                [command.vx_m_per_s, command.vy_m_per_s],
-            );
+            let v = sim.world().telemetry().ball_velocity_yaw_frame_m_per_s();
+            judge.update(&sim, [v.x, v.y], [command.vx_m_per_s, command.vy_m_per_s]);
         }
         if run.fallen_for_secs(sim.world().time_secs()) > 0.5 {
             break;
@@ -291,15 +288,6 @@ const CELL_STOP_RULES: StopRules = StopRules {
     tilt: true,
     ..StopRules::none()
 };
-
-/// The ball's horizontal velocity in the body's yaw frame (m/s: x, y).
-fn yaw_frame_ball_velocity(sim: &WorldRobot) -> [f64; 2] {
-    let tel = sim.world().telemetry();
-    let (_, _, yaw) = tel.body_orientation.euler_angles();
-    let v =
-        nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
-    [v.x, v.y]
-}
 
 fn log_error(path: &Path, source: LogError) -> CellError {
     CellError::Log {

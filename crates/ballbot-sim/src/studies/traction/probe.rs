@@ -4,7 +4,7 @@ use crate::rig::{Happened, Outcome, OutcomeTracker, WorldRobot};
 use crate::world::Failure;
 use crate::world::failure::tilt_from_vertical_rad;
 use ballbot_core::safety::Mode;
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::Vector3;
 
 /// One sample of a traction run (every `sample_every_secs`), along the run's heading.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,9 +138,7 @@ impl Probe {
 
     /// The ball's speed along the heading (m/s), in the body's yaw frame.
     pub fn speed_m_per_s(&self, sim: &WorldRobot) -> f64 {
-        let t = sim.world().telemetry();
-        let (_, _, yaw) = t.body_orientation.euler_angles();
-        let v = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * t.ball_velocity_m_per_s;
+        let v = sim.world().telemetry().ball_velocity_yaw_frame_m_per_s();
         v.dot(&self.direction)
     }
 
@@ -216,8 +214,7 @@ impl Probe {
         }
         self.steps += 1;
         if self.past_stop_rules || r.failure.is_none() {
-            let (_, _, yaw) = t.body_orientation.euler_angles();
-            let v = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * t.ball_velocity_m_per_s;
+            let v = t.ball_velocity_yaw_frame_m_per_s();
             let command = self.direction * command_m_per_s;
             self.judge.update(sim, [v.x, v.y], [command.x, command.y]);
         }

@@ -6,7 +6,6 @@ use crate::rig::{Happened, OutcomeTracker, WorldRobot};
 use crate::world::failure::tilt_from_vertical_rad;
 use crate::world::telemetry::StepTelemetry;
 use ballbot_core::command::TrajectoryLimits;
-use nalgebra::{Rotation3, Vector3};
 
 /// `samples` (period `period_secs`) linearly interpolated at `t_secs`, held after the end.
 fn sample_linear(samples: &[WipState<f64>], period_secs: f64, t_secs: f64) -> WipState<f64> {
@@ -22,8 +21,7 @@ fn sample_linear(samples: &[WipState<f64>], period_secs: f64, t_secs: f64) -> Wi
 /// Ball speed along the heading in the body's yaw frame, signed tilt in the plane of the
 /// heading, and the ball's velocity in the yaw frame (m/s: x, y).
 fn along_heading(tel: &StepTelemetry, cos_h: f64, sin_h: f64) -> (f64, f64, [f64; 2]) {
-    let (_, _, yaw) = tel.body_orientation.euler_angles();
-    let v_body = Rotation3::from_axis_angle(&Vector3::z_axis(), -yaw) * tel.ball_velocity_m_per_s;
+    let v_body = tel.ball_velocity_yaw_frame_m_per_s();
     let speed = v_body.x * cos_h + v_body.y * sin_h;
     // The command maps a planar tilt to the sagittal plane as cos(h) and to the frontal plane
     // as -sin(h); project back the same way.
