@@ -198,18 +198,19 @@ impl<T> JobRecord<T> {
     }
 }
 
-/// Runs one job of `study`: one trial, or its bisection. `progress` sees each trial's line.
+/// Runs one job of `study`: one trial, or its bisection. `on_trial` sees each trial as it
+/// finishes, with its value (a progress line: [`Study::describe`]).
 pub fn run_job<S: Study>(
     study: &S,
     index: usize,
     job: &S::Job,
-    progress: &(dyn Fn(&str) + Sync),
+    on_trial: &mut dyn FnMut(Option<f64>, &S::Trial),
 ) -> Result<JobRecord<S::Trial>, S::Error> {
     let mut trials = Vec::new();
     let bracket = match study.bisection(job) {
         None => {
             let t = study.trial(job, None, &mut |_| {})?;
-            progress(&study.describe(job, None, &t));
+            on_trial(None, &t);
             trials.push((None, t));
             None
         }
@@ -218,7 +219,7 @@ pub fn run_job<S: Study>(
             |v| study.trial(job, Some(v), &mut |_| {}),
             |t| study.passed(t),
             |v, t| {
-                progress(&study.describe(job, Some(v), &t));
+                on_trial(Some(v), &t);
                 trials.push((Some(v), t));
             },
         )?),
@@ -242,7 +243,11 @@ pub fn execute<S: Study>(
     runner::run_jobs(
         &jobs,
         threads,
-        |(i, job)| run_job(study, *i, job, progress),
+        |(i, job)| {
+            run_job(study, *i, job, &mut |v, t| {
+                progress(&study.describe(job, v, t));
+            })
+        },
         &|_| {},
     )
 }

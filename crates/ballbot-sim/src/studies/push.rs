@@ -17,7 +17,7 @@
 //! for the largest one recovered.
 
 use crate::rig::{Happened, Injector, NoFaults, OutcomeTracker, WorldRobot};
-use crate::studies::driver::{Bisection, bisect};
+use crate::studies::driver::{self, Bisection, JobRecord, Study, bisect};
 use crate::world::failure::{Failure, tilt_from_vertical_rad};
 use crate::world::params::WorldParams;
 use crate::world::{StopRules, WorldError};
@@ -362,6 +362,35 @@ impl PushSearch {
     /// Finest resolution relative to `upper_ns` that [`push_recovery_limit`] accepts (about
     /// 30 halvings of the bracket).
     pub const MIN_RELATIVE_RESOLUTION: f64 = 1e-9;
+
+    /// Checks the range: `upper_ns` and `resolution_ns` finite and > 0, the resolution at
+    /// least [`Self::MIN_RELATIVE_RESOLUTION`] of `upper_ns` (a bracket finer than the floats
+    /// around `upper_ns` can resolve would never close).
+    pub fn validate(&self) -> Result<(), WorldError> {
+        let ok = |v: f64| v.is_finite() && v > 0.0;
+        if !(ok(self.upper_ns) && ok(self.resolution_ns)) {
+            return Err(WorldError::InvalidParameter {
+                field: "push search",
+                requirement: "upper_ns and resolution_ns must be finite and > 0",
+            });
+        }
+        if self.resolution_ns < self.upper_ns * Self::MIN_RELATIVE_RESOLUTION {
+            return Err(WorldError::InvalidParameter {
+                field: "push search resolution_ns",
+                requirement: "must be >= 1e-9 * upper_ns (at most ~30 trials)",
+            });
+        }
+        Ok(())
+    }
+
+    /// The search as the driver's bisection: 0 N s assumed recovered, `upper_ns` tried first.
+    pub fn bisection(&self) -> Bisection {
+        Bisection {
+            passing: 0.0,
+            failing: self.upper_ns,
+            resolution: self.resolution_ns,
+        }
+    }
 }
 
 impl Default for PushSearch {
@@ -405,6 +434,9 @@ impl PushRecovery {
 /// `upper_ns` first (if recovered, that is the answer), then halves the bracket `[0, upper]`
 /// until it is at most `resolution_ns` wide. Assumes recovery is monotone in the impulse
 /// (every trial is reported). `on_trial` sees each trial as it finishes.
+///
+/// This is [`PushStudy`]'s job at one heading, run by the experiment driver
+/// ([`driver::run_job`]).
 pub fn push_recovery_limit(
     world_params: WorldParams,
     params: &PushParams,
@@ -412,14 +444,79 @@ pub fn push_recovery_limit(
     heading_deg: f64,
     on_trial: &mut dyn FnMut(&PushTrial),
 ) -> Result<PushRecovery, WorldError> {
-    let mut trial = |impulse_ns| push_trial(world_params, params, heading_deg, impulse_ns);
-    push_recovery_limit_by(
-        search,
-        heading_deg,
-        &mut trial,
-        &PushTrial::recovered,
-        on_trial,
-    )
+    search.validate()?;
+    let study = PushStudy {
+        world: world_params,
+        params: *params,
+        search: *search,
+        headings_deg: vec![heading_deg],
+    };
+    let record = driver::run_job(&study, 0, &heading_deg, &mut |_, t| on_trial(t))?;
+    Ok(study.recovery(heading_deg, record))
+}
+
+/// The push-recovery search as a [`Study`]: one job per heading (deg, body frame), the impulse
+/// bisected in `(0, search.upper_ns]` (N s), a trial passing when the robot recovered
+/// ([`PushTrial::recovered`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushStudy {
+    /// The world (its sensor seed is the runs').
+    pub world: WorldParams,
+    /// The trials' protocol.
+    pub params: PushParams,
+    /// The impulse search.
+    pub search: PushSearch,
+    /// The headings, one job each.
+    pub headings_deg: Vec<f64>,
+}
+
+impl PushStudy {
+    /// A job's record as a [`PushRecovery`].
+    pub fn recovery(&self, heading_deg: f64, record: JobRecord<PushTrial>) -> PushRecovery {
+        let bracket = record.bracket;
+        PushRecovery {
+            heading_deg,
+            largest_recovered_ns: bracket.map_or(0.0, |b| b.passed),
+            smallest_failing_ns: bracket.and_then(|b| b.failed),
+            trials: record.trials.into_iter().map(|(_, t)| t).collect(),
+        }
+    }
+}
+
+impl Study for PushStudy {
+    type Job = f64;
+    type Trial = PushTrial;
+    type Error = WorldError;
+
+    fn jobs(&self) -> Vec<f64> {
+        self.headings_deg.clone()
+    }
+
+    fn bisection(&self, _heading_deg: &f64) -> Option<Bisection> {
+        Some(self.search.bisection())
+    }
+
+    fn trial(
+        &self,
+        heading_deg: &f64,
+        value: Option<f64>,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<PushTrial, WorldError> {
+        let impulse_ns = value.unwrap_or(self.search.upper_ns);
+        push_trial_observed(self.world, &self.params, *heading_deg, impulse_ns, observe)
+    }
+
+    fn passed(&self, trial: &PushTrial) -> bool {
+        trial.recovered()
+    }
+
+    fn describe(&self, heading_deg: &f64, _value: Option<f64>, t: &PushTrial) -> String {
+        format!(
+            "push {heading_deg:.0} deg {:.1} N s: {}",
+            t.impulse_ns,
+            t.outcome.label()
+        )
+    }
 }
 
 /// [`push_recovery_limit`] with the trial at an impulse (N s) given by `trial`, e.g.
@@ -432,27 +529,9 @@ pub fn push_recovery_limit_by(
     recovered: &dyn Fn(&PushTrial) -> bool,
     on_trial: &mut dyn FnMut(&PushTrial),
 ) -> Result<PushRecovery, WorldError> {
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    if !(ok(search.upper_ns) && ok(search.resolution_ns)) {
-        return Err(WorldError::InvalidParameter {
-            field: "push search",
-            requirement: "upper_ns and resolution_ns must be finite and > 0",
-        });
-    }
-    // A bracket finer than the floats around `upper_ns` can resolve would never close.
-    if search.resolution_ns < search.upper_ns * PushSearch::MIN_RELATIVE_RESOLUTION {
-        return Err(WorldError::InvalidParameter {
-            field: "push search resolution_ns",
-            requirement: "must be >= 1e-9 * upper_ns (at most ~30 trials)",
-        });
-    }
+    search.validate()?;
     let mut trials = Vec::new();
-    let bisection = Bisection {
-        passing: 0.0,
-        failing: search.upper_ns,
-        resolution: search.resolution_ns,
-    };
-    let bracket = bisect(&bisection, &mut *trial, recovered, |_, t| {
+    let bracket = bisect(&search.bisection(), &mut *trial, recovered, |_, t| {
         on_trial(&t);
         trials.push(t);
     })?;
