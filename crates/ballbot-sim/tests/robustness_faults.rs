@@ -2,9 +2,11 @@
 //! documented timeouts predict, the balance-point estimator against the payload shift, logs,
 //! determinism.
 
+use ballbot_sim::rig::Outcome;
+use ballbot_sim::studies::driver::{Study, replay};
 use ballbot_sim::studies::robustness::{
     Cell, CellProtocol, CellResult, Condition, ControllerVariant, FaultClass, FaultMagnitudes,
-    SafeState, run_cell,
+    FaultMatrixSettings, FaultMatrixStudy, SafeState, run_cell,
 };
 use ballbot_sim::world::WorldParams;
 use std::path::Path;
@@ -103,6 +105,51 @@ fn an_overrun_is_a_controlled_stop_and_the_cell_is_deterministic() {
         Condition::Standing,
     );
     assert_eq!(a, b);
+}
+
+/// The matrix as a driver study: a cell replayed with an observer is the cell as
+/// `run_cell` runs it, and what happened in it is recorded (the supervisor's stop, no fall).
+#[test]
+fn a_fault_cell_replays_through_the_driver() {
+    let settings = FaultMatrixSettings {
+        protocol: CellProtocol {
+            moving_inject_secs: 3.0,
+            observe_secs: 4.0,
+            ..CellProtocol::issue15()
+        },
+        log_dir: None,
+        ..FaultMatrixSettings::quick()
+    };
+    let world = WorldParams::miapure_60kg();
+    let study = FaultMatrixStudy {
+        world: &world,
+        settings: &settings,
+    };
+    let cells = study.jobs();
+    let i = cells
+        .iter()
+        .position(|c| c.class == FaultClass::LoopOverrun && c.condition == Condition::Standing)
+        .unwrap();
+    let mut steps = 0_u64;
+    let replayed = replay(&study, i, None, &mut |_| steps += 1)
+        .unwrap()
+        .unwrap();
+    let direct = run_cell(
+        &world,
+        &settings.protocol,
+        &settings.magnitudes,
+        cells[i],
+        None,
+    )
+    .unwrap();
+    assert_eq!(replayed, direct);
+    assert!(steps > 8_000, "{steps}");
+    assert_eq!(study.passed(&replayed), replayed.as_expected);
+    assert!(
+        matches!(replayed.happened.outcome, Outcome::Stopped { .. }),
+        "{:?}",
+        replayed.happened.outcome
+    );
 }
 
 #[test]

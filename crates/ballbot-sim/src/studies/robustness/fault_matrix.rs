@@ -1,10 +1,13 @@
 //! The fault-injection matrix: every fault class in every condition at every heading, each
 //! cell a seeded run in the rapier3d world with the shipped loop and an MCAP log.
 
-use super::fault_run::{Cell, CellError, CellProtocol, CellResult, ControllerVariant, run_cell};
+use super::fault_run::{
+    Cell, CellError, CellProtocol, CellResult, ControllerVariant, run_cell_observed,
+};
 use super::faults::{Condition, FaultClass, FaultMagnitudes};
 use crate::log::LogError;
-use crate::studies::runner::run_jobs;
+use crate::rig::WorldRobot;
+use crate::studies::driver::{self, Bisection, Study};
 use crate::world::{WorldError, WorldParams};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -256,29 +259,77 @@ pub fn run_fault_matrix(
             },
         })?;
     }
-    let cells = settings.cells();
-    let total = cells.len();
+    let study = FaultMatrixStudy { world, settings };
+    let total = settings.cells().len();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let results = run_jobs(
-        &cells,
-        threads,
-        |cell| {
-            let log = settings
-                .log_dir
-                .as_deref()
-                .map(|dir| FaultMatrixSettings::log_path(dir, cell));
-            run_cell(
-                world,
-                &settings.protocol,
-                &settings.magnitudes,
-                *cell,
-                log.as_deref(),
-            )
-        },
-        &|_| {
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress(n, total);
-        },
-    )?;
+    let records = driver::execute(&study, threads, &|_| {
+        let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        progress(n, total);
+    })?;
+    let results = records
+        .into_iter()
+        .flat_map(|r| r.trials.into_iter().map(|(_, cell)| cell))
+        .collect();
     Ok(FaultMatrix::new(results))
+}
+
+/// The fault-injection matrix as a [`Study`]: one job per cell ([`FaultMatrixSettings::cells`]),
+/// one trial each ([`run_cell_observed`], with the cell's MCAP log when the settings have a log
+/// folder), passing when the cell ended in its expected safe state. [`run_fault_matrix`] runs
+/// it with [`driver::execute`]; [`driver::replay`] runs a cell again with an observer.
+pub struct FaultMatrixStudy<'a> {
+    /// The world (each cell replaces its sensor seed).
+    pub world: &'a WorldParams,
+    /// The matrix.
+    pub settings: &'a FaultMatrixSettings,
+}
+
+impl Study for FaultMatrixStudy<'_> {
+    type Job = Cell;
+    type Trial = CellResult;
+    type Error = CellError;
+
+    fn jobs(&self) -> Vec<Cell> {
+        self.settings.cells()
+    }
+
+    fn bisection(&self, _cell: &Cell) -> Option<Bisection> {
+        None
+    }
+
+    fn trial(
+        &self,
+        cell: &Cell,
+        _value: Option<f64>,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<CellResult, CellError> {
+        let s = self.settings;
+        let log = s
+            .log_dir
+            .as_deref()
+            .map(|dir| FaultMatrixSettings::log_path(dir, cell));
+        run_cell_observed(
+            self.world,
+            &s.protocol,
+            &s.magnitudes,
+            *cell,
+            log.as_deref(),
+            observe,
+        )
+    }
+
+    fn passed(&self, result: &CellResult) -> bool {
+        result.as_expected
+    }
+
+    fn describe(&self, cell: &Cell, _value: Option<f64>, result: &CellResult) -> String {
+        format!(
+            "fault {} {} {:.0} deg ({}): {}",
+            cell.class.as_str(),
+            cell.condition.as_str(),
+            cell.heading_deg,
+            cell.controller.as_str(),
+            result.mark()
+        )
+    }
 }

@@ -218,6 +218,19 @@ pub fn run_cell(
     cell: Cell,
     log: Option<&Path>,
 ) -> Result<CellResult, CellError> {
+    run_cell_observed(world, protocol, magnitudes, cell, log, &mut |_| {})
+}
+
+/// [`run_cell`] calling `observe` after every physics step (the run is the same with or
+/// without it).
+pub fn run_cell_observed(
+    world: &WorldParams,
+    protocol: &CellProtocol,
+    magnitudes: &FaultMagnitudes,
+    cell: Cell,
+    log: Option<&Path>,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<CellResult, CellError> {
     let mut params = *world;
     params.sensors.seed = cell.seed;
     let config = cell.controller.config(&params)?;
@@ -255,6 +268,7 @@ pub fn run_cell(
             log_result = l.record_event(t.time_secs, "fault", &what, tilt_from_vertical_rad(t));
         }
         sim.step_injected(Command::Velocity(command), &mut run.injector);
+        observe(&sim);
         if let Some(l) = logger.as_mut()
             && log_result.is_ok()
         {

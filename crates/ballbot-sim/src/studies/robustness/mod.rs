@@ -10,11 +10,14 @@ pub mod injector;
 
 pub use fault_run::{
     Cell, CellError, CellLog, CellProtocol, CellResult, ControllerVariant, run_cell,
+    run_cell_observed,
 };
 pub use faults::{Condition, FaultClass, FaultMagnitudes, SafeState};
 pub use injector::FaultInjector;
 pub mod fault_matrix;
-pub use fault_matrix::{FaultMatrix, FaultMatrixSettings, FaultMatrixSummary, run_fault_matrix};
+pub use fault_matrix::{
+    FaultMatrix, FaultMatrixSettings, FaultMatrixStudy, FaultMatrixSummary, run_fault_matrix,
+};
 pub mod mismatch;
 pub mod monte_carlo;
 pub use mismatch::{Mismatch, SensorBias};
