@@ -3,9 +3,11 @@
 
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::rig::{EventKind, NoFaults, Outcome, WorldRobot};
+use ballbot_sim::studies::driver::{Study, replay};
 use ballbot_sim::studies::push::{PushParams, push_trial_with};
 use ballbot_sim::studies::robustness::{
-    Mismatch, MonteCarloCount, MonteCarloSettings, run_monte_carlo, run_one, run_seed,
+    Mismatch, MonteCarloCount, MonteCarloSettings, MonteCarloStudy, run_monte_carlo, run_one,
+    run_seed,
 };
 use ballbot_sim::world::{FailureKind, WorldParams};
 
@@ -91,6 +93,18 @@ fn runs_do_not_depend_on_the_thread_count_and_rerun_from_their_seed() {
     assert_eq!(one.all_runs, two.all_runs);
     assert_eq!(one.runs, 3);
     assert_eq!(run_one(&nominal, &settings, 2).unwrap(), one.all_runs[2]);
+    // The study on the experiment driver: a run replayed with an observer is the run.
+    let study = MonteCarloStudy {
+        nominal: &nominal,
+        settings: &settings,
+    };
+    let mut steps = 0_u64;
+    let replayed = replay(&study, 1, None, &mut |_| steps += 1)
+        .unwrap()
+        .unwrap();
+    assert_eq!(replayed, one.all_runs[1]);
+    assert!(steps > 8_000, "{steps}");
+    assert!(study.passed(&replayed));
     // A 40 N s push at the COM: every one of these robots stays up.
     assert_eq!(one.stayed_up, 3, "{:?}", one.all_runs);
 }

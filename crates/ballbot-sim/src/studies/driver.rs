@@ -14,8 +14,9 @@
 use crate::rig::WorldRobot;
 use crate::studies::runner;
 
-/// A scalar bisection: the largest value in `[passing, failing]` at which a trial passes,
-/// to within `resolution`. The study's own [`Study::passed`] says what passing is.
+/// A scalar bisection: the value between `passing` and `failing`, nearest `failing`, at which
+/// a trial still passes, to within `resolution` (the largest push recovered, the shortest
+/// braking time). The study's own [`Study::passed`] says what passing is.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Bisection {
     /// A value assumed to pass (not tried), e.g. 0 for a push or a bump.
@@ -47,7 +48,7 @@ impl Bisection {
     }
 }
 
-/// The bracket a [`bisect`] ended with, and how many trials it took.
+/// The bracket a [`bisect`] ended with.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Bracket {
     /// The value closest to `failing` that passed (`Bisection::passing` if none was tried and

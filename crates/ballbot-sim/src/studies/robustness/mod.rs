@@ -22,8 +22,9 @@ pub mod mismatch;
 pub mod monte_carlo;
 pub use mismatch::{Mismatch, SensorBias};
 pub use monte_carlo::{
-    LimitQuantiles, MonteCarlo, MonteCarloCount, MonteCarloRun, MonteCarloSettings, Throughput,
-    run_monte_carlo, run_one, run_seed, wilson_interval_95,
+    LimitQuantiles, MonteCarlo, MonteCarloCount, MonteCarloRun, MonteCarloSettings,
+    MonteCarloStudy, Throughput, run_monte_carlo, run_one, run_one_observed, run_seed,
+    wilson_interval_95,
 };
 pub mod fuzz;
 pub use fuzz::{FuzzResult, FuzzSettings, run_fuzz};

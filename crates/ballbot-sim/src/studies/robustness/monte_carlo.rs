@@ -11,6 +11,7 @@
 use super::fault_run::ControllerVariant;
 use super::mismatch::Mismatch;
 use crate::rig::{Happened, WorldRobot};
+use crate::studies::driver::{self, Bisection, Study};
 use crate::studies::push::{
     PushOutcome, PushParams, PushSearch, PushTrial, push_recovery_limit_by, push_trial_with,
 };
@@ -338,24 +339,37 @@ pub fn run_one(
     settings: &MonteCarloSettings,
     index: usize,
 ) -> Result<MonteCarloRun, WorldError> {
+    run_one_observed(nominal, settings, index, &mut |_| {})
+}
+
+/// [`run_one`] calling `observe` after every physics step of the push at the study's impulse
+/// (not of the limit's bisection); the run is the same with or without it.
+pub fn run_one_observed(
+    nominal: &WorldParams,
+    settings: &MonteCarloSettings,
+    index: usize,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<MonteCarloRun, WorldError> {
     let seed = run_seed(settings.seed, index);
     let mismatch = Mismatch::sample(seed, settings.fraction);
     let config = settings.controller.config(nominal)?;
     let mut world = mismatch.apply(nominal);
     world.sensors.seed = seed;
     let params = settings.push_params();
-    let mut trial_at = |impulse_ns: f64| -> Result<PushTrial, WorldError> {
-        let sim = WorldRobot::with_config(world, config)?;
-        push_trial_with(
-            sim,
-            &mut mismatch.sensor_bias(),
-            &params,
-            mismatch.heading_deg,
-            impulse_ns,
-            &mut |_| {},
-        )
-    };
-    let trial = trial_at(settings.impulse_ns)?;
+    let trial_observed =
+        |impulse_ns: f64, observe: &mut dyn FnMut(&WorldRobot)| -> Result<PushTrial, WorldError> {
+            let sim = WorldRobot::with_config(world, config)?;
+            push_trial_with(
+                sim,
+                &mut mismatch.sensor_bias(),
+                &params,
+                mismatch.heading_deg,
+                impulse_ns,
+                observe,
+            )
+        };
+    let trial = trial_observed(settings.impulse_ns, observe)?;
+    let mut trial_at = |impulse_ns: f64| trial_observed(impulse_ns, &mut |_| {});
     let largest_recovered_ns = if index < settings.limit_runs {
         let search = push_recovery_limit_by(
             &settings.search,
@@ -405,14 +419,25 @@ pub fn run_monte_carlo(
     let split = settings.single_thread_runs.min(plain.len());
     let (single, multi) = plain.split_at(split);
     let bisected: Vec<usize> = (0..settings.limit_runs).collect();
-    let run = |&i: &usize| run_one(nominal, settings, i);
+    let study = MonteCarloStudy { nominal, settings };
+    let run = |&i: &usize| {
+        driver::run_job(&study, i, &i, &mut |_, _| {})
+            .map(|r| r.trials.into_iter().map(|(_, run)| run))
+    };
     let start = Instant::now();
-    let mut all_runs = run_jobs(single, 1, run, &tick)?;
+    let mut all_runs: Vec<MonteCarloRun> = run_jobs(single, 1, run, &tick)?
+        .into_iter()
+        .flatten()
+        .collect();
     let one_secs = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    all_runs.extend(run_jobs(multi, threads, run, &tick)?);
+    all_runs.extend(run_jobs(multi, threads, run, &tick)?.into_iter().flatten());
     let all_secs = start.elapsed().as_secs_f64();
-    all_runs.extend(run_jobs(&bisected, threads, run, &tick)?);
+    all_runs.extend(
+        run_jobs(&bisected, threads, run, &tick)?
+            .into_iter()
+            .flatten(),
+    );
     all_runs.sort_by_key(|r| r.index);
     let rate = |n: usize, secs: f64| if secs > 0.0 { n as f64 / secs } else { 0.0 };
     let throughput = Throughput {
@@ -421,6 +446,50 @@ pub fn run_monte_carlo(
         threads: crate::studies::runner::thread_count(threads, multi.len()),
     };
     Ok(summarise(*settings, all_runs, throughput))
+}
+
+/// The Monte Carlo as a [`Study`]: one job per run index (its seed draws the mismatch, the
+/// push's heading and the sensors' noise), one trial each ([`run_one_observed`]: the push at
+/// the study's impulse, and for the first `limit_runs` the largest push it stays up after),
+/// passing when the robot stayed up ([`MonteCarloCount::stayed_up`]). [`run_monte_carlo`] runs
+/// the jobs in its timed batches through [`driver::run_job`]; [`driver::replay`] runs one
+/// again with an observer, e.g. the worst run of a table by its index.
+pub struct MonteCarloStudy<'a> {
+    /// The nominal world the mismatches perturb.
+    pub nominal: &'a WorldParams,
+    /// The study.
+    pub settings: &'a MonteCarloSettings,
+}
+
+impl Study for MonteCarloStudy<'_> {
+    type Job = usize;
+    type Trial = MonteCarloRun;
+    type Error = WorldError;
+
+    fn jobs(&self) -> Vec<usize> {
+        (0..self.settings.runs).collect()
+    }
+
+    fn bisection(&self, _index: &usize) -> Option<Bisection> {
+        None
+    }
+
+    fn trial(
+        &self,
+        index: &usize,
+        _value: Option<f64>,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<MonteCarloRun, WorldError> {
+        run_one_observed(self.nominal, self.settings, *index, observe)
+    }
+
+    fn passed(&self, run: &MonteCarloRun) -> bool {
+        run.stayed_up
+    }
+
+    fn describe(&self, index: &usize, _value: Option<f64>, run: &MonteCarloRun) -> String {
+        format!("monte carlo run {index} seed {}: {}", run.seed, run.verdict)
+    }
 }
 
 fn summarise(
