@@ -162,7 +162,7 @@ impl LogSink {
         true
     }
 
-    /// Paces the run to the live view ([`LiveServer::pace`]); nothing without one.
+    /// Paces the run to the live view (`LiveServer::pace`, feature `live`); nothing without one.
     pub fn pace(&self, time_secs: f64) {
         #[cfg(feature = "live")]
         if let Some(server) = &self.live {
