@@ -7,10 +7,20 @@ use crate::studies::driver::{JobRecord, Study};
 use serde_json::{Value, json};
 use std::fmt::Write;
 
+/// `crossed` (past the bar and following the command again), `failed_after_crossing` (past
+/// the bar, then a fall or a stop) or `not_crossed`.
+fn verdict(t: &BumpTrial) -> &'static str {
+    match (t.passed(), t.crossed) {
+        (true, _) => "crossed",
+        (false, true) => "failed_after_crossing",
+        (false, false) => "not_crossed",
+    }
+}
+
 fn trial_json(t: &BumpTrial) -> Value {
     let record = json!({
         "height_mm": t.height_m * 1e3,
-        "verdict": if t.passed() { "crossed" } else { "not_crossed" },
+        "verdict": verdict(t),
         "crossed": t.crossed,
         "peak_tilt_deg": t.peak_tilt_deg,
         "peak_ball_rise_m_per_s": t.peak_ball_rise_m_per_s,
@@ -48,8 +58,8 @@ pub fn summary_json(study: &BumpStudy, records: &[JobRecord<BumpTrial>]) -> Valu
     })
 }
 
-/// The table `ballbot reproduce` prints: one row per speed and heading, the largest bar
-/// crossed with traction-aware control off and on, and how the first failing trial ended.
+/// The table `ballbot reproduce` prints: one row per speed, heading and traction-control
+/// setting, the largest bar crossed, and how the trial at the lowest failing bar ended.
 pub fn table(study: &BumpStudy, records: &[JobRecord<BumpTrial>]) -> String {
     let s = &study.settings;
     let jobs = study.jobs();
@@ -64,7 +74,7 @@ pub fn table(study: &BumpStudy, records: &[JobRecord<BumpTrial>]) -> String {
     );
     let _ = writeln!(
         out,
-        "  {:>7} | {:>7} | {:>8} | {:>16} | what the lowest bar not crossed did",
+        "  {:>7} | {:>7} | {:>8} | {:>16} | what the lowest failing bar did",
         "speed", "heading", "traction", "largest crossed"
     );
     for r in records {
