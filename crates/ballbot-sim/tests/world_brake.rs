@@ -1,12 +1,13 @@
 //! Minimum braking time and push recovery in the 3D world (`studies::world_braking`, `studies::push`).
 
 use ballbot_sim::rig::{EventKind, Happened, Outcome};
+use ballbot_sim::studies::driver::{self, Study};
 use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSearch, push_recovery_limit, push_trial,
 };
 use ballbot_sim::studies::world_braking::{
-    BrakingOutcome, BrakingParams, BrakingStudyParams, TrajectoryFeedforward, braking_run,
-    braking_study, fly_braking,
+    BrakingExperiment, BrakingOutcome, BrakingParams, BrakingRun, BrakingStudy, BrakingStudyParams,
+    TrajectoryFeedforward, braking_run, braking_study, fly_braking,
 };
 use ballbot_sim::trajopt::SolveStatus;
 use ballbot_sim::world::{FailureKind, StopRules, WorldParams};
@@ -89,6 +90,89 @@ fn braking_study_succeeds_at_a_generous_time_fails_at_an_impossible_one_and_bise
     assert_eq!(seen, vec![3.0, 1.0, 2.0]);
     assert_eq!(r.shortest_success().unwrap().duration_secs, 3.0);
     assert_eq!(r.first_failure().unwrap().duration_secs, 1.0);
+}
+
+/// The descent of 3, 1 and 0.5 s with a bisection to 1 s at 180 deg, as a driver study.
+fn short_descent(world: WorldParams) -> BrakingExperiment {
+    BrakingExperiment {
+        world,
+        params: fast_braking(),
+        study: BrakingStudyParams {
+            durations_secs: vec![3.0, 1.0, 0.5],
+            bisection_resolution_secs: Some(1.0),
+        },
+        headings_deg: vec![180.0],
+    }
+}
+
+/// `a` and `b` are the same run: the fields that tell first (a readable failure), then all.
+fn assert_same_run(a: &BrakingRun, b: &BrakingRun) {
+    assert_eq!(a.duration_secs, b.duration_secs);
+    assert_eq!(a.outcome, b.outcome);
+    assert_eq!(a.plan_cost_n2m2s, b.plan_cost_n2m2s);
+    assert_eq!(a.plan_peak_tilt_rad, b.plan_peak_tilt_rad);
+    assert_eq!(a.peaks, b.peaks);
+    assert_eq!(a.telemetry_hash, b.telemetry_hash);
+    assert!(a == b, "the runs at T = {} s differ", a.duration_secs);
+}
+
+/// Every trial of the study is solved from a cold start: its record at `T` is the single run
+/// at `T` (what `ballbot brake` and `braking_run(.., T, None)` give), and the driver's replay
+/// of a trial with an observer is that trial again.
+#[test]
+fn a_braking_record_is_the_cold_run_at_its_time_and_replays_with_an_observer() {
+    let world = WorldParams::miapure_60kg();
+    let experiment = short_descent(world);
+    let mut lines = Vec::new();
+    let records = driver::execute(&experiment, 1, &|_| {}).unwrap();
+    let record = &records[0];
+    // 3 s stops, 1 s fails (the descent: 2 scanned), then the bisection tries 2 s.
+    assert_eq!(record.scanned, 2);
+    let tried: Vec<_> = record.trials.iter().map(|(v, _)| *v).collect();
+    assert_eq!(tried, [Some(3.0), Some(1.0), Some(2.0)]);
+    for (value, run) in &record.trials {
+        lines.push(experiment.describe(&180.0, *value, run));
+    }
+    assert_eq!(lines[1], "brake 180 deg T 1.00 s: failed");
+    // The runs after the first (once warm-started from the one before) are the cold runs.
+    for t in [1.0, 2.0] {
+        let single = braking_run(world, &fast_braking(), 180.0, t, None).unwrap();
+        assert_same_run(record.trial_at(t).unwrap(), &single);
+    }
+    // The same as a BrakingStudy: the descent, the bisection and the bracket.
+    let study = BrakingStudy::from_record(180.0, record.clone());
+    assert_eq!(study.descent.len(), 2);
+    assert_eq!(study.bisection.len(), 1);
+    assert_eq!(study.shortest_success_secs, Some(3.0));
+    assert_eq!(study.first_failure_secs, Some(1.0));
+    let b = record.bracket.unwrap();
+    assert_eq!(
+        (study.limit_secs, study.limit_failure_secs),
+        (b.passed, b.failed)
+    );
+    // Replayed with an observer that counts the steps: the same trial.
+    let mut steps = 0_u64;
+    let again = driver::replay(&experiment, 0, Some(2.0), &mut |_| steps += 1)
+        .unwrap()
+        .unwrap();
+    assert!(steps > 1000, "{steps} steps observed");
+    assert_eq!(steps.div_ceil(80) as usize, again.samples.len());
+    assert_same_run(&again, record.trial_at(2.0).unwrap());
+}
+
+/// The progress bar's length: the scan's values plus the halvings of its widest step to the
+/// resolution (1e-9 s wider than the protocol's).
+#[test]
+fn a_braking_job_estimates_its_runs_from_the_scan_and_the_widest_step() {
+    let mut experiment = short_descent(WorldParams::miapure_60kg());
+    // 3 scanned, and 2 s (3 s to 1 s) halved to 1 s once: 3 + 1.
+    assert_eq!(experiment.runs_estimate(&180.0), 4);
+    // The paper's 10 durations with steps of 0.5 s halved to 0.05 s: 10 + 4.
+    experiment.study = BrakingStudyParams::paper();
+    assert_eq!(experiment.runs_estimate(&180.0), 14);
+    // Without a bisection: the scan alone.
+    experiment.study.bisection_resolution_secs = None;
+    assert_eq!(experiment.runs_estimate(&180.0), 10);
 }
 
 /// Issue 27: braking's limit at 180 deg is a lift-off of OW1 a few tens of ms into the stop,

@@ -68,11 +68,7 @@ fn the_driver_bisects_each_job_and_replays_a_trial() {
         speeds_m_per_s: vec![1.0],
         headings_deg: vec![0.0],
         traction_control: vec![false],
-        height_search: Bisection {
-            passing: 0.0,
-            failing: 0.032,
-            resolution: 0.004,
-        },
+        height_search: Bisection::new(0.0, 0.032, 0.004),
         ..BumpSettings::quick()
     };
     let s = study(settings);
@@ -82,10 +78,11 @@ fn the_driver_bisects_each_job_and_replays_a_trial() {
     let record = &one[0];
     let bracket = record.bracket.unwrap();
     let failed = bracket.failed.expect("32 mm is not crossed");
-    assert!(failed - bracket.passed <= 0.004 + 1e-12);
+    let passed = bracket.passed.expect("0 mm is assumed crossed");
+    assert!(failed - passed <= 0.004 + 1e-12);
     assert!(!s.passed(record.trial_at(failed).unwrap()));
-    if bracket.passed > 0.0 {
-        assert!(s.passed(record.trial_at(bracket.passed).unwrap()));
+    if passed > 0.0 {
+        assert!(s.passed(record.trial_at(passed).unwrap()));
     }
     // 32 mm first, then 3 halvings of 32 mm to 4 mm.
     assert_eq!(record.trials.len(), 4);
@@ -127,11 +124,7 @@ fn bump_settings_are_checked_by_name() {
         ),
         (
             BumpSettings {
-                height_search: Bisection {
-                    passing: 0.01,
-                    failing: 0.04,
-                    resolution: 0.001,
-                },
+                height_search: Bisection::new(0.01, 0.04, 0.001),
                 ..BumpSettings::quick()
             },
             "height_search",

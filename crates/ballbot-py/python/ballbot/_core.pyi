@@ -1748,7 +1748,7 @@ def braking_study(
     sample_every_secs: Optional[float] = None,
     feedforward: Literal["full", "core"] = "full",
     stop_on: str = "all",
-) -> BrakingStudy: ...
+) -> BrakingStudy: ...  # each run from a cold start: the braking_run at its duration_secs
 
 
 def push_trial(

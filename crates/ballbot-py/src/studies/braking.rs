@@ -199,7 +199,9 @@ pub(crate) fn py_braking_run<'py>(
 /// (`ballbot_sim::studies::world_braking::braking_study`): braking times `durations_secs` (default 5.0,
 /// 4.5, ..., 0.5 s) in order until a run fails, then (beyond the paper) bisection between the
 /// shortest success and the first failure down to `bisection_resolution_secs` (`None` skips it).
-/// The protocol keywords are `braking_run`'s. Runs without the GIL.
+/// Every run solves its trajectory from a cold start, so each is the run `braking_run` gives at
+/// its `duration_secs` with the same keywords. The protocol keywords are `braking_run`'s. Runs
+/// without the GIL.
 ///
 /// Returns a `BrakingStudy`: `shortest_success_secs` (the paper's figure), `first_failure_secs`, `limit_secs`,
 /// `limit_failure_secs` (after the bisection), and `descent`, `bisection`: lists of runs as

@@ -35,7 +35,7 @@ fn cell_json(job: &BumpJob, r: &JobRecord<BumpTrial>) -> Value {
         "speed_m_per_s": job.speed_m_per_s,
         "heading_deg": job.heading_deg,
         "traction_control": job.traction_control,
-        "largest_crossed_mm": bracket.map(|b| b.passed * 1e3),
+        "largest_crossed_mm": bracket.and_then(|b| b.passed).map(|h| h * 1e3),
         "smallest_not_crossed_mm": bracket.and_then(|b| b.failed).map(|h| h * 1e3),
         "trials": r.trials.iter().map(|(_, t)| trial_json(t)).collect::<Vec<_>>(),
     })
@@ -83,9 +83,10 @@ pub fn table(study: &BumpStudy, records: &[JobRecord<BumpTrial>]) -> String {
         };
         let crossed = r.bracket.map_or_else(
             || "-".to_owned(),
-            |b| match b.failed {
-                Some(_) => format!("{:.2} mm", b.passed * 1e3),
-                None => format!(">= {:.2} mm", b.passed * 1e3),
+            |b| match (b.passed, b.failed) {
+                (Some(h), Some(_)) => format!("{:.2} mm", h * 1e3),
+                (Some(h), None) => format!(">= {:.2} mm", h * 1e3),
+                (None, _) => "-".to_owned(),
             },
         );
         let failing = r

@@ -66,11 +66,7 @@ impl BumpSettings {
             speeds_m_per_s: vec![1.4, 1.0, 0.5],
             headings_deg: vec![0.0, 90.0, 180.0],
             traction_control: vec![false, true],
-            height_search: Bisection {
-                passing: 0.0,
-                failing: 0.04,
-                resolution: 0.000_25,
-            },
+            height_search: Bisection::new(0.0, 0.04, 0.000_25),
             width_m: 0.1,
             settle_secs: 0.5,
             ramp_accel_m_per_s2: 0.5,
@@ -87,10 +83,7 @@ impl BumpSettings {
         Self {
             speeds_m_per_s: vec![1.0],
             headings_deg: vec![0.0, 180.0],
-            height_search: Bisection {
-                resolution: 0.002,
-                ..Self::full().height_search
-            },
+            height_search: Bisection::new(0.0, 0.04, 0.002),
             ..Self::full()
         }
     }

@@ -385,11 +385,7 @@ impl PushSearch {
 
     /// The search as the driver's bisection: 0 N s assumed recovered, `upper_ns` tried first.
     pub fn bisection(&self) -> Bisection {
-        Bisection {
-            passing: 0.0,
-            failing: self.upper_ns,
-            resolution: self.resolution_ns,
-        }
+        Bisection::new(0.0, self.upper_ns, self.resolution_ns)
     }
 }
 
@@ -476,7 +472,7 @@ impl PushStudy {
         let bracket = record.bracket;
         PushRecovery {
             heading_deg,
-            largest_recovered_ns: bracket.map_or(0.0, |b| b.passed),
+            largest_recovered_ns: bracket.and_then(|b| b.passed).unwrap_or(0.0),
             smallest_failing_ns: bracket.and_then(|b| b.failed),
             trials: record.trials.into_iter().map(|(_, t)| t).collect(),
         }
@@ -537,7 +533,8 @@ pub fn push_recovery_limit_by(
     })?;
     Ok(PushRecovery {
         heading_deg,
-        largest_recovered_ns: bracket.passed,
+        // The plain search assumes 0 N s recovered, so a bracket always has a passing end.
+        largest_recovered_ns: bracket.passed.unwrap_or(0.0),
         smallest_failing_ns: bracket.failed,
         trials,
     })

@@ -1,5 +1,7 @@
 //! The 3D world's braking-time and push-recovery studies of `ballbot reproduce` (issue 6), run
-//! together on the shared runner ([`crate::studies::runner`]).
+//! together on the shared runner ([`crate::studies::runner`]); each braking study and each push
+//! search is one job of its driver study ([`BrakingExperiment`], [`crate::studies::push::PushStudy`])
+//! run by [`driver::run_job`].
 //!
 //! Full run ([`WorldSuiteSettings::paper`]): the paper's braking protocol (T = 5 s, 0.5 s
 //! shorter per success) plus a bisection to 0.05 s at 180 deg (the paper's heading), 0 and
@@ -16,11 +18,12 @@
 //! coarse push bisection (12 N s) at 180 deg; T = 2, 1.5, 1 s at 180 deg with the lift-off
 //! rule off and the push bisection with the slip and lift-off rules off.
 
+use crate::studies::driver::{self, Study};
 use crate::studies::push::{PushParams, PushRecovery, PushSearch, push_recovery_limit};
 use crate::studies::runner;
 use crate::studies::world_braking::{
-    BrakingError, BrakingParams, BrakingStudy, BrakingStudyParams, TrajectoryFeedforward,
-    braking_problem, braking_study,
+    BrakingError, BrakingExperiment, BrakingParams, BrakingStudy, BrakingStudyParams,
+    TrajectoryFeedforward, braking_problem,
 };
 use crate::trajopt::{MinTimeOptions, SolveOptions, min_braking_time};
 use crate::world::{StopRules, WorldParams};
@@ -324,14 +327,17 @@ fn run_job(
                 stop_rules: *stop_rules,
                 ..s.braking
             };
-            let result = braking_study(world, &params, study, *heading_deg, &mut |run| {
-                progress(&format!(
-                    "brake {:.0} deg T {:.2} s: {}",
-                    run.heading_deg,
-                    run.duration_secs,
-                    run.outcome.label()
-                ));
+            study.validate()?;
+            let experiment = BrakingExperiment {
+                world,
+                params,
+                study: study.clone(),
+                headings_deg: vec![*heading_deg],
+            };
+            let record = driver::run_job(&experiment, 0, heading_deg, &mut |v, run| {
+                progress(&experiment.describe(heading_deg, v, run));
             })?;
+            let result = BrakingStudy::from_record(*heading_deg, record);
             Ok(JobResult::Braking(
                 result,
                 *feedforward,

@@ -46,13 +46,35 @@ fn actuator_utilisation(world_params: &WorldParams, tel: &StepTelemetry) -> [f64
 
 /// Runs one braking experiment: settle, jerk-limited ramp to the cruise speed along
 /// `heading_deg`, cruise, then the optimal braking trajectory to rest in `duration_secs`
-/// (solved here, warm-started from `warm`), followed until the end of the rest window.
+/// (solved here, warm-started from `warm`; `None`: from the solver's cold start, what the
+/// braking study's every trial does), followed until the end of the rest window.
 pub fn braking_run(
     world_params: WorldParams,
     params: &BrakingParams,
     heading_deg: f64,
     duration_secs: f64,
     warm: Option<&Trajectory>,
+) -> Result<BrakingRun, BrakingError> {
+    braking_run_observed(
+        world_params,
+        params,
+        heading_deg,
+        duration_secs,
+        warm,
+        &mut |_, _| {},
+    )
+}
+
+/// [`braking_run`] calling `observe` after every physics step of the flight, as
+/// [`fly_braking`] does (nothing is flown, and `observe` never called, when no trajectory is
+/// found). The run is the same with or without an observer.
+pub fn braking_run_observed(
+    world_params: WorldParams,
+    params: &BrakingParams,
+    heading_deg: f64,
+    duration_secs: f64,
+    warm: Option<&Trajectory>,
+    observe: &mut dyn FnMut(&WorldRobot, Option<&VelocityCommand<f64>>),
 ) -> Result<BrakingRun, BrakingError> {
     params.validate()?;
     if !(duration_secs.is_finite() && duration_secs > 0.0) {
@@ -87,13 +109,7 @@ pub fn braking_run(
             happened: None,
         });
     }
-    let mut run = fly_braking(
-        world_params,
-        params,
-        heading_deg,
-        &plan.trajectory,
-        &mut |_, _| {},
-    )?;
+    let mut run = fly_braking(world_params, params, heading_deg, &plan.trajectory, observe)?;
     run.plan_cost_n2m2s = Some(plan.cost_n2m2s);
     Ok(run)
 }

@@ -3,7 +3,10 @@
 //! braking trajectory to rest in `T` ([`crate::trajopt`], the MiaPURE plane with the
 //! actuator, traction and tilt limits) through the core's [`Command::Trajectory`]; the
 //! paper's protocol starts at `T = 5 s` and cuts 0.5 s per success until failure
-//! ([`braking_study`]), and a bisection refines the limit beyond the paper.
+//! ([`braking_study`]), and a bisection refines the limit beyond the paper. The protocol is a
+//! [`BrakingExperiment`] on the experiment driver ([`crate::studies::driver`]); every run
+//! solves its trajectory from a cold start, so a run of the study at `T` is the run
+//! [`braking_run`] gives at `T` without a warm start.
 //!
 //! A run succeeds when the world reports no failure (tilt, body touched the floor, sustained
 //! slip, lift-off: [`crate::world::failure`]) and the robot is **at rest** from
@@ -29,11 +32,13 @@
 //! the ball's forward kick lifts OW1 off at 180 deg. The samples in
 //! [`BrakingSample::command_tilt_rad`] are the physical, unshifted tilt.
 
+mod experiment;
 mod fly;
 mod study;
 
-pub use fly::{braking_run, fly_braking};
-pub use study::{BrakingStudy, BrakingStudyParams, braking_study};
+pub use experiment::{BrakingExperiment, braking_study};
+pub use fly::{braking_run, braking_run_observed, fly_braking};
+pub use study::{BrakingStudy, BrakingStudyParams};
 
 use crate::rig::Happened;
 use crate::trajopt::{

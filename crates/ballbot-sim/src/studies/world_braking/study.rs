@@ -1,8 +1,8 @@
 //! The paper's braking protocol (descent from 5 s by 0.5 s until failure) and the bisection
-//! that refines the limit beyond it.
+//! that refines the limit beyond it: its parameters and its result at one heading (run by
+//! [`super::BrakingExperiment`]).
 
 use super::*;
-use crate::studies::driver::halve;
 
 /// The paper's protocol and the refinement beyond it.
 #[derive(Clone, Debug, PartialEq)]
@@ -21,6 +21,32 @@ impl BrakingStudyParams {
             durations_secs: (0..10).map(|k| 5.0 - 0.5 * f64::from(k)).collect(),
             bisection_resolution_secs: Some(0.05),
         }
+    }
+
+    /// Checks the protocol: at least one duration, every duration and the resolution finite
+    /// and > 0.
+    ///
+    /// ```
+    /// use ballbot_sim::studies::world_braking::BrakingStudyParams;
+    /// assert!(BrakingStudyParams::paper().validate().is_ok());
+    /// let none = BrakingStudyParams { durations_secs: Vec::new(), ..BrakingStudyParams::paper() };
+    /// assert!(none.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<(), BrakingError> {
+        let ok = |v: f64| v.is_finite() && v > 0.0;
+        if self.durations_secs.is_empty() || !self.durations_secs.iter().all(|&t| ok(t)) {
+            return Err(invalid(
+                "study.durations_secs",
+                "must be non-empty, every duration finite and > 0",
+            ));
+        }
+        if self.bisection_resolution_secs.is_some_and(|r| !ok(r)) {
+            return Err(invalid(
+                "study.bisection_resolution_secs",
+                "must be finite and > 0",
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -57,88 +83,4 @@ impl BrakingStudy {
         let t = self.first_failure_secs?;
         self.descent.iter().find(|r| r.duration_secs == t)
     }
-}
-
-/// The paper's protocol at one heading: the durations of `study` in order (the paper: 5 s,
-/// then 0.5 s shorter per success) until a run fails; then, beyond the paper, bisection
-/// between the shortest success and the first failure. Each trajectory is warm-started from
-/// the last solved one. Assumes success is monotone in `T` within the bracket (each
-/// bisection run is reported, so a non-monotone outcome is visible). `on_run` sees every run
-/// as it finishes.
-pub fn braking_study(
-    world_params: WorldParams,
-    params: &BrakingParams,
-    study: &BrakingStudyParams,
-    heading_deg: f64,
-    on_run: &mut dyn FnMut(&BrakingRun),
-) -> Result<BrakingStudy, BrakingError> {
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    if study.durations_secs.is_empty() || !study.durations_secs.iter().all(|&t| ok(t)) {
-        return Err(invalid(
-            "study.durations_secs",
-            "must be non-empty, every duration finite and > 0",
-        ));
-    }
-    if study.bisection_resolution_secs.is_some_and(|r| !ok(r)) {
-        return Err(invalid(
-            "study.bisection_resolution_secs",
-            "must be finite and > 0",
-        ));
-    }
-    let mut out = BrakingStudy {
-        heading_deg,
-        descent: Vec::new(),
-        bisection: Vec::new(),
-        shortest_success_secs: None,
-        first_failure_secs: None,
-        limit_secs: None,
-        limit_failure_secs: None,
-    };
-    let mut warm: Option<Trajectory> = None;
-    for &t in &study.durations_secs {
-        let run = braking_run(world_params, params, heading_deg, t, warm.as_ref())?;
-        on_run(&run);
-        if run.plan.is_some() {
-            warm.clone_from(&run.plan);
-        }
-        let success = run.outcome.is_success();
-        out.descent.push(run);
-        if success {
-            out.shortest_success_secs = Some(t);
-        } else {
-            out.first_failure_secs = Some(t);
-            break;
-        }
-    }
-    out.limit_secs = out.shortest_success_secs;
-    out.limit_failure_secs = out.first_failure_secs;
-    if let (Some(resolution), Some(lo), Some(hi)) = (
-        study.bisection_resolution_secs,
-        out.first_failure_secs,
-        out.shortest_success_secs,
-    ) && lo < hi
-    {
-        let mut bisection = Vec::new();
-        let bracket = halve(
-            hi,
-            lo,
-            resolution + 1e-9,
-            |t| {
-                let run = braking_run(world_params, params, heading_deg, t, warm.as_ref())?;
-                if run.plan.is_some() {
-                    warm.clone_from(&run.plan);
-                }
-                Ok::<_, BrakingError>(run)
-            },
-            |run| run.outcome.is_success(),
-            |_, run| {
-                on_run(&run);
-                bisection.push(run);
-            },
-        )?;
-        out.bisection = bisection;
-        out.limit_secs = Some(bracket.passed);
-        out.limit_failure_secs = bracket.failed;
-    }
-    Ok(out)
 }
