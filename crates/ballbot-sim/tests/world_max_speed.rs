@@ -1,8 +1,9 @@
 //! The maximum-speed study of the 3D world (`studies::max_speed`) on a small scale.
 
+use ballbot_sim::studies::driver::{self, Study};
 use ballbot_sim::studies::max_speed::{
-    MaxSpeedProtocol, MaxSpeedStudySettings, failing_acceleration, job_count, run_study,
-    slow_ramp_trial,
+    MaxSpeedExperiment, MaxSpeedJob, MaxSpeedProtocol, MaxSpeedStudySettings, Variant,
+    failing_acceleration, job_count, run_study, runs_estimate, slow_ramp_trial,
 };
 use ballbot_sim::studies::ramp::RampParams;
 use ballbot_sim::world::{FailureKind, WorldParams};
@@ -69,6 +70,27 @@ fn failing_acceleration_is_lower_towards_ow1_than_away_from_it() {
     assert!((a_back - 2.4).abs() < 1e-9);
     assert!(back.text().starts_with(">="), "{}", back.text());
     assert_eq!(back.runs, 2);
+    // On the experiment driver: both ends first, then halvings, every value on the grid; a
+    // replay of the failing ramp with an observer is the recorded run, bit for bit.
+    let study = MaxSpeedExperiment {
+        params,
+        protocol,
+        jobs: vec![MaxSpeedJob::Search {
+            variant: Variant::Nominal,
+            heading_deg: 0.0,
+            seed: 0,
+        }],
+    };
+    let search = study.bisection(&study.jobs[0]).unwrap();
+    assert_eq!((search.passing, search.failing), (1.2, 2.4));
+    assert!(fwd.runs >= 3 && fwd.runs as u64 <= study.runs_estimate(&study.jobs[0]));
+    let mut steps = 0_u64;
+    let replayed = driver::replay(&study, 0, Some(failing), &mut |_| steps += 1)
+        .unwrap()
+        .unwrap();
+    assert!(steps > 1000, "{steps}");
+    assert_eq!(Some(&replayed.outcome), fwd.failing.as_ref());
+    assert_eq!(Some(&replayed.run), fwd.failing_run.as_ref());
 }
 
 #[test]
@@ -158,9 +180,13 @@ fn summary_json_has_the_documented_shape() {
         calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     })
     .unwrap();
-    // Two seeded slow ramps and one search (the map's slow ramp is the first trial).
+    // Two seeded slow ramps and one search (the map's slow ramp is the first trial); progress
+    // after every ramp, the search's too, within the bar's length.
     assert_eq!(job_count(&params, &settings), 3);
-    assert_eq!(calls.into_inner(), 3);
+    let ramps = 2 + study.map[0].failing.runs;
+    assert!(study.map[0].failing.runs >= 2);
+    assert_eq!(calls.into_inner(), ramps);
+    assert!(ramps as u64 <= runs_estimate(&params, &settings));
     let by_heading = study.max_speed_by_heading_json();
     let mean = by_heading["180"].as_f64().unwrap();
     assert_eq!(by_heading.as_object().unwrap().len(), 1);

@@ -3,9 +3,11 @@
 
 use ballbot_core::BallbotParams;
 use ballbot_core::ballbot::WheelMapping;
+use ballbot_sim::studies::driver::{self, Study};
 use ballbot_sim::studies::max_speed::MaxSpeedProtocol;
 use ballbot_sim::studies::mechanisms::{
-    ControllerVariant, Mechanism, MechanismStudySettings, run_study,
+    ControllerVariant, Mechanism, MechanismExperiment, MechanismJob, MechanismStudySettings,
+    MechanismTrial, run_study,
 };
 use ballbot_sim::studies::ramp::RampParams;
 use ballbot_sim::world::{DriverModel, WorldParams};
@@ -99,6 +101,23 @@ fn a_small_study_reports_every_run_and_its_summary_records() {
     };
     let study = run_study(robot(), &settings, &|_| {}).unwrap();
     assert_eq!(study.runs.len(), 4);
+    // On the experiment driver: the ripple cruise (the last job) replays with an observer,
+    // bit for bit.
+    let experiment = MechanismExperiment {
+        robot: robot(),
+        settings: settings.clone(),
+    };
+    let last = experiment.jobs().len() - 1;
+    assert!(matches!(experiment.jobs()[last], MechanismJob::Ripple(..)));
+    let mut steps = 0_u64;
+    let replayed = driver::replay(&experiment, last, None, &mut |_| steps += 1)
+        .unwrap()
+        .unwrap();
+    assert!(steps > 1000, "{steps}");
+    assert_eq!(
+        replayed,
+        MechanismTrial::Ripple(Box::new(study.ripple[0].clone()))
+    );
     for c in ControllerVariant::ALL {
         for m in [Mechanism::Ideal, Mechanism::All] {
             let run = study.run(c, m, 0.0).unwrap();

@@ -1,10 +1,9 @@
-//! The failing-acceleration search: bisection on a grid of ramp accelerations for the largest
-//! one whose ramp survives.
+//! The result of a failing-acceleration search (bisection on a grid of ramp accelerations for
+//! the largest one whose ramp survives); the search itself is a job of
+//! [`super::MaxSpeedExperiment`] ([`super::failing_acceleration`]).
 
-use super::protocol::MaxSpeedProtocol;
-use super::trial::{TrialOutcome, controller};
-use crate::studies::ramp::{RampParams, RampResult, max_speed_ramp_with_config};
-use crate::world::{WorldError, WorldParams};
+use super::trial::TrialOutcome;
+use crate::studies::ramp::RampResult;
 
 /// The result of a failing-acceleration search at one heading.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,85 +49,4 @@ impl FailingAccel {
             (None, None) => "-".to_owned(),
         }
     }
-}
-
-/// The failing-acceleration search at `heading_deg`: bisection on the grid of
-/// [`MaxSpeedProtocol::accel_resolution_m_per_s2`] inside
-/// [`MaxSpeedProtocol::accel_bracket_m_per_s2`] for the largest ramp acceleration whose ramp to
-/// [`MaxSpeedProtocol::fast_top_m_per_s`] (and 1 s hold) survives. Assumes that failure is
-/// monotonic in the acceleration (it checks both ends of the bracket first).
-pub fn failing_acceleration(
-    params: WorldParams,
-    protocol: &MaxSpeedProtocol,
-    heading_deg: f64,
-    seed: u64,
-) -> Result<FailingAccel, WorldError> {
-    protocol.validate()?;
-    let mut p = params;
-    p.sensors.seed = seed;
-    let config = controller(&p, protocol)?;
-    let res = protocol.accel_resolution_m_per_s2;
-    let [low, high] = protocol.accel_bracket_m_per_s2;
-    let mut runs = 0;
-    let mut run = |k: i64| -> Result<(RampResult, TrialOutcome), WorldError> {
-        runs += 1;
-        // On the grid, without the product's rounding noise (1.95, not 1.9500000000000002).
-        let accel_m_per_s2 = (k as f64 * res * 1e9).round() / 1e9;
-        let ramp = RampParams {
-            accel_m_per_s2,
-            max_command_m_per_s: protocol.fast_top_m_per_s,
-            ..protocol.slow_ramp
-        };
-        let r = max_speed_ramp_with_config(p, config, heading_deg, &ramp)?;
-        let o = TrialOutcome::from_run(&r, seed, accel_m_per_s2);
-        Ok((r, o))
-    };
-    let mut lo = ((low / res).round() as i64).max(1);
-    let mut hi = ((high / res).round() as i64).max(lo + 1);
-    let (lo_run, lo_out) = run(lo)?;
-    if !lo_out.censored() {
-        return Ok(FailingAccel {
-            heading_deg,
-            largest_surviving_m_per_s2: None,
-            smallest_failing_m_per_s2: Some(lo_out.accel_m_per_s2),
-            failing: Some(lo_out),
-            surviving: None,
-            failing_run: Some(lo_run),
-            runs: 1,
-        });
-    }
-    let (hi_run, hi_out) = run(hi)?;
-    if hi_out.censored() {
-        return Ok(FailingAccel {
-            heading_deg,
-            largest_surviving_m_per_s2: Some(hi_out.accel_m_per_s2),
-            smallest_failing_m_per_s2: None,
-            failing: None,
-            surviving: Some(hi_out),
-            failing_run: None,
-            runs: 2,
-        });
-    }
-    let (mut surviving, mut failing, mut failing_run) = (lo_out, hi_out, hi_run);
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        let (r, o) = run(mid)?;
-        if o.censored() {
-            lo = mid;
-            surviving = o;
-        } else {
-            hi = mid;
-            failing = o;
-            failing_run = r;
-        }
-    }
-    Ok(FailingAccel {
-        heading_deg,
-        largest_surviving_m_per_s2: Some(surviving.accel_m_per_s2),
-        smallest_failing_m_per_s2: Some(failing.accel_m_per_s2),
-        failing: Some(failing),
-        surviving: Some(surviving),
-        failing_run: Some(failing_run),
-        runs,
-    })
 }

@@ -1,30 +1,35 @@
 //! The study's distinct jobs (one slow ramp or one failing-acceleration search each): variants
 //! equal to the nominal robot share the nominal robot's jobs.
 
-use super::bisection::FailingAccel;
 use super::protocol::MaxSpeedStudySettings;
-use super::trial::TrialOutcome;
 use super::variant::Variant;
-use crate::studies::ramp::RampResult;
 use crate::world::WorldParams;
 
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Job {
+/// One job of the maximum-speed study ([`super::MaxSpeedExperiment`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MaxSpeedJob {
+    /// One slow ramp ([`super::MaxSpeedProtocol::slow_ramp`]) of a robot variant.
     Slow {
+        /// The robot variant.
         variant: Variant,
+        /// Heading (deg).
         heading_deg: f64,
+        /// Seed of the sensor noise.
         seed: u64,
     },
+    /// The failing-acceleration search of a robot variant: the ramp acceleration bisected on
+    /// the protocol's grid ([`super::MaxSpeedProtocol::accel_search`]).
     Search {
+        /// The robot variant.
         variant: Variant,
+        /// Heading (deg).
         heading_deg: f64,
+        /// Seed of the sensor noise (the same for every ramp of the search).
+        seed: u64,
     },
 }
 
-pub(super) enum JobResult {
-    Slow(RampResult, TrialOutcome),
-    Search(FailingAccel),
-}
+use MaxSpeedJob as Job;
 
 /// Number of jobs (one slow ramp or one failing-acceleration search each) the study runs, for
 /// a progress bar.
@@ -42,9 +47,12 @@ pub(super) fn jobs(params: &WorldParams, settings: &MaxSpeedStudySettings) -> Ve
     let mut out = Vec::new();
     // Searches first: they are the longest jobs, so the pool ends evenly.
     let search = |variant: Variant, heading_deg: f64, out: &mut Vec<Job>| {
+        // One search per heading with sensor seed 0: the grid's resolution, not the noise,
+        // dominates their spread.
         let job = Job::Search {
             variant: normalise(variant, params),
             heading_deg,
+            seed: 0,
         };
         if !out.iter().any(|j| job_eq(j, &job)) {
             out.push(job);
@@ -130,12 +138,14 @@ pub(super) fn job_eq(a: &Job, b: &Job) -> bool {
             Job::Search {
                 variant: va,
                 heading_deg: ha,
+                seed: sa,
             },
             Job::Search {
                 variant: vb,
                 heading_deg: hb,
+                seed: sb,
             },
-        ) => variant_eq(*va, *vb) && same(*ha, *hb),
+        ) => variant_eq(*va, *vb) && same(*ha, *hb) && sa == sb,
         _ => false,
     }
 }

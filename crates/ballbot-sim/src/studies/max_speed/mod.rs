@@ -25,26 +25,30 @@
 //!
 //! * [`protocol`]: the ramps, the search's bracket and grid, the shaper limits, the settings.
 //! * [`trial`]: one seeded slow-ramp trial and its outcome.
-//! * [`bisection`]: the failing-acceleration search.
-//! * [`study`]: the whole study on the shared runner.
+//! * [`bisection`]: the failing-acceleration search's result.
+//! * [`experiment`]: the study as a type on the experiment driver ([`MaxSpeedExperiment`]):
+//!   slow ramps, and the failing-acceleration search as a grid bisection.
+//! * [`study`]: the whole study, assembled from the driver's records.
 //!
 //! JSON, tables and figures of a study are in [`crate::report::max_speed`].
 
 pub mod bisection;
+pub mod experiment;
 mod jobs;
 pub mod protocol;
 pub mod study;
 pub mod trial;
 pub mod variant;
 
-pub use bisection::{FailingAccel, failing_acceleration};
-pub use jobs::job_count;
+pub use bisection::FailingAccel;
+pub use experiment::{MaxSpeedExperiment, RampTrial, failing_acceleration, runs_estimate};
+pub use jobs::{MaxSpeedJob, job_count};
 pub use protocol::{
     MaxSpeedProtocol, MaxSpeedStudySettings, PAPER_MAX_SPEED, PaperMaxSpeed, ShaperLimits,
 };
 pub use study::{MapPoint, MaxSpeedStudy, SensitivityRow, run_study};
 pub use trial::{
     HeadingTrials, TrialOutcome, controller, quasi_static_failing_accel_m_per_s2, slow_ramp_trial,
-    slow_ramp_trial_with_config,
+    slow_ramp_trial_observed, slow_ramp_trial_with_config,
 };
 pub use variant::Variant;

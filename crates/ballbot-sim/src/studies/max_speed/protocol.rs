@@ -1,6 +1,7 @@
 //! The protocol of the maximum-speed study: the ramps, the search's bracket and grid, the
 //! command shaper's limits, which headings and variants run, and the paper's values.
 
+use crate::studies::driver::Bisection;
 use crate::studies::ramp::RampParams;
 use crate::world::WorldError;
 use ballbot_core::ballbot::BallbotControllerConfig;
@@ -96,6 +97,26 @@ impl MaxSpeedProtocol {
             return invalid("protocol.fast_top_m_per_s", "must be finite and > 0");
         }
         Ok(())
+    }
+
+    /// The failing-acceleration search as the driver's grid bisection: the bracket's ends
+    /// rounded to the grid of [`Self::accel_resolution_m_per_s2`] (the low end at least one
+    /// step, the high end at least one step above it), both tried, the low one first.
+    ///
+    /// ```
+    /// use ballbot_sim::studies::max_speed::MaxSpeedProtocol;
+    /// let s = MaxSpeedProtocol::default().accel_search();
+    /// assert_eq!((s.passing, s.failing, s.resolution), (0.5, 3.0, 0.05));
+    /// assert!(s.try_passing && s.on_grid);
+    /// ```
+    pub fn accel_search(&self) -> Bisection {
+        let res = self.accel_resolution_m_per_s2;
+        let [low, high] = self.accel_bracket_m_per_s2;
+        let lo = ((low / res).round() as i64).max(1);
+        let hi = ((high / res).round() as i64).max(lo + 1);
+        // On the grid, without the product's rounding noise (1.95, not 1.9500000000000002).
+        let at = |k: i64| (k as f64 * res * 1e9).round() / 1e9;
+        Bisection::grid(at(lo), at(hi), res)
     }
 }
 

@@ -1,13 +1,15 @@
-//! The whole maximum-speed study: its jobs run on the shared runner
-//! ([`crate::studies::runner`]) and assembled into trials, the capability map and the
-//! sensitivity rows.
+//! The whole maximum-speed study: its jobs run on the experiment driver
+//! ([`MaxSpeedExperiment`]) and assembled into trials, the capability map and the sensitivity
+//! rows.
 
-use super::bisection::{FailingAccel, failing_acceleration};
-use super::jobs::{Job, JobResult, job_eq, jobs, normalise, same};
-use super::protocol::{MaxSpeedProtocol, MaxSpeedStudySettings};
-use super::trial::{HeadingTrials, TrialOutcome, controller, slow_ramp_trial};
+use super::bisection::FailingAccel;
+use super::experiment::{MaxSpeedExperiment, RampTrial};
+use super::jobs::{MaxSpeedJob as Job, job_eq, jobs, normalise, same};
+use super::protocol::MaxSpeedStudySettings;
+use super::trial::{HeadingTrials, TrialOutcome, controller};
 use super::variant::Variant;
-use crate::studies::runner;
+use crate::studies::driver::{self, JobRecord};
+use crate::studies::ramp::RampResult;
 use crate::world::{WorldError, WorldParams};
 
 /// One heading of the capability map.
@@ -64,35 +66,9 @@ impl MaxSpeedStudy {
     }
 }
 
-fn run_job(
-    params: WorldParams,
-    protocol: &MaxSpeedProtocol,
-    job: Job,
-) -> Result<JobResult, WorldError> {
-    let first = |v: Variant| v.apply(params);
-    match job {
-        Job::Slow {
-            variant,
-            heading_deg,
-            seed,
-        } => {
-            let (run, outcome) = slow_ramp_trial(first(variant), protocol, heading_deg, seed)?;
-            Ok(JobResult::Slow(run, outcome))
-        }
-        Job::Search {
-            variant,
-            heading_deg,
-        } => Ok(JobResult::Search(failing_acceleration(
-            first(variant),
-            protocol,
-            heading_deg,
-            0,
-        )?)),
-    }
-}
-
-/// Runs the study on `params` (the nominal robot). `progress` is called after every job with
-/// a short description (from worker threads).
+/// Runs the study on `params` (the nominal robot) on the experiment driver
+/// ([`MaxSpeedExperiment`]). `progress` is called after every ramp with a short description
+/// (from worker threads); [`super::job_count`] bounds how many there are.
 ///
 /// The failing-acceleration searches use sensor seed 0 (one search per heading: the grid's
 /// resolution, not the noise, dominates their spread).
@@ -103,35 +79,40 @@ pub fn run_study(
 ) -> Result<MaxSpeedStudy, WorldError> {
     settings.validate()?;
     params.validate()?;
-    let unique = jobs(&params, settings);
-    let protocol = settings.protocol;
-    let results = runner::run_jobs(
-        &unique,
-        settings.threads,
-        |&job| run_job(params, &protocol, job),
-        &|i| {
-            if let Some(&job) = unique.get(i) {
-                progress(&describe(job));
-            }
-        },
-    )?;
-    let done: Vec<(Job, JobResult)> = unique.iter().copied().zip(results).collect();
+    let experiment = MaxSpeedExperiment {
+        params,
+        protocol: settings.protocol,
+        jobs: jobs(&params, settings),
+    };
+    let records = driver::execute(&experiment, settings.threads, progress)?;
+    let done = experiment
+        .jobs
+        .iter()
+        .copied()
+        .zip(records)
+        .map(|(job, record)| Ok((job, JobResult::of(job, record)?)))
+        .collect::<Result<Vec<_>, WorldError>>()?;
     assemble(params, settings, &done)
 }
 
-fn describe(job: Job) -> String {
-    let v = match job {
-        Job::Slow { variant, .. } | Job::Search { variant, .. } => match variant {
-            Variant::Nominal => String::new(),
-            Variant::WheelBallFriction(mu) => format!(" mu {mu}"),
-            Variant::ComHeight(l) => format!(" l {l} m"),
-        },
-    };
-    match job {
-        Job::Slow {
-            heading_deg, seed, ..
-        } => format!("slow ramp {heading_deg} deg seed {seed}{v}"),
-        Job::Search { heading_deg, .. } => format!("accel search {heading_deg} deg{v}"),
+/// A job's record as the study assembles it.
+enum JobResult {
+    Slow(RampResult, TrialOutcome),
+    Search(FailingAccel),
+}
+
+impl JobResult {
+    fn of(job: Job, mut record: JobRecord<RampTrial>) -> Result<Self, WorldError> {
+        Ok(match job {
+            Job::Search { heading_deg, .. } => {
+                Self::Search(FailingAccel::from_record(heading_deg, record))
+            }
+            // The driver runs exactly one trial for a job without a bisection.
+            Job::Slow { .. } => {
+                let (_, t) = record.trials.pop().ok_or_else(missing)?;
+                Self::Slow(t.run, t.outcome)
+            }
+        })
     }
 }
 
@@ -163,6 +144,7 @@ fn assemble(
         let want = Job::Search {
             variant: normalise(variant, &params),
             heading_deg,
+            seed: 0,
         };
         done.iter().find_map(|(j, r)| match r {
             JobResult::Search(f) if job_eq(j, &want) => Some(f.clone()),

@@ -3,7 +3,8 @@
 
 use super::protocol::MaxSpeedProtocol;
 use crate::rig::Happened;
-use crate::studies::ramp::{RampResult, max_speed_ramp_with_config};
+use crate::rig::WorldRobot;
+use crate::studies::ramp::{RampResult, max_speed_ramp_observed};
 use crate::world::{Failure, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::{BallbotParams, OmniKinematics, Wip};
@@ -165,9 +166,30 @@ pub fn slow_ramp_trial_with_config(
     heading_deg: f64,
     seed: u64,
 ) -> Result<(RampResult, TrialOutcome), WorldError> {
+    slow_ramp_trial_observed(params, config, protocol, heading_deg, seed, &mut |_| {})
+}
+
+/// [`slow_ramp_trial_with_config`] showing every physics step to `observe` after it is taken
+/// (a logger); the run is the same with or without an observer.
+pub fn slow_ramp_trial_observed(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    protocol: &MaxSpeedProtocol,
+    heading_deg: f64,
+    seed: u64,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<(RampResult, TrialOutcome), WorldError> {
     let mut p = params;
     p.sensors.seed = seed;
-    let run = max_speed_ramp_with_config(p, config, heading_deg, &protocol.slow_ramp)?;
+    let run = max_speed_ramp_observed(
+        p,
+        config,
+        heading_deg,
+        &protocol.slow_ramp,
+        &mut |sim, _| {
+            observe(sim);
+        },
+    )?;
     let outcome = TrialOutcome::from_run(&run, seed, protocol.slow_ramp.accel_m_per_s2);
     Ok((run, outcome))
 }

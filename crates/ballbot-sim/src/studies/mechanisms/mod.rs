@@ -10,7 +10,7 @@
 //!
 //! * [`variant`]: the world and controller variants.
 //! * [`ripple`]: one cruise's normal-force spectra.
-//! * [`study`]: the whole study on the shared runner.
+//! * [`study`]: the whole study on the experiment driver ([`MechanismExperiment`]).
 //!
 //! JSON, tables and figures are in [`crate::report::mechanisms`].
 
@@ -18,8 +18,11 @@ pub mod ripple;
 pub mod study;
 pub mod variant;
 
-pub use ripple::{RippleProtocol, RippleSpectrum, WheelRipple, cruise_spectrum};
+pub use ripple::{
+    Cruise, RippleProtocol, RippleSpectrum, WheelRipple, cruise_spectrum, cruise_spectrum_observed,
+};
 pub use study::{
-    MechanismRun, MechanismStudy, MechanismStudySettings, SweepPoint, job_count, run_study,
+    MechanismExperiment, MechanismJob, MechanismRun, MechanismStudy, MechanismStudySettings,
+    MechanismTrial, SweepPoint, job_count, run_study,
 };
 pub use variant::{ControllerVariant, Mechanism};

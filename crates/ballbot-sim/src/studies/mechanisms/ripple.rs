@@ -90,6 +90,39 @@ pub fn cruise_spectrum(
     speed_m_per_s: f64,
     protocol: &RippleProtocol,
 ) -> Result<RippleSpectrum, WorldError> {
+    let cruise = Cruise {
+        roller_count,
+        heading_deg,
+        speed_m_per_s,
+    };
+    cruise_spectrum_observed(params, config, cruise, protocol, &mut |_| {})
+}
+
+/// One ripple cruise: the rollers per wheel, where it goes and how fast.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cruise {
+    /// Rollers per omniwheel `N_r` (0: continuous rim).
+    pub roller_count: u32,
+    /// Heading of travel (deg, body frame).
+    pub heading_deg: f64,
+    /// Commanded cruise speed (m/s).
+    pub speed_m_per_s: f64,
+}
+
+/// [`cruise_spectrum`] showing every physics step to `observe` after it is taken (a logger);
+/// the run is the same with or without an observer.
+pub fn cruise_spectrum_observed(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    cruise: Cruise,
+    protocol: &RippleProtocol,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<RippleSpectrum, WorldError> {
+    let Cruise {
+        roller_count,
+        heading_deg,
+        speed_m_per_s,
+    } = cruise;
     if !(protocol.accel_m_per_s2 > 0.0
         && protocol.window_secs > 0.0
         && protocol.settle_secs >= 0.0
@@ -118,6 +151,7 @@ pub fn cruise_spectrum(
             yaw_rate_rad_per_s: 0.0,
         };
         let tel = *sim.step(Command::Velocity(cmd));
+        observe(&sim);
         if sim.world().failure().is_some() {
             break;
         }

@@ -1,11 +1,13 @@
-//! The whole mechanism study on the shared job runner: slow ramps per controller, mechanism
-//! and heading; the ramp-acceleration sweep of the default world; the ripple spectra.
+//! The whole mechanism study on the experiment driver ([`MechanismExperiment`]): slow ramps
+//! per controller, mechanism and heading; the ramp-acceleration sweep of the default world;
+//! the ripple spectra.
 
-use super::ripple::{RippleProtocol, RippleSpectrum, cruise_spectrum};
+use super::ripple::{Cruise, RippleProtocol, RippleSpectrum, cruise_spectrum_observed};
 use super::variant::{ControllerVariant, Mechanism};
-use crate::studies::max_speed::{MaxSpeedProtocol, TrialOutcome, slow_ramp_trial_with_config};
+use crate::rig::WorldRobot;
+use crate::studies::driver::{self, Bisection, Study};
+use crate::studies::max_speed::{MaxSpeedProtocol, TrialOutcome, slow_ramp_trial_observed};
 use crate::studies::ramp::RampParams;
-use crate::studies::runner::run_jobs;
 use crate::world::{WorldError, WorldParams};
 use ballbot_core::BallbotParams;
 
@@ -162,19 +164,146 @@ impl MechanismStudy {
     }
 }
 
-enum Job {
+/// One job of the mechanism study: one world run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MechanismJob {
+    /// A slow ramp of a controller in a world variant at a heading (deg).
     Ramp(ControllerVariant, Mechanism, f64),
+    /// A sweep point of the default world: heading (deg), roller-ball friction `mu`, ramp
+    /// acceleration (m/s^2).
     Sweep(f64, f64, f64),
+    /// A ripple cruise of the default world: heading (deg), speed (m/s).
     Ripple(f64, f64),
 }
 
-enum Done {
+/// What one job of the mechanism study gave.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MechanismTrial {
+    /// A slow ramp.
     Ramp(MechanismRun),
+    /// A sweep point.
     Sweep(SweepPoint),
+    /// A ripple cruise's spectra.
     Ripple(Box<RippleSpectrum>),
 }
 
-fn jobs(settings: &MechanismStudySettings) -> Vec<Job> {
+/// The mechanism study as a type on the experiment driver ([`crate::studies::driver`]): one
+/// trial per job, no bisection.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MechanismExperiment {
+    /// The robot (its default world is [`WorldParams::with_robot`]).
+    pub robot: BallbotParams<f64>,
+    /// What the study runs.
+    pub settings: MechanismStudySettings,
+}
+
+impl MechanismExperiment {
+    fn ramp(
+        &self,
+        controller: ControllerVariant,
+        mechanism: Mechanism,
+        heading_deg: f64,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<MechanismTrial, WorldError> {
+        let s = &self.settings;
+        let params = mechanism.params(self.robot);
+        let config = controller.config(&params, &s.protocol)?;
+        let (_, outcome) =
+            slow_ramp_trial_observed(params, config, &s.protocol, heading_deg, s.seed, observe)?;
+        Ok(MechanismTrial::Ramp(MechanismRun {
+            controller,
+            mechanism,
+            outcome,
+        }))
+    }
+
+    fn sweep(
+        &self,
+        heading_deg: f64,
+        mu: f64,
+        accel_m_per_s2: f64,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<MechanismTrial, WorldError> {
+        let s = &self.settings;
+        let mut params = WorldParams::with_robot(self.robot);
+        params.robot.drivetrain.wheel_ball_friction = mu;
+        let mut protocol = s.protocol;
+        protocol.slow_ramp.accel_m_per_s2 = accel_m_per_s2;
+        let config = ControllerVariant::Corrected.config(&params, &protocol)?;
+        let (_, outcome) =
+            slow_ramp_trial_observed(params, config, &protocol, heading_deg, s.seed, observe)?;
+        Ok(MechanismTrial::Sweep(SweepPoint {
+            wheel_ball_friction: mu,
+            outcome,
+        }))
+    }
+
+    fn ripple(
+        &self,
+        heading_deg: f64,
+        speed_m_per_s: f64,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<MechanismTrial, WorldError> {
+        let s = &self.settings;
+        let mut params = WorldParams::with_robot(self.robot);
+        params.sensors.seed = s.seed;
+        let config = ControllerVariant::Corrected.config(&params, &s.protocol)?;
+        let cruise = Cruise {
+            roller_count: params.contact.rollers.count,
+            heading_deg,
+            speed_m_per_s,
+        };
+        let spectrum = cruise_spectrum_observed(params, config, cruise, &s.ripple, observe)?;
+        Ok(MechanismTrial::Ripple(Box::new(spectrum)))
+    }
+}
+
+impl Study for MechanismExperiment {
+    type Job = MechanismJob;
+    type Trial = MechanismTrial;
+    type Error = WorldError;
+
+    fn jobs(&self) -> Vec<MechanismJob> {
+        jobs(&self.settings)
+    }
+
+    fn bisection(&self, _job: &MechanismJob) -> Option<Bisection> {
+        None
+    }
+
+    fn trial(
+        &self,
+        job: &MechanismJob,
+        _value: Option<f64>,
+        observe: &mut dyn FnMut(&WorldRobot),
+    ) -> Result<MechanismTrial, WorldError> {
+        match *job {
+            MechanismJob::Ramp(c, m, h) => self.ramp(c, m, h, observe),
+            MechanismJob::Sweep(h, mu, a) => self.sweep(h, mu, a, observe),
+            MechanismJob::Ripple(h, v) => self.ripple(h, v, observe),
+        }
+    }
+
+    /// A ramp or sweep point that reached its end without failing, a cruise that did not fail.
+    fn passed(&self, trial: &MechanismTrial) -> bool {
+        match trial {
+            MechanismTrial::Ramp(r) => r.outcome.censored(),
+            MechanismTrial::Sweep(p) => p.outcome.censored(),
+            MechanismTrial::Ripple(r) => r.failure.is_none(),
+        }
+    }
+
+    fn describe(&self, job: &MechanismJob, _value: Option<f64>, _t: &MechanismTrial) -> String {
+        match *job {
+            MechanismJob::Ramp(c, m, h) => format!("{} {} {h:.0} deg", c.as_str(), m.as_str()),
+            MechanismJob::Sweep(h, mu, a) => format!("sweep {h:.0} deg mu {mu} a {a}"),
+            MechanismJob::Ripple(h, v) => format!("ripple {h:.0} deg {v} m/s"),
+        }
+    }
+}
+
+fn jobs(settings: &MechanismStudySettings) -> Vec<MechanismJob> {
+    use MechanismJob as Job;
     let mut jobs = Vec::new();
     for &c in &settings.controllers {
         for &m in &settings.mechanisms {
@@ -199,66 +328,20 @@ pub fn job_count(settings: &MechanismStudySettings) -> usize {
     jobs(settings).len()
 }
 
-/// Runs the study on `robot` in parallel; `progress` is called with a short description as
-/// each run finishes. The default world is [`WorldParams::with_robot`].
+/// Runs the study on `robot` on the experiment driver ([`MechanismExperiment`]); `progress`
+/// is called with a short description as each run finishes. The default world is
+/// [`WorldParams::with_robot`].
 pub fn run_study(
     robot: BallbotParams<f64>,
     settings: &MechanismStudySettings,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<MechanismStudy, WorldError> {
     settings.validate()?;
-    let jobs = jobs(settings);
-    let default_world = WorldParams::with_robot(robot);
-    let run = |job: &Job| -> Result<Done, WorldError> {
-        match *job {
-            Job::Ramp(controller, mechanism, heading) => {
-                let params = mechanism.params(robot);
-                let config = controller.config(&params, &settings.protocol)?;
-                let (_, outcome) = slow_ramp_trial_with_config(
-                    params,
-                    config,
-                    &settings.protocol,
-                    heading,
-                    settings.seed,
-                )?;
-                progress(&format!(
-                    "{} {} {heading:.0} deg",
-                    controller.as_str(),
-                    mechanism.as_str()
-                ));
-                Ok(Done::Ramp(MechanismRun {
-                    controller,
-                    mechanism,
-                    outcome,
-                }))
-            }
-            Job::Sweep(heading, mu, accel) => {
-                let mut params = default_world;
-                params.robot.drivetrain.wheel_ball_friction = mu;
-                let mut protocol = settings.protocol;
-                protocol.slow_ramp.accel_m_per_s2 = accel;
-                let config = ControllerVariant::Corrected.config(&params, &protocol)?;
-                let (_, outcome) =
-                    slow_ramp_trial_with_config(params, config, &protocol, heading, settings.seed)?;
-                progress(&format!("sweep {heading:.0} deg mu {mu} a {accel}"));
-                Ok(Done::Sweep(SweepPoint {
-                    wheel_ball_friction: mu,
-                    outcome,
-                }))
-            }
-            Job::Ripple(heading, speed) => {
-                let mut params = default_world;
-                params.sensors.seed = settings.seed;
-                let config = ControllerVariant::Corrected.config(&params, &settings.protocol)?;
-                let rollers = params.contact.rollers.count;
-                let spectrum =
-                    cruise_spectrum(params, config, rollers, heading, speed, &settings.ripple)?;
-                progress(&format!("ripple {heading:.0} deg {speed} m/s"));
-                Ok(Done::Ripple(Box::new(spectrum)))
-            }
-        }
+    let experiment = MechanismExperiment {
+        robot,
+        settings: settings.clone(),
     };
-    let done = run_jobs(&jobs, settings.threads, run, &|_| {})?;
+    let records = driver::execute(&experiment, settings.threads, progress)?;
     let mut study = MechanismStudy {
         settings: settings.clone(),
         robot,
@@ -266,11 +349,11 @@ pub fn run_study(
         sweep: Vec::new(),
         ripple: Vec::new(),
     };
-    for d in done {
-        match d {
-            Done::Ramp(r) => study.runs.push(r),
-            Done::Sweep(s) => study.sweep.push(s),
-            Done::Ripple(r) => study.ripple.push(*r),
+    for (_, trial) in records.into_iter().flat_map(|r| r.trials) {
+        match trial {
+            MechanismTrial::Ramp(r) => study.runs.push(r),
+            MechanismTrial::Sweep(s) => study.sweep.push(s),
+            MechanismTrial::Ripple(r) => study.ripple.push(*r),
         }
     }
     Ok(study)
