@@ -159,3 +159,100 @@ fn a_push_in_the_world_is_not_read_as_slip() {
         }
     }
 }
+
+/// The study on the experiment driver: each kind of run that is not a search (a ramp on, a
+/// stop, a patch crossing, a rider's lean; the quick study's) replayed with an observer is the
+/// trial the driver recorded, bit for bit, and the observer saw every physics step. Checked by
+/// mutation: without the observer call in `stop_from_cruise_observed` the stop's replay counts
+/// no steps.
+#[test]
+fn every_kind_of_traction_run_replays_through_the_driver() {
+    use ballbot_sim::studies::driver::{execute, replay};
+    use ballbot_sim::studies::traction::{
+        PatchVariant, TractionExperiment, TractionJob, TractionStudySettings, TractionTrial,
+    };
+    let settings = TractionStudySettings::quick();
+    let mut study = TractionExperiment::phase_one(BallbotParams::miapure_60kg(), &settings);
+    let on = Control::TractionOn;
+    study.jobs = vec![
+        TractionJob::RampOn {
+            heading_deg: 0.0,
+            accel_m_per_s2: 3.0,
+            seed: 1,
+        },
+        TractionJob::Stop {
+            heading_deg: 180.0,
+            control: on,
+        },
+        TractionJob::Patch {
+            variant: PatchVariant::Wet,
+            control: on,
+        },
+        TractionJob::Rider {
+            heading_deg: 0.0,
+            control: on,
+        },
+    ];
+    let records = execute(&study, 0, &|_| {}).unwrap();
+    assert_eq!(records.len(), study.jobs.len());
+    for (i, record) in records.iter().enumerate() {
+        let job = study.jobs[i];
+        let [(None, recorded)] = &record.trials[..] else {
+            panic!(
+                "{job:?}: one trial at no value, got {}",
+                record.trials.len()
+            );
+        };
+        assert!(matches!(recorded, TractionTrial::Run(_)), "{job:?}");
+        let mut steps = 0u64;
+        let replayed = replay(&study, i, None, &mut |_| steps += 1)
+            .expect("the job exists")
+            .unwrap();
+        eprintln!("{job:?}: {steps} physics steps observed");
+        assert!(steps > 1000, "{job:?}: {steps} steps observed");
+        assert_eq!(&replayed, recorded, "{job:?}");
+    }
+}
+
+/// The traction study's search (traction-aware control off) through the driver is the
+/// maximum-speed study's `failing_acceleration` at the same heading and seed: the same bracket,
+/// ramps, trials at its ends and run count; and a ramp of it replayed with an observer is the
+/// recorded one. Checked by mutation: with the search's seed one higher, or traction-aware
+/// control on in the search, the results differ.
+#[test]
+fn the_traction_search_is_the_max_speed_search() {
+    use ballbot_sim::studies::driver::{Study, execute, replay};
+    use ballbot_sim::studies::max_speed::failing_acceleration;
+    use ballbot_sim::studies::traction::{
+        TractionExperiment, TractionJob, TractionStudySettings, TractionTrial, search_result,
+    };
+    let settings = TractionStudySettings::quick();
+    let mut study = TractionExperiment::phase_one(BallbotParams::miapure_60kg(), &settings);
+    study.jobs = vec![TractionJob::Search { heading_deg: 0.0 }];
+    let direct =
+        failing_acceleration(study.params, &settings.protocol, 0.0, settings.seed).unwrap();
+    let mut records = execute(&study, 0, &|_| {}).unwrap();
+    let record = records.pop().unwrap();
+    let bracket = record.bracket.expect("a search has a bracket");
+    assert_eq!(bracket.passed, direct.largest_surviving_m_per_s2);
+    assert_eq!(bracket.failed, direct.smallest_failing_m_per_s2);
+    let failed = bracket.failed.expect("the quick search fails towards OW1");
+    assert!(record.trials.len() as u64 <= study.runs_estimate(&study.jobs[0]));
+    let Some(TractionTrial::Search(recorded)) = record.trial_at(failed).cloned() else {
+        panic!("no search ramp at {failed}");
+    };
+    let via_driver = search_result(0.0, record).unwrap();
+    eprintln!(
+        "search 0 deg: {:?} .. {:?} m/s^2 in {} runs",
+        via_driver.largest_surviving_m_per_s2,
+        via_driver.smallest_failing_m_per_s2,
+        via_driver.runs
+    );
+    assert_eq!(via_driver, direct);
+    let mut steps = 0u64;
+    let replayed = replay(&study, 0, Some(failed), &mut |_| steps += 1)
+        .expect("the job exists")
+        .unwrap();
+    assert!(steps > 1000, "{steps} steps observed");
+    assert_eq!(replayed, TractionTrial::Search(recorded));
+}

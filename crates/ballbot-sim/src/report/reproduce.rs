@@ -228,7 +228,7 @@ fn max_speed_section(
     } else {
         MaxSpeedStudySettings::paper()
     };
-    observer.start("maxspeed", max_speed::job_count(&params, &settings) as u64);
+    observer.start("maxspeed", max_speed::runs_estimate(&params, &settings));
     let study = max_speed::run_study(params, &settings, &|what| observer.step(what))?;
     observer.finish();
     observer.text(&study.table());
@@ -333,8 +333,8 @@ fn traction_section(
     } else {
         TractionStudySettings::paper()
     };
-    observer.start("traction", traction::job_count(&settings) as u64);
     let robot = ballbot_core::BallbotParams::miapure_60kg();
+    observer.start("traction", traction::runs_estimate(robot, &settings));
     let study = traction::run_study(robot, &settings, &|what| observer.step(what))?;
     observer.finish();
     let table = study.table();

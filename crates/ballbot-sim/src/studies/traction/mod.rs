@@ -10,16 +10,24 @@
 //!   accelerating): detection latency, and whether the robot stays up.
 //! - **A rider** leaning back (towards OW1, 0 deg) as hard as forward (180 deg).
 //!
-//! * [`probe`]: what a run measures; [`runs`]: the runs; [`study`]: the whole study on the
-//!   shared runner. JSON, tables and figures: [`crate::report::traction`].
+//! * [`probe`]: what a run measures; [`runs`]: the runs; [`settings`]: what the study runs;
+//!   [`experiment`]: the study as a type on the experiment driver ([`TractionExperiment`]);
+//!   [`study`]: the whole study, assembled from the driver's records. JSON, tables and
+//!   figures: [`crate::report::traction`].
 
+pub mod experiment;
 pub mod probe;
 pub mod runs;
+pub mod settings;
 pub mod study;
 
+pub use experiment::{
+    TractionExperiment, TractionJob, TractionRun, TractionTrial, runs_estimate, search_result,
+    single_run,
+};
 pub use probe::{Probe, RunRecord, TractionSample};
 pub use runs::{Control, FrictionPatch, PatchCrossing, SAMPLE_PERIOD_SECS};
+pub use settings::{PatchVariant, TractionStudySettings};
 pub use study::{
-    HeadingResult, PatchResult, PatchVariant, RiderResult, StopResult, TractionStudy,
-    TractionStudySettings, job_count, run_study,
+    HeadingResult, PatchResult, RiderResult, StopResult, TractionStudy, job_count, run_study,
 };

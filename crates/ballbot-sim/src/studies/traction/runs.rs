@@ -90,6 +90,26 @@ pub fn ramp(
     accel_m_per_s2: f64,
     top_m_per_s: f64,
 ) -> Result<RunRecord, WorldError> {
+    ramp_observed(
+        params,
+        config,
+        heading_deg,
+        accel_m_per_s2,
+        top_m_per_s,
+        &mut |_| {},
+    )
+}
+
+/// [`ramp`] calling `observe` after every physics step (e.g. a [`crate::log::WorldLogger`]).
+/// The run is the same with or without an observer.
+pub fn ramp_observed(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    heading_deg: f64,
+    accel_m_per_s2: f64,
+    top_m_per_s: f64,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<RunRecord, WorldError> {
     let mut sim = WorldRobot::with_config(params, config)?;
     let mut probe = probe_for(&params, heading_deg);
     let settle = 0.5;
@@ -100,6 +120,7 @@ pub fn ramp(
         let t = k as f64 * params.dt_secs;
         let v = ((t - settle).max(0.0) * accel_m_per_s2).min(top_m_per_s);
         sim.step(velocity_along(heading_deg, v));
+        observe(&sim);
         if probe.observe(&sim, v) {
             break;
         }
@@ -127,6 +148,31 @@ pub fn stop_from_cruise(
     rest_m_per_s: f64,
     timeout_secs: f64,
 ) -> Result<(RunRecord, Option<f64>), WorldError> {
+    stop_from_cruise_observed(
+        params,
+        config,
+        heading_deg,
+        speed_m_per_s,
+        cruise_secs,
+        rest_m_per_s,
+        timeout_secs,
+        &mut |_| {},
+    )
+}
+
+/// [`stop_from_cruise`] calling `observe` after every physics step. The run is the same with
+/// or without an observer.
+#[allow(clippy::too_many_arguments)]
+pub fn stop_from_cruise_observed(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    heading_deg: f64,
+    speed_m_per_s: f64,
+    cruise_secs: f64,
+    rest_m_per_s: f64,
+    timeout_secs: f64,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<(RunRecord, Option<f64>), WorldError> {
     let mut sim = WorldRobot::with_config(params, config)?;
     let mut probe = probe_for(&params, heading_deg);
     let steps = ((cruise_secs + timeout_secs) / params.dt_secs).ceil() as u64;
@@ -135,6 +181,7 @@ pub fn stop_from_cruise(
         let t = k as f64 * params.dt_secs;
         let v = if t < cruise_secs { speed_m_per_s } else { 0.0 };
         sim.step(velocity_along(heading_deg, v));
+        observe(&sim);
         if probe.observe(&sim, v) {
             break;
         }
@@ -207,6 +254,35 @@ pub fn cross_patch(
     patch: &FrictionPatch,
     after_secs: f64,
 ) -> Result<(RunRecord, Option<PatchCrossing>), WorldError> {
+    cross_patch_observed(
+        params,
+        config,
+        heading_deg,
+        accel_m_per_s2,
+        top_m_per_s,
+        at_speed_m_per_s,
+        lead_secs,
+        patch,
+        after_secs,
+        &mut |_| {},
+    )
+}
+
+/// [`cross_patch`] calling `observe` after every physics step (before the patch's friction
+/// is set for the next one). The run is the same with or without an observer.
+#[allow(clippy::too_many_arguments)]
+pub fn cross_patch_observed(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    heading_deg: f64,
+    accel_m_per_s2: f64,
+    top_m_per_s: f64,
+    at_speed_m_per_s: f64,
+    lead_secs: f64,
+    patch: &FrictionPatch,
+    after_secs: f64,
+    observe: &mut dyn FnMut(&WorldRobot),
+) -> Result<(RunRecord, Option<PatchCrossing>), WorldError> {
     let mut sim = WorldRobot::with_config(params, config)?;
     let mut probe = probe_for(&params, heading_deg).past_stop_rules();
     let (s, c) = heading_deg.to_radians().sin_cos();
@@ -222,6 +298,7 @@ pub fn cross_patch(
         let t = k as f64 * params.dt_secs;
         let v = ((t - 0.5).max(0.0) * accel_m_per_s2).min(top_m_per_s);
         sim.step(velocity_along(heading_deg, v));
+        observe(&sim);
         let x = along(&sim);
         // Within 2 %: a filtered reference approaches its cruise speed without reaching it.
         if start_m.is_none() && probe.speed_m_per_s(&sim) >= 0.98 * at_speed_m_per_s {
@@ -270,12 +347,37 @@ fn probe_tilt_exceeded(sim: &WorldRobot, params: &WorldParams) -> bool {
 /// (the controller's shaping otherwise).
 pub fn rider_lean(
     params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    rider: LeanToDriveParams<f64>,
+    heading_deg: f64,
+    lean_rad: f64,
+    lean_secs: f64,
+    upright_secs: f64,
+) -> Result<RunRecord, WorldError> {
+    rider_lean_observed(
+        params,
+        config,
+        rider,
+        heading_deg,
+        lean_rad,
+        lean_secs,
+        upright_secs,
+        &mut |_| {},
+    )
+}
+
+/// [`rider_lean`] calling `observe` after every physics step. The run is the same with or
+/// without an observer.
+#[allow(clippy::too_many_arguments)]
+pub fn rider_lean_observed(
+    params: WorldParams,
     mut config: BallbotControllerConfig<f64>,
     rider: LeanToDriveParams<f64>,
     heading_deg: f64,
     lean_rad: f64,
     lean_secs: f64,
     upright_secs: f64,
+    observe: &mut dyn FnMut(&WorldRobot),
 ) -> Result<RunRecord, WorldError> {
     config.shaping.lean_to_drive = rider;
     let mut sim = WorldRobot::with_config(params, config)?;
@@ -294,6 +396,7 @@ pub fn rider_lean(
             towards_y_rad: lean * s,
             yaw_rate_rad_per_s: 0.0,
         }));
+        observe(&sim);
         if probe.observe(&sim, 0.0) {
             break;
         }
