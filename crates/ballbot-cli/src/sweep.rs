@@ -74,7 +74,9 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One row per point: the point's keys, then the study's numbers (empty where censored).
+/// One row per point: the point's keys, the study's numbers (empty where censored), then how
+/// the run at the limit's failing end ended (`failing_outcome`, e.g.
+/// `ended_by_stop_rule:lift_off`; empty where no run failed).
 fn csv(rows: &[SweepRow]) -> String {
     let Some(first) = rows.first() else {
         return String::new();
@@ -87,6 +89,7 @@ fn csv(rows: &[SweepRow]) -> String {
         .keys()
         .map(String::as_str)
         .chain(first.values.keys().copied())
+        .chain(["failing_outcome"])
         .map(csv_cell)
         .collect();
     let _ = writeln!(out, "{}", header.join(","));
@@ -100,6 +103,10 @@ fn csv(rows: &[SweepRow]) -> String {
                     .values()
                     .map(|v| v.map_or(String::new(), |x| format!("{x}"))),
             )
+            .chain([r
+                .failing_run
+                .as_ref()
+                .map_or(String::new(), |f| f.happened.outcome.label())])
             .collect();
         let _ = writeln!(out, "{}", cells.join(","));
     }

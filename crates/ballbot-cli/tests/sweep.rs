@@ -62,7 +62,8 @@ fn a_grid_runs_every_point_and_the_thread_count_changes_nothing() {
         lines.iter().all(|l| columns(l) == columns(lines[0])),
         "{csv1}"
     );
-    assert_eq!(columns(lines[0]), 5, "{}", lines[0]);
+    assert_eq!(columns(lines[0]), 6, "{}", lines[0]);
+    assert!(lines[0].ends_with(",failing_outcome"), "{}", lines[0]);
     let json: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(dir.path().join("out-1/sweep.json")).unwrap(),
     )
@@ -73,6 +74,58 @@ fn a_grid_runs_every_point_and_the_thread_count_changes_nothing() {
     let push = |i: usize| rows[i]["values"]["largest_recovered_ns"].as_f64().unwrap();
     assert_ne!(push(0), push(1));
     assert!(push(0) > 10.0, "{}", push(0));
+    // The low COM fails below 100 N s and the high one recovers 100 N s (censored): a row
+    // says how the run at the failing end ended, and the CSV's last cell is that outcome;
+    // a censored row has none.
+    assert!(
+        rows[0]["values"]["smallest_failing_ns"].is_number(),
+        "{json}"
+    );
+    assert!(rows[1]["values"]["smallest_failing_ns"].is_null(), "{json}");
+    for (i, line) in lines[1..].iter().enumerate() {
+        let failing = &rows[i]["failing_run"];
+        let cell = line.rsplit(',').next().unwrap();
+        if rows[i]["values"]["smallest_failing_ns"].is_null() {
+            assert!(failing.is_null() && cell.is_empty(), "{failing} {line}");
+            continue;
+        }
+        assert_eq!(
+            failing["value"].as_f64(),
+            rows[i]["values"]["smallest_failing_ns"].as_f64(),
+            "{failing}"
+        );
+        let kind = failing["outcome"]["kind"].as_str().unwrap();
+        assert!(
+            ["fell", "ended_by_stop_rule", "stopped", "unsettled"].contains(&kind),
+            "{kind}"
+        );
+        assert!(failing["events"].is_array(), "{failing}");
+        assert!(cell.starts_with(kind), "{cell} against {kind}");
+    }
+}
+
+/// The failing-acceleration study's rows: a censored point (no ramp on the quick grid fails
+/// towards 180 deg) has no failing run, an empty last cell and `null` in the JSON.
+#[test]
+fn a_censored_point_has_no_failing_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = "study = \"failing_acceleration\"\nquick = true\n[grid]\nheading_deg = [180.0]";
+    let out = sweep(dir.path(), grid, "1");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.path().join("out-1/sweep.csv")).unwrap();
+    let row = csv.lines().nth(1).unwrap();
+    assert!(row.ends_with(','), "{csv}");
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out-1/sweep.json")).unwrap(),
+    )
+    .unwrap();
+    let r = &json["rows"][0];
+    assert!(r["values"]["smallest_failing_m_per_s2"].is_null(), "{r}");
+    assert!(r["failing_run"].is_null(), "{r}");
 }
 
 #[test]

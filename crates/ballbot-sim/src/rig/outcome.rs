@@ -68,6 +68,23 @@ impl Outcome {
         }
     }
 
+    /// The name as one table cell: [`Self::as_str`], with the stop rule after a colon for
+    /// [`Self::EndedByStopRule`] (`ended_by_stop_rule:lift_off`).
+    ///
+    /// ```
+    /// use ballbot_sim::rig::Outcome;
+    /// use ballbot_sim::world::FailureKind;
+    /// assert_eq!(Outcome::Fell { time_secs: 1.0 }.label(), "fell");
+    /// let rule = FailureKind::LiftOff { wheel: 0 };
+    /// assert_eq!(Outcome::EndedByStopRule { rule, time_secs: 1.0 }.label(), "ended_by_stop_rule:lift_off");
+    /// ```
+    pub fn label(&self) -> String {
+        match self {
+            Self::EndedByStopRule { rule, .. } => format!("{}:{}", self.as_str(), rule.as_str()),
+            _ => self.as_str().to_owned(),
+        }
+    }
+
     /// When it was reached (s), for every outcome but [`Self::Unsettled`].
     pub fn time_secs(&self) -> Option<f64> {
         match self {

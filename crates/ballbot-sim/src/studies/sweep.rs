@@ -21,6 +21,7 @@
 use super::max_speed::{MaxSpeedStudySettings, failing_acceleration};
 use super::push::{PushParams, PushSearch, push_recovery_limit};
 use super::runner::run_jobs;
+use crate::rig::Happened;
 use crate::world::{WorldError, WorldParams};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -109,6 +110,19 @@ pub struct SweepRow {
     pub values: BTreeMap<&'static str, Option<f64>>,
     /// The study's result as its table prints it.
     pub text: String,
+    /// The run at the limit's failing end (the smallest failing acceleration or impulse): how
+    /// it ended and its events; `None` when no run failed (censored).
+    pub failing_run: Option<FailingRun>,
+}
+
+/// What happened in the run at a sweep point's limit.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FailingRun {
+    /// The study's scalar at that run: the ramp acceleration (m/s^2) or the impulse (N s).
+    pub value: f64,
+    /// How it ended and its events (JSON: `outcome`, `events`, `events_dropped`).
+    #[serde(flatten)]
+    pub happened: Happened,
 }
 
 /// A sweep ready to run: the study, the base world and the points.
@@ -249,7 +263,7 @@ impl Sweep {
             point: point_text(p),
             source,
         };
-        let (values, text) = match self.study {
+        let (values, text, failing_run) = match self.study {
             SweepStudy::FailingAcceleration => {
                 let protocol = if self.quick {
                     MaxSpeedStudySettings::quick().protocol
@@ -263,7 +277,12 @@ impl Sweep {
                     ("smallest_failing_m_per_s2", r.smallest_failing_m_per_s2),
                     ("runs", Some(r.runs as f64)),
                 ]);
-                (values, r.text())
+                let text = r.text();
+                let failing = r.failing.map(|o| FailingRun {
+                    value: o.accel_m_per_s2,
+                    happened: o.happened,
+                });
+                (values, text, failing)
             }
             SweepStudy::PushRecovery => {
                 let mut world = world;
@@ -281,13 +300,18 @@ impl Sweep {
                     ("smallest_failing_ns", r.smallest_failing_ns),
                     ("trials", Some(r.trials.len() as f64)),
                 ]);
-                (values, format!("{:.1}", r.largest_recovered_ns))
+                let failing = r.smallest_failing().map(|t| FailingRun {
+                    value: t.impulse_ns,
+                    happened: t.happened.clone(),
+                });
+                (values, format!("{:.1}", r.largest_recovered_ns), failing)
             }
         };
         Ok(SweepRow {
             point: p.iter().cloned().collect(),
             values,
             text,
+            failing_run,
         })
     }
 }
