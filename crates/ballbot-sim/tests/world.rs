@@ -206,6 +206,54 @@ fn free_flight_conserves_momentum_and_energy() {
 }
 
 #[test]
+fn a_motor_spinning_its_wheel_gives_the_bodies_the_spin_momentum_at_the_gear_ratio() {
+    // Free flight, no wheel-ball friction: one motor's torque accelerates its wheel and rotor,
+    // whose inertia is I_w + n^2 I_r, and nothing else. The spins then carry (I_w + n I_r) w
+    // (the rotor turns at n w), so the ball and body together must carry the opposite, the
+    // total staying zero; the rigid bodies must not receive the full reflected impulse.
+    let mut p = miapure();
+    p.contact.normal_damping_n_s_per_m = 0.0;
+    p.wheel_damping_nm_s_per_rad = 0.0;
+    p.rolling_resistance = 0.0;
+    p.spin_friction_m = 0.0;
+    let (i_reflected, i_spin) = (
+        p.reflected_wheel_inertia_kg_m2(),
+        p.wheel_spin_momentum_inertia_kg_m2(),
+    );
+    let n = p.robot.drivetrain.actuator.gear_ratio;
+    assert!(
+        n > 2.0 && i_spin < 0.5 * i_reflected,
+        "n {n}, {i_spin} vs {i_reflected}"
+    );
+    let ratio = p.rigid_step_ratio as usize;
+    let (torque_nm, steps) = (1.0, 800 * ratio);
+    let duration_secs = steps as f64 * p.dt_secs;
+    let mut world = BallbotWorld::new(p).unwrap();
+    world.set_gravity_m_per_s2(0.0).unwrap();
+    world.set_wheel_ball_friction(0.0).unwrap();
+    world.translate_robot(Vector3::new(0.0, 0.0, 1.0));
+    for _ in 0..steps {
+        world.step([torque_nm, 0.0, 0.0]);
+    }
+    let w = world.telemetry().wheels[0].speed_rad_per_s;
+    let rigid = world.rigid_angular_momentum_nms().norm();
+    let total = world.angular_momentum_nms().norm();
+    println!(
+        "wheel {w:.3} rad/s after {duration_secs} s; bodies {rigid:.5} N m s \
+         (spin momentum {:.5}, reflected {:.5}); total {total:.2e}",
+        i_spin * w,
+        i_reflected * w
+    );
+    assert_relative_eq!(
+        w,
+        torque_nm * duration_secs / i_reflected,
+        max_relative = 1e-3
+    );
+    assert_relative_eq!(rigid, i_spin * w, max_relative = 1e-3);
+    assert!(total < 1e-3 * rigid, "total {total} vs bodies {rigid}");
+}
+
+#[test]
 fn frictionless_floor_conserves_horizontal_momentum_and_energy_falls() {
     // Gravity on, frictionless floor and wheels, motors off: the body falls over. The floor
     // pushes only vertically, so the horizontal momentum stays zero; with contact damping the

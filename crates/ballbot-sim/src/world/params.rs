@@ -199,8 +199,11 @@ pub struct WorldParams {
     /// 62.5 mm radius disc).
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub wheel_inertia_kg_m2: f64,
-    /// Motor rotor inertia (kg m^2), reflected through the gear ratio squared onto the wheel.
-    /// Default 1.5e-4 (estimate for a QDD pancake motor).
+    /// Motor rotor inertia (kg m^2). It resists the wheel's acceleration through the gear ratio
+    /// squared ([`Self::reflected_wheel_inertia_kg_m2`]) but carries angular momentum through
+    /// the ratio once, the rotor spinning at `n` times the wheel's speed
+    /// ([`Self::wheel_spin_momentum_inertia_kg_m2`]): the body feels the difference. Default
+    /// 1.5e-4 (estimate for a QDD pancake motor).
     #[schemars(range(min = 0))]
     pub rotor_inertia_kg_m2: f64,
     /// Viscous friction of each wheel's drivetrain on the wheel speed (N m s/rad). Default 0.02.
@@ -334,6 +337,16 @@ impl WorldParams {
     pub fn reflected_wheel_inertia_kg_m2(&self) -> f64 {
         let n = self.robot.drivetrain.actuator.gear_ratio;
         self.wheel_inertia_kg_m2 + self.rotor_inertia_kg_m2 * n * n
+    }
+
+    /// The inertia that turns one wheel's speed into the spin angular momentum of its wheel and
+    /// rotor: `I_w + n I_r` (kg m^2), the rotor turning at `n` times the wheel's speed about a
+    /// parallel axis in the same sense (a planetary stage). Smaller than
+    /// [`Self::reflected_wheel_inertia_kg_m2`] (`I_w + n^2 I_r`) whenever `n > 1`: the gear
+    /// train takes the rest of the motor's reaction.
+    pub fn wheel_spin_momentum_inertia_kg_m2(&self) -> f64 {
+        let n = self.robot.drivetrain.actuator.gear_ratio;
+        self.wheel_inertia_kg_m2 + self.rotor_inertia_kg_m2 * n
     }
 
     /// Checks every field; the error names the first one out of range.

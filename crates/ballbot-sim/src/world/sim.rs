@@ -525,6 +525,9 @@ impl BallbotWorld {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
         let i_w = self.params.reflected_wheel_inertia_kg_m2();
+        // The body takes the change of the spins' angular momentum, (I_w + n I_r) dw/dt, not the
+        // torque that accelerates the reflected inertia (I_w + n^2 I_r) dw/dt.
+        let spin_share = self.params.wheel_spin_momentum_inertia_kg_m2() / i_w;
         let b_w = self.params.wheel_damping_nm_s_per_rad;
         let contacts = self.contacts();
         let mut ball_force = DVec3::ZERO;
@@ -557,7 +560,7 @@ impl BallbotWorld {
             ball_torque += (p - c).cross(f);
             body_force -= f;
             body_torque -= (p - body_com).cross(f);
-            body_torque -= state.axles[i] * wheel_torque;
+            body_torque -= state.axles[i] * (spin_share * wheel_torque);
             wheel_tel[i] = WheelTelemetry {
                 normal_force_n: out.normal_force_n,
                 traction_n: out.traction_n,

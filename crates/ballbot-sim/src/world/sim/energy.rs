@@ -3,7 +3,7 @@
 //! spins: read them right after a rigid step (every `rigid_step_ratio` world steps) for a
 //! consistent total.
 
-use super::{BallbotWorld, to_na};
+use super::{BallbotWorld, to_glam, to_na};
 use nalgebra::Vector3;
 use rapier3d_f64::glamx::DVec3;
 
@@ -45,8 +45,22 @@ impl BallbotWorld {
         to_na(ball.linvel() * ball.mass() + body.linvel() * body.mass())
     }
 
-    /// Total angular momentum of ball, body and wheel spins about the world origin (N m s).
+    /// Total angular momentum of ball, body and the wheels' and rotors' spins about the world
+    /// origin (N m s): [`Self::rigid_angular_momentum_nms`] plus each wheel's
+    /// `(I_w + n I_r) w` along its axle ([`crate::world::WorldParams::wheel_spin_momentum_inertia_kg_m2`]).
     pub fn angular_momentum_nms(&self) -> Vector3<f64> {
+        let mut total = to_glam(self.rigid_angular_momentum_nms());
+        let i_spin = self.params.wheel_spin_momentum_inertia_kg_m2();
+        let rot = self.physics.bodies[self.body].position().rotation;
+        for (g, w) in self.geometry.iter().zip(&self.wheels) {
+            total += rot * g.axle_local * (i_spin * w.speed_rad_per_s);
+        }
+        to_na(total)
+    }
+
+    /// Angular momentum of the two rigid bodies, ball and body, about the world origin
+    /// (N m s), without the wheels' and rotors' spins.
+    pub fn rigid_angular_momentum_nms(&self) -> Vector3<f64> {
         let mut total = DVec3::ZERO;
         for h in [self.ball, self.body] {
             let rb = &self.physics.bodies[h];
@@ -59,11 +73,6 @@ impl BallbotWorld {
                     .principal_inertia_local_frame;
             let w_local = frame.inverse() * rb.angvel();
             total += frame * (inertia * w_local) + com.cross(rb.linvel() * rb.mass());
-        }
-        let i_w = self.params.reflected_wheel_inertia_kg_m2();
-        let rot = self.physics.bodies[self.body].position().rotation;
-        for (g, w) in self.geometry.iter().zip(&self.wheels) {
-            total += rot * g.axle_local * (i_w * w.speed_rad_per_s);
         }
         to_na(total)
     }
