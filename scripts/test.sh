@@ -3,7 +3,8 @@
 # Usage: bash scripts/test.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
-step() { printf '\n==> %s\n' "$*"; }
+# Each step prints the seconds since the start, so a slow step shows in CI's log.
+step() { printf '\n==> [%ds] %s\n' "$SECONDS" "$*"; }
 
 step "format"
 cargo fmt --all --check
@@ -89,3 +90,5 @@ bash scripts/test-python.sh
 
 step "documentation site: mkdocs build --strict, the tutorial notebooks executed against the wheel"
 bash scripts/test-docs.sh
+
+printf '\n==> [%ds] every test passed\n' "$SECONDS"
