@@ -8,14 +8,16 @@
 //! * `world_speed run SECONDS RATIO`: drives the world through the `world_step` bench's cycle
 //!   (`benches/common/world_drive.rs`) for SECONDS of simulated time with
 //!   `rigid_step_ratio = RATIO` (`default` for the default world's) and prints one JSON line with
-//!   the wall time on this thread.
+//!   the wall time on this thread; `world_speed run SECONDS RATIO rigid` runs the default world
+//!   with a rigid drivetrain (`TransmissionParams::rigid`), the baseline of the drivetrain's
+//!   cost in the same session.
 
 #[path = "../benches/common/world_drive.rs"]
 #[allow(dead_code)]
 mod world_drive;
 use ballbot_core::lqr::{WipLqrWeights, wip_lqr};
 use ballbot_core::{OmniKinematics, Wip};
-use ballbot_sim::world::WorldParams;
+use ballbot_sim::world::{TransmissionParams, WorldParams};
 use std::process::ExitCode;
 use std::time::Instant;
 use world_drive::WorldDrive;
@@ -61,8 +63,11 @@ fn params_json() -> Result<String, String> {
     serde_json::to_string_pretty(&json).map_err(|e| e.to_string())
 }
 
-fn run(seconds: f64, ratio: &str) -> Result<String, String> {
+fn run(seconds: f64, ratio: &str, rigid: bool) -> Result<String, String> {
     let mut params = WorldParams::miapure_60kg();
+    if rigid {
+        params.transmission = TransmissionParams::rigid();
+    }
     if ratio != "default" {
         params.rigid_step_ratio = ratio
             .parse()
@@ -79,6 +84,7 @@ fn run(seconds: f64, ratio: &str) -> Result<String, String> {
     let simulated = steps as f64 * params.dt_secs;
     Ok(serde_json::json!({
         "rigid_step_ratio": params.rigid_step_ratio,
+        "drivetrain": if rigid { "rigid" } else { "default" },
         "simulated_secs": simulated,
         "wall_secs": wall,
         "sim_secs_per_wall_sec": simulated / wall,
@@ -91,11 +97,23 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().collect();
     let result = match args.as_slice() {
         [_, cmd] if cmd == "params" => params_json(),
-        [_, cmd, secs, ratio] if cmd == "run" => match secs.parse::<f64>() {
-            Ok(s) if s.is_finite() && s > 0.0 => run(s, ratio),
-            _ => Err(format!("SECONDS must be a positive number, got `{secs}`")),
-        },
-        _ => Err("usage: world_speed params | world_speed run SECONDS RATIO|default".into()),
+        [_, cmd, secs, ratio, rest @ ..] if cmd == "run" && rest.len() <= 1 => {
+            let rigid = match rest.first().map(String::as_str) {
+                None => Ok(false),
+                Some("rigid") => Ok(true),
+                Some(other) => Err(format!(
+                    "the drivetrain must be `rigid` or absent, got `{other}`"
+                )),
+            };
+            match (secs.parse::<f64>(), rigid) {
+                (_, Err(e)) => Err(e),
+                (Ok(s), Ok(rigid)) if s.is_finite() && s > 0.0 => run(s, ratio, rigid),
+                _ => Err(format!("SECONDS must be a positive number, got `{secs}`")),
+            }
+        }
+        _ => {
+            Err("usage: world_speed params | world_speed run SECONDS RATIO|default [rigid]".into())
+        }
     };
     match result {
         Ok(out) => {

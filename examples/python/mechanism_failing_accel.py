@@ -35,6 +35,7 @@ def variants() -> dict[str, ballbot.WorldParams]:
             },
         },
         "motor_driver": {**ideal, "driver": full["driver"]},
+        "drivetrain": {**ideal, "transmission": full["transmission"]},
         "all": full,
     }
     return {name: ballbot.WorldParams.from_dict(d) for name, d in worlds.items()}

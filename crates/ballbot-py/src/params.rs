@@ -15,7 +15,7 @@ use ballbot_core::{
 };
 use ballbot_sim::world::{
     AxleLossParams, ContactParams, DriverParams, FailureParams, RollerParams, RubberLayer,
-    SensorParams, WorldParams,
+    SensorParams, TransmissionParams, WorldParams,
 };
 use numpy::PyArray1;
 use pyo3::prelude::*;

@@ -226,13 +226,16 @@ fn a_full_residual_changes_what_the_drivers_apply() {
     };
     let (base, pushed) = (torque_after([0.0; 3]), torque_after([1.0, 0.0, -1.0]));
     let peak = config.world.robot.drivetrain.actuator.peak_torque_nm;
-    // The controller reacts within the step too, so only the sign and the order are checked.
+    // The controller reacts within the step too, so only the sign and the order are checked:
+    // at least a quarter of the residual is left at the end of the step. (Before the
+    // drivetrain of issue 28 more than half was left; the motor side the encoder reads is
+    // lighter than wheel and rotor together, so the inner PI sees the residual sooner.)
     assert!(
-        pushed[0] - base[0] > 0.5 * 0.1 * peak,
+        pushed[0] - base[0] > 0.25 * 0.1 * peak,
         "{base:?} {pushed:?}"
     );
     assert!(
-        pushed[2] - base[2] < -0.5 * 0.1 * peak,
+        pushed[2] - base[2] < -0.25 * 0.1 * peak,
         "{base:?} {pushed:?}"
     );
 }

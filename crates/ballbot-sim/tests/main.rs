@@ -25,6 +25,7 @@ mod world;
 mod world_brake;
 mod world_bump;
 mod world_contact;
+mod world_controllers_3d;
 mod world_driver;
 mod world_load_transfer;
 mod world_max_speed;

@@ -76,6 +76,21 @@ fn no_mismatch_is_the_nominal_world_and_a_sample_is_not() {
         (w.robot.sagittal.com_height_m / nominal.robot.sagittal.com_height_m - m.com_height).abs()
             < 1e-12
     );
+    // The drive friction scales the gearbox's stiction and Coulomb torques with the damping.
+    let (t, t0) = (&w.transmission, &nominal.transmission);
+    for (value, base) in [
+        (
+            w.wheel_damping_nm_s_per_rad,
+            nominal.wheel_damping_nm_s_per_rad,
+        ),
+        (t.stiction_torque_nm, t0.stiction_torque_nm),
+        (t.coulomb_torque_nm, t0.coulomb_torque_nm),
+    ] {
+        assert!(
+            (value / base - m.drive_friction).abs() < 1e-12,
+            "{value} {base}"
+        );
+    }
     assert!(w.validate().is_ok());
 }
 

@@ -31,14 +31,16 @@ fn each_mechanism_changes_only_its_own_part_of_the_ideal_world() {
         let axle = p.contact.axle_loss != ideal.contact.axle_loss;
         let rubber = p.contact.normal_stiffness_n_per_m != ideal.contact.normal_stiffness_n_per_m;
         let driver = p.driver != ideal.driver;
-        let changed = [gaps, axle, rubber, driver];
+        let drivetrain = p.transmission != ideal.transmission;
+        let changed = [gaps, axle, rubber, driver, drivetrain];
         let expected = match m {
-            Mechanism::Ideal => [false; 4],
-            Mechanism::RollerGaps => [true, false, false, false],
-            Mechanism::AxleLosses => [false, true, false, false],
-            Mechanism::RubberCoating => [false, false, true, false],
-            Mechanism::MotorDriver => [false, false, false, true],
-            Mechanism::All => [true; 4],
+            Mechanism::Ideal => [false; 5],
+            Mechanism::RollerGaps => [true, false, false, false, false],
+            Mechanism::AxleLosses => [false, true, false, false, false],
+            Mechanism::RubberCoating => [false, false, true, false, false],
+            Mechanism::MotorDriver => [false, false, false, true, false],
+            Mechanism::Drivetrain => [false, false, false, false, true],
+            Mechanism::All => [true; 5],
         };
         assert_eq!(changed, expected, "{}", m.as_str());
         // Nothing else moves: the robot, sensors, failure limits and the step are the ideal's.

@@ -5,7 +5,7 @@
 use super::{BalancePointParams, SpinGains, SpinOuterConfig, WheelMapping};
 use crate::check::{lit, positive};
 use crate::command::{AxisLimits, CommandShaperParams};
-use crate::control::{LqrGains, LqrPiOuterConfig, SpeedPiGains};
+use crate::control::{LqrGains, LqrPiOuterConfig, PiPdGains, SpeedPiGains};
 use crate::lqr::{
     SpinLqrWeights, WipLqrWeights, outer_loop_dt_secs, spin_lqr_discrete, wip_lqr_discrete,
 };
@@ -54,6 +54,43 @@ pub struct BallbotControllerConfig<T> {
     /// Balance-point estimation ([`super::BalancePoint`]): on in [`Self::design`]
     /// ([`Self::with_balance_point_estimation`]), off in [`Self::paper`].
     pub balance_point: BalancePointParams<T>,
+    /// How the two balancing planes turn their state into a reference torque: the paper's
+    /// LQR-PI ([`BalancingLaw::LqrPi`], every designed configuration) or, as the paper's
+    /// comparison, a cascaded PI-PD ([`Self::with_pi_pd`]).
+    pub balancing: BalancingLaw<T>,
+}
+
+/// The law of the two balancing planes (frontal and sagittal); the spin loop and everything
+/// around the planes (shaping, safety, mapping to the wheels) are the same for every law.
+///
+/// ```
+/// use ballbot_core::BallbotParams;
+/// use ballbot_core::ballbot::{BalancingLaw, BallbotControllerConfig};
+/// let robot = BallbotParams::<f64>::miapure_60kg();
+/// // Every designed configuration balances with the LQR-PI; the PI-PD is the comparison.
+/// assert_eq!(BallbotControllerConfig::design(&robot)?.balancing, BalancingLaw::LqrPi);
+/// let pi_pd = BallbotControllerConfig::paper(&robot)?.with_pi_pd()?;
+/// assert!(matches!(pi_pd.balancing, BalancingLaw::PiPd { .. }));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BalancingLaw<T> {
+    /// The cascaded LQR-PI's outer loop in each plane ([`crate::control::LqrPiOuter`], with
+    /// [`BallbotControllerConfig::frontal`] and [`BallbotControllerConfig::sagittal`]): the
+    /// LQR's reference torque and the reference model's ball rate for the motor PIs.
+    LqrPi,
+    /// The cascaded PI-PD of the CMU ballbot in each plane ([`crate::control::PiPdController`]):
+    /// an outer PI on the ball rate gives a reference tilt, an inner PD on the tilt the torque.
+    /// The motors' reference rate is the measured one (the PI-PD has no reference model), so
+    /// the motor PIs add nothing at the outer steps; with their gains at zero, as
+    /// [`BallbotControllerConfig::with_pi_pd`] sets them, the torque goes to the drivers open
+    /// loop, as on the paper's testbed.
+    PiPd {
+        /// Frontal plane (x).
+        frontal: PiPdGains<T>,
+        /// Sagittal plane (y).
+        sagittal: PiPdGains<T>,
+    },
 }
 
 /// LQR weights and bandwidths for [`BallbotControllerConfig::design_with`].
@@ -220,7 +257,70 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
             wheel_mapping: WheelMapping::RollingBall,
             traction: TractionParams::off(robot),
             balance_point: BalancePointParams::off(),
+            balancing: BalancingLaw::LqrPi,
         })
+    }
+
+    /// **The paper's LQR, for comparison**: this configuration with the motor speed PIs off
+    /// (zero gains, the torque limit kept), so the drivers get the LQR's reference torque open
+    /// loop, as the paper ran its LQR on the PIPTB ("the torque command was sent to the motor
+    /// driver for direct open-loop torque control", Sec. IV-C). Its gains are the LQR's own
+    /// design, the same as the LQR-PI's outer loop.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let lqr_pi = BallbotControllerConfig::paper(&robot)?;
+    /// let lqr = lqr_pi.with_torque_only_lqr();
+    /// assert_eq!((lqr.motor.proportional_nm_s_per_rad, lqr.motor.integral_nm_per_rad), (0.0, 0.0));
+    /// assert_eq!(lqr.sagittal, lqr_pi.sagittal);
+    /// assert!(BallbotController::new(lqr).is_ok());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    #[must_use]
+    pub fn with_torque_only_lqr(mut self) -> Self {
+        self.motor = SpeedPiGains {
+            proportional_nm_s_per_rad: T::zero(),
+            integral_nm_per_rad: T::zero(),
+            anti_windup_per_s: T::zero(),
+            ..self.motor
+        };
+        self
+    }
+
+    /// **The paper's cascaded PI-PD, for comparison**: this configuration with a PI-PD in each
+    /// balancing plane ([`BalancingLaw::PiPd`]), its gains from its own design rule,
+    /// [`PiPdGains::for_wip`] (pole placement at fixed multiples of the plane's unstable pole,
+    /// with the plane's LQR torque limit), and the motor speed PIs off as in
+    /// [`Self::with_torque_only_lqr`]: the paper sent the PI-PD's torque to the drivers open
+    /// loop.
+    ///
+    /// Errors: from [`PiPdGains::for_wip`] (a plane the design cannot place).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BalancingLaw, BallbotController, BallbotControllerConfig};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let pi_pd = BallbotControllerConfig::paper(&robot)?.with_pi_pd()?;
+    /// let BalancingLaw::PiPd { sagittal, .. } = pi_pd.balancing else { panic!() };
+    /// assert!(sagittal.tilt_p_nm_per_rad < 0.0 && sagittal.speed_i_rad_per_rad > 0.0);
+    /// assert_eq!(pi_pd.motor.proportional_nm_s_per_rad, 0.0);
+    /// assert!(BallbotController::new(pi_pd).is_ok());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn with_pi_pd(self) -> Result<Self, Error> {
+        let frontal = PiPdGains::for_wip(
+            &Wip::new(self.robot.frontal)?,
+            self.frontal.lqr.max_torque_nm,
+        )?;
+        let sagittal = PiPdGains::for_wip(
+            &Wip::new(self.robot.sagittal)?,
+            self.sagittal.lqr.max_torque_nm,
+        )?;
+        let mut config = self.with_torque_only_lqr();
+        config.balancing = BalancingLaw::PiPd { frontal, sagittal };
+        Ok(config)
     }
 
     /// This configuration with traction-aware control on, in its recommended settings

@@ -93,7 +93,7 @@ mod tests;
 mod trajectory_limits;
 
 pub use balance::{BalancePoint, BalancePointParams, BalanceSample};
-pub use design::{BallbotControllerConfig, BallbotDesign, motor_speed_pi_gains};
+pub use design::{BalancingLaw, BallbotControllerConfig, BallbotDesign, motor_speed_pi_gains};
 pub use guard::SpeedGuard;
 pub use mapping::WheelMapping;
 pub use motor::{InnerOutput, MotorSpeedLoop, MotorSpeedPi};

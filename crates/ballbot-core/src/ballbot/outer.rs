@@ -2,10 +2,12 @@
 //! [`MotorReferences`] sent to the motor drivers.
 
 use super::feedforward::InputFeedforward;
-use super::{BalancePoint, BalanceSample, BallbotControllerConfig, SpinOuter, WheelMapping};
+use super::{
+    BalancePoint, BalanceSample, BalancingLaw, BallbotControllerConfig, SpinOuter, WheelMapping,
+};
 use crate::check::{lit, positive};
 use crate::command::{Command, CommandShaper, PlanarCommands, Trajectory, TrajectoryLimits};
-use crate::control::{LqrPiOuter, StepStatus};
+use crate::control::{LqrPiOuter, LqrPiOuterOutput, PiPdController, StepStatus};
 use crate::estimation::{
     EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos,
 };
@@ -247,6 +249,8 @@ pub struct BallbotController<T: RealField + Copy> {
     shaper: CommandShaper<T>,
     frontal: LqrPiOuter<T>,
     sagittal: LqrPiOuter<T>,
+    /// The planes' PI-PD (frontal, sagittal) when [`BalancingLaw::PiPd`] replaces the LQR-PI.
+    pi_pd: Option<[PiPdController<T>; 2]>,
     spin: SpinOuter<T>,
     feedforward: InputFeedforward<T>,
     traction: Option<TractionControl<T>>,
@@ -291,6 +295,13 @@ impl<T: RealField + Copy> BallbotController<T> {
             shaper: CommandShaper::new(config.shaping, &config.robot)?,
             frontal: LqrPiOuter::new(Wip::new(config.robot.frontal)?, config.frontal)?,
             sagittal: LqrPiOuter::new(Wip::new(config.robot.sagittal)?, config.sagittal)?,
+            pi_pd: match config.balancing {
+                BalancingLaw::LqrPi => None,
+                BalancingLaw::PiPd { frontal, sagittal } => Some([
+                    PiPdController::new(frontal)?,
+                    PiPdController::new(sagittal)?,
+                ]),
+            },
             spin: SpinOuter::new(Spin::new(config.robot.spin)?, config.spin)?,
             feedforward: InputFeedforward::new(&config),
             traction,
@@ -596,20 +607,28 @@ impl<T: RealField + Copy> BallbotController<T> {
         c.spin[0] +=
             ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_secs * yaw_rate_c;
         let (mut fro_tilt_accel, mut sag_tilt_accel) = (T::zero(), T::zero());
-        let fro = self.frontal.step_with_tilt_sin_cos(
-            fro_state,
-            &c.frontal,
-            dt,
-            fro_sin_cos,
-            &mut fro_tilt_accel,
-        );
-        let sag = self.sagittal.step_with_tilt_sin_cos(
-            sag_state,
-            &c.sagittal,
-            dt,
-            sag_sin_cos,
-            &mut sag_tilt_accel,
-        );
+        let (fro, sag) = match &mut self.pi_pd {
+            None => (
+                self.frontal.step_with_tilt_sin_cos(
+                    fro_state,
+                    &c.frontal,
+                    dt,
+                    fro_sin_cos,
+                    &mut fro_tilt_accel,
+                ),
+                self.sagittal.step_with_tilt_sin_cos(
+                    sag_state,
+                    &c.sagittal,
+                    dt,
+                    sag_sin_cos,
+                    &mut sag_tilt_accel,
+                ),
+            ),
+            Some([frontal, sagittal]) => (
+                pi_pd_plane(frontal, fro_state, &c.frontal, dt),
+                pi_pd_plane(sagittal, sag_state, &c.sagittal, dt),
+            ),
+        };
         let spin = self.spin.step(&states.spin, &c.spin, dt);
         let planar_torque = Vector3::new(
             fro.reference_torque_nm,
@@ -711,6 +730,9 @@ impl<T: RealField + Copy> BallbotController<T> {
     fn disabled(&mut self, safety: SafetyStatus, states: PlanarStates<T>) -> OuterOutput<T> {
         self.frontal.reset();
         self.sagittal.reset();
+        if let Some(planes) = &mut self.pi_pd {
+            planes.iter_mut().for_each(PiPdController::reset);
+        }
         self.spin.reset();
         // Motors off: the robot is supported and its payload may change (a rider steps off);
         // the next arming starts from the calibrated upright (see `BalancePoint`).
@@ -772,4 +794,27 @@ fn shift_to_balance_point<T: RealField + Copy>(
     sagittal[TILT] -= offset[1];
     let (fsc, ssc) = (frontal[TILT].sin_cos(), sagittal[TILT].sin_cos());
     (frontal, sagittal, fsc, ssc)
+}
+
+/// One plane's PI-PD step in the LQR-PI outer loop's output form: its torque as the reference
+/// torque, the measured ball rate as the motors' reference (no reference model), no reference
+/// acceleration.
+fn pi_pd_plane<T: RealField + Copy>(
+    controller: &mut PiPdController<T>,
+    measured: &WipState<T>,
+    command: &WipState<T>,
+    dt_secs: T,
+) -> LqrPiOuterOutput<T> {
+    let out = controller.step(measured, command, dt_secs);
+    LqrPiOuterOutput {
+        reference_torque_nm: out.torque_nm,
+        reference_ball_rate_rad_per_s: measured[BALL_RATE],
+        reference_ball_accel_rad_per_s2: T::zero(),
+        tilt_term_nm: out.tilt_p_term_nm,
+        tilt_rate_term_nm: out.tilt_d_term_nm,
+        ball_rate_term_nm: T::zero(),
+        saturation_nm: out.saturation_nm,
+        anchor_correction_rad_per_s: T::zero(),
+        status: out.status,
+    }
 }

@@ -44,8 +44,10 @@ pub struct TractionParams<T> {
     /// blocks it. Default 0.5 (2 m/s to rest within 4 s).
     pub min_braking_decel_m_per_s2: T,
     /// A wheel counts as slipping when its estimated slip speed exceeds this (m/s, > 0).
-    /// Default 0.05: the 3D world's own definition of slip. (In normal driving in the default
-    /// 3D world the estimate stays below 0.03 m/s: roller ripple and sensor noise.)
+    /// Default 0.05: the 3D world's own definition of slip. (On gentle ramps in the default 3D
+    /// world the estimate peaks at 0.040 / 0.033 / 0.030 m/s towards 0 / 90 / 180 deg: roller
+    /// ripple, sensor noise, and the drivetrain's wind-up and backlash between the motor's
+    /// encoder and the wheel; ballbot-sim test `gentle_ramps_raise_no_alarm`.)
     pub slip_speed_threshold_m_per_s: T,
     /// Gain of the momentum observers (1/s, > 0): the residual forgets a model error within
     /// about `1 / gain`. Default 10.

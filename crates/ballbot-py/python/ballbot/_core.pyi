@@ -46,6 +46,7 @@ _WorldPreset = Literal["miapure_60kg", "miapure_unloaded", "ideal_miapure_60kg"]
 _DriverPreset = Literal["ideal", "odrive_v36_factory", "miapure"]
 _DriverModel = Literal["ideal", "odrive"]
 _DriverLimit = Literal["none", "current", "voltage", "velocity_limiter", "disarmed"]
+_TransmissionPreset = Literal["rigid", "miapure"]
 
 OUTER_LOOP_RATE_HZ: float
 OUTER_LOOP_DT_SECS: float
@@ -117,6 +118,7 @@ __all__ = [
     "RollerParams",
     "SensorParams",
     "StepTelemetry",
+    "TransmissionParams",
     "WheelTelemetry",
     "GymEnv",
     "GymVecEnv",
@@ -1269,6 +1271,49 @@ class DriverParams:
     def enable_overspeed_error(self) -> bool: ...
 
 @final
+class TransmissionParams:
+    """The drivetrain between each motor and its omniwheel, at the gearbox output: gearbox
+    stiction and Coulomb friction, an elastomeric coupling and backlash
+    (``coupling_stiffness_nm_per_rad = 0``: rigid, the preset ``"rigid"``)."""
+
+    def __new__(
+        cls,
+        *,
+        stiction_torque_nm: float = ...,
+        coulomb_torque_nm: float = ...,
+        stick_window_rad_per_s: float = ...,
+        stick_settle_time_secs: float = ...,
+        coupling_stiffness_nm_per_rad: float = ...,
+        coupling_damping_nm_s_per_rad: float = ...,
+        backlash_rad: float = ...,
+    ) -> TransmissionParams: ...
+    @staticmethod
+    def preset(name: _TransmissionPreset) -> TransmissionParams: ...
+    @staticmethod
+    def presets() -> list[_TransmissionPreset]: ...
+    def replace(self, **kwargs: Any) -> TransmissionParams: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    @staticmethod
+    def from_dict(fields: dict[str, Any]) -> TransmissionParams: ...
+    def save(self, path: _Path) -> None: ...
+    @staticmethod
+    def load(path: _Path) -> TransmissionParams: ...
+    @property
+    def stiction_torque_nm(self) -> float: ...
+    @property
+    def coulomb_torque_nm(self) -> float: ...
+    @property
+    def stick_window_rad_per_s(self) -> float: ...
+    @property
+    def stick_settle_time_secs(self) -> float: ...
+    @property
+    def coupling_stiffness_nm_per_rad(self) -> float: ...
+    @property
+    def coupling_damping_nm_s_per_rad(self) -> float: ...
+    @property
+    def backlash_rad(self) -> float: ...
+
+@final
 class WorldParams:
     """Everything the 3D world needs: the robot plus contact, wheel and rotor inertia, floor
     friction, chassis, physics step, sensors, failure limits; defaults are MiaPURE with 60 kg."""
@@ -1290,6 +1335,7 @@ class WorldParams:
         sensors: Union[SensorParams, dict[str, Any]] = ...,
         failure: Union[FailureParams, dict[str, Any]] = ...,
         driver: Union[DriverParams, dict[str, Any]] = ...,
+        transmission: Union[TransmissionParams, dict[str, Any]] = ...,
     ) -> WorldParams: ...
     @staticmethod
     def preset(name: _WorldPreset) -> WorldParams: ...
@@ -1341,6 +1387,8 @@ class WorldParams:
     def failure(self) -> FailureParams: ...
     @property
     def driver(self) -> DriverParams: ...
+    @property
+    def transmission(self) -> TransmissionParams: ...
 
 @final
 class WheelTelemetry:
@@ -1370,6 +1418,14 @@ class WheelTelemetry:
     def speed_rad_per_s(self) -> float: ...
     @property
     def angle_rad(self) -> float: ...
+    @property
+    def motor_speed_rad_per_s(self) -> float: ...
+    @property
+    def motor_angle_rad(self) -> float: ...
+    @property
+    def coupling_torque_nm(self) -> float: ...
+    @property
+    def gearbox_friction_nm(self) -> float: ...
     def to_dict(self) -> dict[str, Union[float, bool, str]]: ...
 
 @final

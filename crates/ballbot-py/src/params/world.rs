@@ -97,6 +97,13 @@ impl CoreParams for DriverParams {
     }
 }
 
+impl CoreParams for TransmissionParams {
+    const NAME: &'static str = "TransmissionParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.transmission = *self)
+    }
+}
+
 impl CoreParams for WorldParams {
     const NAME: &'static str = "WorldParams";
     fn check(&self, py: Python<'_>) -> PyResult<()> {
@@ -200,9 +207,31 @@ py_params! {
 }
 
 py_params! {
+    /// The drivetrain between each motor and its omniwheel
+    /// (`ballbot_sim::world::TransmissionParams`): gearbox stiction and Coulomb friction
+    /// (Karnopp), an elastomeric coupling (stiffness, damping) and backlash, all at the gearbox
+    /// output. `coupling_stiffness_nm_per_rad = 0` is the rigid drivetrain (preset `"rigid"`, the
+    /// ideal world's); `"miapure"` is the default world's. Errors name the field
+    /// (`transmission.backlash_rad`).
+    PyTransmissionParams(TransmissionParams, "TransmissionParams", default = TransmissionParams::rigid) {
+        floats {
+            stiction_torque_nm, coulomb_torque_nm, stick_window_rad_per_s, stick_settle_time_secs,
+            coupling_stiffness_nm_per_rad, coupling_damping_nm_s_per_rad, backlash_rad,
+        }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "rigid" => TransmissionParams::rigid,
+        "miapure" => TransmissionParams::miapure,
+    }
+}
+
+py_params! {
     /// Everything the 3D world needs (`ballbot_sim::world::WorldParams`): the robot
     /// (`BallbotParams`) plus the contact, wheel and rotor inertia, floor friction, chassis,
-    /// physics step, sensors, failure limits and the motor driver. Errors name the field
+    /// physics step, sensors, failure limits, the motor driver and the drivetrain. Errors name
+    /// the field
     /// (`contact.kinetic_friction_ratio`).
     PyWorldParams(WorldParams, "WorldParams", default = WorldParams::miapure_60kg) {
         floats {
@@ -217,6 +246,7 @@ py_params! {
             sensors: PySensorParams,
             failure: PyFailureParams,
             driver: PyDriverParams,
+            transmission: PyTransmissionParams,
         }
     }
     presets {
@@ -226,7 +256,8 @@ py_params! {
     }
     methods {
         /// The given robot in the default world (the realistic one: roller gaps, roller
-        /// losses along the axle, the rubber coating, the ODrive driver).
+        /// losses along the axle, the rubber coating, the ODrive driver, the drivetrain with
+        /// gearbox stiction, coupling and backlash).
         #[staticmethod]
         fn with_robot(py: Python<'_>, robot: PyBallbotParams) -> PyResult<Self> {
             let inner = WorldParams::with_robot(robot.inner);
@@ -235,7 +266,8 @@ py_params! {
         }
 
         /// The given robot in the ideal world: stiff continuous-rim contacts, no forces along
-        /// the axle, the actuator's straight torque-speed line (the first releases' world).
+        /// the axle, the actuator's straight torque-speed line, a rigid drivetrain (the first
+        /// releases' world).
         #[staticmethod]
         fn ideal(py: Python<'_>, robot: PyBallbotParams) -> PyResult<Self> {
             let inner = WorldParams::ideal(robot.inner);
@@ -263,6 +295,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySensorParams>()?;
     m.add_class::<PyFailureParams>()?;
     m.add_class::<PyDriverParams>()?;
+    m.add_class::<PyTransmissionParams>()?;
     m.add_class::<PyWorldParams>()?;
     Ok(())
 }

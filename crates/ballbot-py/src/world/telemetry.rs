@@ -86,6 +86,10 @@ wheel_getters! {
     driver_current_a: f64,
     speed_rad_per_s: f64,
     angle_rad: f64,
+    motor_speed_rad_per_s: f64,
+    motor_angle_rad: f64,
+    coupling_torque_nm: f64,
+    gearbox_friction_nm: f64,
 }
 
 pub(crate) fn vec_out<'py>(py: Python<'py>, v: &Vector3<f64>) -> Bound<'py, PyArray1<f64>> {

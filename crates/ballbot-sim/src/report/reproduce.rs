@@ -116,6 +116,9 @@ pub fn reproduce(
     // The highest floor bump crossed (issue 28), on the experiment driver.
     bump_section(options, observer, &mut summary)?;
 
+    // The paper's three controllers in the 3D world (issue 28).
+    controllers_3d_section(options, observer, &mut summary)?;
+
     let summary = Value::Object(summary);
     write_json(&out.join("summary.json"), &summary, observer)?;
     Ok(summary)
@@ -379,6 +382,36 @@ fn bump_section(
     summary.insert(
         "bump_tolerance".to_owned(),
         super::bump::summary_json(&study, &records),
+    );
+    Ok(())
+}
+
+fn controllers_3d_section(
+    options: &ReproduceOptions,
+    observer: &dyn ReproduceObserver,
+    summary: &mut Map<String, Value>,
+) -> Result<(), ReportError> {
+    use crate::studies::controllers_3d::{Controllers3dSettings, Controllers3dStudy};
+    use crate::studies::driver::{Study, execute};
+    let settings = if options.quick {
+        Controllers3dSettings::quick()
+    } else {
+        Controllers3dSettings::full()
+    };
+    settings.validate()?;
+    let study = Controllers3dStudy {
+        settings,
+        world: crate::world::WorldParams::miapure_60kg(),
+    };
+    let runs = study.jobs().iter().map(|j| study.runs_estimate(j)).sum();
+    observer.start("controllers_3d", runs);
+    let records = execute(&study, 0, &|what| observer.step(what))?;
+    observer.finish();
+    let table = super::controllers_3d::table(&study, &records);
+    observer.text(table.strip_suffix('\n').unwrap_or(&table));
+    summary.insert(
+        "controllers_3d".to_owned(),
+        super::controllers_3d::summary_json(&study, &records),
     );
     Ok(())
 }

@@ -8,6 +8,8 @@
 //! - [`driver`]: the one experiment driver: a study is a type ([`driver::Study`]: jobs, a
 //!   trial or a bisection per job, what passes), run on the runner with progress and replay.
 //! - [`bump`]: the highest floor bump crossed per speed and heading (a [`driver::Study`]).
+//! - [`controllers_3d`]: the paper's LQR, PI-PD and LQR-PI compared in the 3D world (a
+//!   [`driver::Study`]).
 //! - [`piptb`]: the PIPTB controller comparison (paper Sec. IV-C) and [`planar_braking`], the
 //!   braking reference its controllers track.
 //! - [`ramp`]: a velocity ramp in the 3D world until failure (the maximum-speed protocol's run).
@@ -22,6 +24,7 @@
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
 
 pub mod bump;
+pub mod controllers_3d;
 pub mod driver;
 pub mod max_speed;
 pub mod mechanisms;

@@ -13,7 +13,9 @@
 //!   of the ball's coating) are its realistic mechanisms (on in the default world,
 //!   [`WorldParams::realistic`]; off in [`WorldParams::ideal`]).
 //! * [`disturbance`]: a payload that shifts, a bump on the floor ([`FloorBump`]).
-//! * [`driver`]: the motor driver between torque command and wheel (ideal line or ODrive).
+//! * [`driver`]: the motor driver between torque command and motor (ideal line or ODrive);
+//!   [`transmission`]: the drivetrain between motor and wheel (gearbox stiction, elastomeric
+//!   coupling, backlash; rigid in [`WorldParams::ideal`]).
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
 //!   records.
 //!
@@ -38,6 +40,7 @@ pub mod rubber;
 pub mod sensors;
 pub mod sim;
 pub mod telemetry;
+pub mod transmission;
 
 pub use axle_loss::AxleLossParams;
 pub use disturbance::FloorBump;
@@ -52,6 +55,7 @@ pub use rubber::RubberLayer;
 pub use sensors::Measurement;
 pub use sim::BallbotWorld;
 pub use telemetry::{StepTelemetry, WheelTelemetry};
+pub use transmission::{GearboxMode, TransmissionParams};
 
 /// What can go wrong building the world.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]

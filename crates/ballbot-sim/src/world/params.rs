@@ -9,6 +9,7 @@ use super::check::{non_negative, positive};
 use super::driver::DriverParams;
 use super::rollers::RollerParams;
 use super::rubber::RubberLayer;
+use super::transmission::{Drivetrain, TransmissionParams};
 use ballbot_core::BallbotParams;
 use ballbot_core::rates::INNER_LOOP_DT_SECS;
 
@@ -206,7 +207,9 @@ pub struct WorldParams {
     /// 1.5e-4 (estimate for a QDD pancake motor).
     #[schemars(range(min = 0))]
     pub rotor_inertia_kg_m2: f64,
-    /// Viscous friction of each wheel's drivetrain on the wheel speed (N m s/rad). Default 0.02.
+    /// Viscous friction of each wheel's drivetrain (N m s/rad): on the motor side's speed, where
+    /// the gearbox is ([`Self::transmission`]; the wheel's speed when the drivetrain is
+    /// rigid). Default 0.02.
     #[schemars(range(min = 0))]
     pub wheel_damping_nm_s_per_rad: f64,
     /// Rolling resistance coefficient of the rubber ball on the floor (dimensionless, force
@@ -246,6 +249,13 @@ pub struct WorldParams {
     /// the ideal one and when missing from a file.
     #[serde(default)]
     pub driver: DriverParams,
+    /// The drivetrain between each motor and its omniwheel: gearbox stiction, elastomeric
+    /// coupling, backlash ([`crate::world::transmission`]). [`TransmissionParams::miapure`] in
+    /// the default world, [`TransmissionParams::rigid`] (one inertia, no gearbox friction) in
+    /// the ideal one and when missing from a file. Values and their sources: docs/world.md,
+    /// "Drivetrain".
+    #[serde(default)]
+    pub transmission: TransmissionParams,
 }
 
 impl WorldParams {
@@ -273,18 +283,21 @@ impl WorldParams {
             sensors: SensorParams::default(),
             failure: FailureParams::default(),
             driver: DriverParams::ideal(),
+            transmission: TransmissionParams::rigid(),
         }
     }
 
     /// The given robot in the most realistic world we can defend: roller gaps
     /// ([`RollerParams::miapure`]), roller losses along the axle ([`AxleLossParams::miapure`])
     /// and the rubber coating's stiffness and damping ([`ContactParams::rubber_coated`] of
-    /// [`RubberLayer::miapure`]), and the ODrive v3.6 motor driver at 45 V
-    /// ([`DriverParams::miapure`]); docs/world.md, "Contact realism: parameters and sources"
-    /// and "Motor driver".
+    /// [`RubberLayer::miapure`]), the ODrive v3.6 motor driver at 45 V
+    /// ([`DriverParams::miapure`]) and the drivetrain with gearbox stiction, an elastomeric
+    /// coupling and backlash ([`TransmissionParams::miapure`]); docs/world.md, "Contact
+    /// realism: parameters and sources", "Motor driver" and "Drivetrain".
     pub fn realistic(robot: BallbotParams<f64>) -> Self {
         let mut p = Self::ideal(robot);
         p.driver = DriverParams::miapure();
+        p.transmission = TransmissionParams::miapure();
         p.contact = ContactParams {
             rollers: RollerParams::miapure(),
             axle_loss: AxleLossParams::miapure(),
@@ -347,6 +360,17 @@ impl WorldParams {
     pub fn wheel_spin_momentum_inertia_kg_m2(&self) -> f64 {
         let n = self.robot.drivetrain.actuator.gear_ratio;
         self.wheel_inertia_kg_m2 + self.rotor_inertia_kg_m2 * n
+    }
+
+    /// One omniwheel's drivetrain with these parameters ([`crate::world::transmission`]).
+    pub fn drivetrain(&self) -> Drivetrain {
+        Drivetrain::new(
+            self.transmission,
+            self.robot.drivetrain.actuator.gear_ratio,
+            self.rotor_inertia_kg_m2,
+            self.wheel_inertia_kg_m2,
+            self.wheel_damping_nm_s_per_rad,
+        )
     }
 
     /// Checks every field; the error names the first one out of range.
@@ -415,6 +439,16 @@ impl WorldParams {
             "failure.max_lift_off_duration_secs",
         )?;
         self.driver.validate()?;
+        if !self.transmission.is_rigid() && self.rotor_inertia_kg_m2 <= 0.0 {
+            return Err(WorldError::InvalidParameter {
+                field: "rotor_inertia_kg_m2",
+                requirement: "must be > 0 when the drivetrain is compliant \
+                              (transmission.coupling_stiffness_nm_per_rad > 0): the motor side \
+                              needs an inertia",
+            });
+        }
+        self.transmission
+            .validate(self.drivetrain().stuck_inertia_kg_m2(), self.dt_secs)?;
         non_negative(self.sensors.tilt_noise_rad, "sensors.tilt_noise_rad")?;
         non_negative(
             self.sensors.gyro_noise_rad_per_s,

@@ -1,6 +1,8 @@
 //! Sensors: an IMU on the body (tilt, yaw, body rates) and one encoder per omniwheel, with
-//! seeded Gaussian noise and encoder quantisation. Encoders read the wheel (relative to the
-//! body), not the ball: when a wheel slips, its encoder no longer measures the ball.
+//! seeded Gaussian noise and encoder quantisation. Encoders read the motor (relative to the
+//! body, at the gearbox output), not the wheel and not the ball: when a wheel slips, its
+//! encoder no longer measures the ball, and the drivetrain's compliance and backlash
+//! ([`crate::world::transmission`]) lie between encoder and wheel.
 
 use super::params::SensorParams;
 use super::telemetry::StepTelemetry;
@@ -21,9 +23,11 @@ pub struct Measurement {
     pub yaw_rad: f64,
     /// Gyro: body angular velocity in the body frame (rad/s).
     pub body_rate_rad_per_s: [f64; 3],
-    /// Encoder angles of the three wheels relative to the body, quantised (rad).
+    /// Encoder angles of the three motors relative to the body, at the gearbox output
+    /// (rotor angle over the gear ratio), quantised (rad).
     pub wheel_angle_rad: [f64; 3],
-    /// Wheel speeds (rad/s) as a motor driver measures them: the quantised angle's change
+    /// Motor speeds at the gearbox output (rad/s) as a motor driver measures them: the
+    /// quantised angle's change
     /// over the last [`SPEED_WINDOW_STEPS`] physics steps.
     pub wheel_speed_rad_per_s: [f64; 3],
 }
@@ -67,7 +71,8 @@ impl Sensors {
         (angle_rad / q).floor() * q
     }
 
-    /// Records the true wheel angles of one physics step (the encoders count every step).
+    /// Records the true motor angles (at the gearbox output) of one physics step (the
+    /// encoders count every step).
     pub fn record_encoders(&mut self, wheel_angle_rad: [f64; 3]) {
         self.history[self.next] = wheel_angle_rad.map(|a| self.quantise(a));
         self.next = (self.next + 1) % SPEED_WINDOW_STEPS;
@@ -116,7 +121,7 @@ impl Sensors {
                 rate.y + self.noise(gyro),
                 rate.z + self.noise(gyro),
             ],
-            wheel_angle_rad: truth.wheels.map(|w| self.quantise(w.angle_rad)),
+            wheel_angle_rad: truth.wheels.map(|w| self.quantise(w.motor_angle_rad)),
             wheel_speed_rad_per_s: self.wheel_speeds(),
         }
     }

@@ -10,6 +10,7 @@ use super::rigid::{RigidState, RigidStepper, Wrench};
 use super::rollers::{RimContact, RollerProfile};
 use super::sensors::{Measurement, Sensors};
 use super::telemetry::{StepTelemetry, WheelTelemetry};
+use super::transmission::{Drivetrain, DrivetrainLoads, DrivetrainState};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use rapier3d_f64::glamx::{DQuat, DVec3};
 use rapier3d_f64::prelude::{
@@ -39,11 +40,11 @@ struct WheelGeometry {
     axle_local: DVec3,
 }
 
-/// Spin state of one omniwheel (wheel plus reflected rotor), relative to the body.
+/// Spin state of one omniwheel's drivetrain (motor side and wheel, relative to the body) and
+/// its contact's tangential bristle.
 #[derive(Clone, Copy, Debug, Default)]
 struct WheelState {
-    angle_rad: f64,
-    speed_rad_per_s: f64,
+    drive: DrivetrainState,
     bristle_m: f64,
 }
 
@@ -91,6 +92,8 @@ pub struct BallbotWorld {
     wheels: [WheelState; 3],
     motor_cmd_nm: [f64; 3],
     drivers: [MotorDriver; 3],
+    /// The drivetrain between each motor and its wheel ([`crate::world::transmission`]).
+    drivetrain: Drivetrain,
     telemetry: StepTelemetry,
     monitor: FailureMonitor,
     sensors: Sensors,
@@ -216,6 +219,7 @@ impl BallbotWorld {
             wheels: [WheelState::default(); 3],
             motor_cmd_nm: [0.0; 3],
             drivers: [MotorDriver::new(params.driver, dt.actuator); 3],
+            drivetrain: params.drivetrain(),
             telemetry: StepTelemetry {
                 time_secs: 0.0,
                 wheels: [WheelTelemetry::default(); 3],
@@ -495,8 +499,9 @@ impl BallbotWorld {
             let v_body_p = v_com + w_body.cross(p - com);
             let v_ball_p = v_c + w_ball.cross(p - c);
             // The effective radius r_W - dip(psi) and its rate, the rim speed's lever arm.
-            let rim = self.rollers.at(w.angle_rad);
-            let v_rim = v_body_p + d * (rim.rim_radius_m * w.speed_rad_per_s);
+            let w = &w.drive;
+            let rim = self.rollers.at(w.wheel_angle_rad);
+            let v_rim = v_body_p + d * (rim.rim_radius_m * w.wheel_speed_rad_per_s);
             let slip = v_ball_p - v_rim;
             let axle_dir = d.cross(n);
             out[i] = (
@@ -506,7 +511,7 @@ impl BallbotWorld {
                     axle_dir,
                     penetration_m: r + (r_w - rim.dip_m) - dist,
                     penetration_rate_m_per_s: -n.dot(v_centre - v_c)
-                        - rim.dip_slope_m_per_rad * w.speed_rad_per_s,
+                        - rim.dip_slope_m_per_rad * w.wheel_speed_rad_per_s,
                     slip_speed_m_per_s: d.dot(slip),
                     axle_slip_speed_m_per_s: axle_dir.dot(slip),
                 },
@@ -524,11 +529,6 @@ impl BallbotWorld {
     pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
-        let i_w = self.params.reflected_wheel_inertia_kg_m2();
-        // The body takes the change of the spins' angular momentum, (I_w + n I_r) dw/dt, not the
-        // torque that accelerates the reflected inertia (I_w + n^2 I_r) dw/dt.
-        let spin_share = self.params.wheel_spin_momentum_inertia_kg_m2() / i_w;
-        let b_w = self.params.wheel_damping_nm_s_per_rad;
         let contacts = self.contacts();
         let mut ball_force = DVec3::ZERO;
         let mut ball_torque = DVec3::ZERO;
@@ -542,17 +542,18 @@ impl BallbotWorld {
             let (kin, p, rim) = contacts[i];
             let wheel = &mut self.wheels[i];
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
-            let drive = self.drivers[i].step(motor_torque_nm[i], wheel.speed_rad_per_s);
+            let drive = self.drivers[i].step(motor_torque_nm[i], wheel.drive.motor_speed_rad_per_s);
             let tau = drive.torque_nm;
-            let spin_torque = tau - rim.rim_radius_m * out.traction_n - b_w * wheel.speed_rad_per_s;
             // At a roller gap the normal force turns the wheel by N d(dip)/d(psi), the
             // generalised force of the normal spring (crate::world::rollers). The force itself
             // stays on the line of centres, so the hub passes the reaction to the body, like the
             // motor's: angular momentum and energy are both kept.
-            let gap_torque = out.normal_force_n * rim.dip_slope_m_per_rad;
-            let wheel_torque = spin_torque + gap_torque;
-            wheel.speed_rad_per_s += dt * wheel_torque / i_w;
-            wheel.angle_rad += dt * wheel.speed_rad_per_s;
+            let loads = DrivetrainLoads {
+                motor_nm: tau,
+                traction_nm: rim.rim_radius_m * out.traction_n,
+                gap_nm: out.normal_force_n * rim.dip_slope_m_per_rad,
+            };
+            let spin = self.drivetrain.step(&mut wheel.drive, &loads, dt);
             // The wheel presses the ball away from itself (-n) and drives it along d.
             let f = kin.rolling_dir * out.traction_n + kin.axle_dir * out.axle_force_n
                 - kin.normal * out.normal_force_n;
@@ -560,7 +561,9 @@ impl BallbotWorld {
             ball_torque += (p - c).cross(f);
             body_force -= f;
             body_torque -= (p - body_com).cross(f);
-            body_torque -= state.axles[i] * (spin_share * wheel_torque);
+            // The body takes the change of the spins' angular momentum, n I_r dw_m/dt +
+            // I_w dw_w/dt, not the torque that accelerates the reflected inertia.
+            body_torque -= state.axles[i] * spin.spin_momentum_rate_nm;
             wheel_tel[i] = WheelTelemetry {
                 normal_force_n: out.normal_force_n,
                 traction_n: out.traction_n,
@@ -572,8 +575,12 @@ impl BallbotWorld {
                 motor_torque_nm: tau,
                 driver_current_a: drive.current_a,
                 driver_limit: drive.limit,
-                speed_rad_per_s: wheel.speed_rad_per_s,
-                angle_rad: wheel.angle_rad,
+                speed_rad_per_s: wheel.drive.wheel_speed_rad_per_s,
+                angle_rad: wheel.drive.wheel_angle_rad,
+                motor_speed_rad_per_s: wheel.drive.motor_speed_rad_per_s,
+                motor_angle_rad: wheel.drive.motor_angle_rad,
+                coupling_torque_nm: spin.coupling_torque_nm,
+                gearbox_friction_nm: spin.friction_torque_nm,
             };
         }
         // Rolling resistance and spin (torsional) friction of the ball on the floor, both
@@ -602,7 +609,8 @@ impl BallbotWorld {
         };
         self.telemetry.time_secs += dt;
         self.telemetry.wheels = wheel_tel;
-        self.sensors.record_encoders(wheel_tel.map(|w| w.angle_rad));
+        self.sensors
+            .record_encoders(wheel_tel.map(|w| w.motor_angle_rad));
         if self.rigid.add(ball, body, dt) {
             self.step_rigid();
         }

@@ -38,6 +38,21 @@ pub struct WheelTelemetry {
     pub speed_rad_per_s: f64,
     /// Wheel angle relative to the body (rad).
     pub angle_rad: f64,
+    /// The motor side's speed relative to the body, the rotor's over the gear ratio (rad/s):
+    /// what the encoder and the driver see. Equal to `speed_rad_per_s` when the drivetrain is
+    /// rigid ([`crate::world::transmission`]).
+    #[serde(default)]
+    pub motor_speed_rad_per_s: f64,
+    /// The motor side's angle relative to the body, the rotor's over the gear ratio (rad).
+    #[serde(default)]
+    pub motor_angle_rad: f64,
+    /// Torque the coupling passes from motor side to wheel (N m; when rigid, the torque the
+    /// motor side passes to the wheel).
+    #[serde(default)]
+    pub coupling_torque_nm: f64,
+    /// Gearbox friction torque on the motor side (N m, > 0 opposing forward speed).
+    #[serde(default)]
+    pub gearbox_friction_nm: f64,
 }
 
 /// Everything the world reports after one step, in world coordinates (z up).
@@ -107,6 +122,10 @@ impl StepTelemetry {
             eat(f64::from(w.driver_limit as u8));
             eat(w.speed_rad_per_s);
             eat(w.angle_rad);
+            eat(w.motor_speed_rad_per_s);
+            eat(w.motor_angle_rad);
+            eat(w.coupling_torque_nm);
+            eat(w.gearbox_friction_nm);
         }
         for v in [
             &self.ball_position_m,

@@ -3,7 +3,8 @@
 
 use crate::studies::max_speed::{self, MaxSpeedProtocol};
 use crate::world::{
-    AxleLossParams, ContactParams, DriverParams, RollerParams, RubberLayer, WorldError, WorldParams,
+    AxleLossParams, ContactParams, DriverParams, RollerParams, RubberLayer, TransmissionParams,
+    WorldError, WorldParams,
 };
 use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_core::command::AxisLimits;
@@ -28,18 +29,23 @@ pub enum Mechanism {
     /// The ODrive v3.6 at 45 V configured for the paper's 43.2 N m ([`DriverParams::miapure`]):
     /// current limit, back-EMF and modulation limit, overspeed trip.
     MotorDriver,
+    /// The drivetrain between motor and wheel ([`TransmissionParams::miapure`]): gearbox
+    /// stiction (0.37 N m breakaway), an elastomeric coupling (3e3 N m/rad) and 0.22 deg of
+    /// backlash, with the encoders on the motor side.
+    Drivetrain,
     /// Every mechanism: the default world, [`WorldParams::realistic`].
     All,
 }
 
 impl Mechanism {
     /// Every variant, the ideal world first and all mechanisms together last.
-    pub const ALL: [Self; 6] = [
+    pub const ALL: [Self; 7] = [
         Self::Ideal,
         Self::RollerGaps,
         Self::AxleLosses,
         Self::RubberCoating,
         Self::MotorDriver,
+        Self::Drivetrain,
         Self::All,
     ];
 
@@ -51,6 +57,7 @@ impl Mechanism {
             Self::AxleLosses => "axle_losses",
             Self::RubberCoating => "rubber_coating",
             Self::MotorDriver => "motor_driver",
+            Self::Drivetrain => "drivetrain",
             Self::All => "all",
         }
     }
@@ -63,6 +70,7 @@ impl Mechanism {
             Self::AxleLosses => "+ roller losses along the axle",
             Self::RubberCoating => "+ rubber-coating stiffness and damping",
             Self::MotorDriver => "+ ODrive v3.6 driver limits",
+            Self::Drivetrain => "+ gearbox stiction, coupling and backlash",
             Self::All => "all mechanisms (the default world)",
         }
     }
@@ -79,6 +87,7 @@ impl Mechanism {
                 p.contact = ContactParams::rubber_coated(&robot, &RubberLayer::miapure());
             }
             Self::MotorDriver => p.driver = DriverParams::miapure(),
+            Self::Drivetrain => p.transmission = TransmissionParams::miapure(),
             Self::All => p = WorldParams::realistic(robot),
         }
         p

@@ -47,7 +47,8 @@ pub struct Mismatch {
     pub ball_inertia: f64,
     /// Factor on the wheel-ball friction coefficient.
     pub roller_friction: f64,
-    /// Factor on the drive friction (wheel damping).
+    /// Factor on the drive friction: the viscous wheel damping and the gearbox's stiction and
+    /// Coulomb torques ([`crate::world::TransmissionParams`]).
     pub drive_friction: f64,
     /// Factor on the IMU noise (tilt and gyro standard deviations).
     pub imu_noise: f64,
@@ -151,6 +152,8 @@ impl Mismatch {
         }
         w.robot.drivetrain.wheel_ball_friction *= self.roller_friction;
         w.wheel_damping_nm_s_per_rad *= self.drive_friction;
+        w.transmission.stiction_torque_nm *= self.drive_friction;
+        w.transmission.coulomb_torque_nm *= self.drive_friction;
         w.sensors.tilt_noise_rad *= self.imu_noise;
         w.sensors.gyro_noise_rad_per_s *= self.imu_noise;
         w

@@ -8,13 +8,12 @@ use nalgebra::Vector3;
 use rapier3d_f64::glamx::DVec3;
 
 impl BallbotWorld {
-    /// Total kinetic energy of ball, body and wheels (J).
+    /// Total kinetic energy of ball, body and the drivetrains' spins (J).
     pub fn kinetic_energy_j(&self) -> f64 {
-        let i_w = self.params.reflected_wheel_inertia_kg_m2();
         let wheels: f64 = self
             .wheels
             .iter()
-            .map(|w| 0.5 * i_w * w.speed_rad_per_s * w.speed_rad_per_s)
+            .map(|w| self.drivetrain.kinetic_energy_j(&w.drive))
             .sum();
         self.physics.bodies[self.ball].kinetic_energy()
             + self.physics.bodies[self.body].kinetic_energy()
@@ -38,6 +37,14 @@ impl BallbotWorld {
             .sum()
     }
 
+    /// Elastic energy stored in the three drivetrains' couplings (J; 0 when rigid).
+    pub fn coupling_energy_j(&self) -> f64 {
+        self.wheels
+            .iter()
+            .map(|w| self.drivetrain.coupling_energy_j(&w.drive))
+            .sum()
+    }
+
     /// Total linear momentum of ball and body (N s).
     pub fn linear_momentum_ns(&self) -> Vector3<f64> {
         let ball = &self.physics.bodies[self.ball];
@@ -46,14 +53,14 @@ impl BallbotWorld {
     }
 
     /// Total angular momentum of ball, body and the wheels' and rotors' spins about the world
-    /// origin (N m s): [`Self::rigid_angular_momentum_nms`] plus each wheel's
-    /// `(I_w + n I_r) w` along its axle ([`crate::world::WorldParams::wheel_spin_momentum_inertia_kg_m2`]).
+    /// origin (N m s): [`Self::rigid_angular_momentum_nms`] plus each drivetrain's
+    /// `n I_r w_m + I_w w_w` along its axle (`(I_w + n I_r) w` when rigid,
+    /// [`crate::world::WorldParams::wheel_spin_momentum_inertia_kg_m2`]).
     pub fn angular_momentum_nms(&self) -> Vector3<f64> {
         let mut total = to_glam(self.rigid_angular_momentum_nms());
-        let i_spin = self.params.wheel_spin_momentum_inertia_kg_m2();
         let rot = self.physics.bodies[self.body].position().rotation;
         for (g, w) in self.geometry.iter().zip(&self.wheels) {
-            total += rot * g.axle_local * (i_spin * w.speed_rad_per_s);
+            total += rot * g.axle_local * self.drivetrain.spin_momentum_nms(&w.drive);
         }
         to_na(total)
     }
