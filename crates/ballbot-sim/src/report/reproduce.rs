@@ -27,6 +27,7 @@
 
 use super::ReportError;
 use crate::planar::ControllerKind;
+use crate::studies::driver::{JobRecord, Study, execute};
 use crate::studies::max_speed::{self, MaxSpeedStudySettings};
 use crate::studies::mechanisms::{self, MechanismStudySettings};
 use crate::studies::piptb::{self, PiptbSettings};
@@ -362,7 +363,6 @@ fn bump_section(
     summary: &mut Map<String, Value>,
 ) -> Result<(), ReportError> {
     use crate::studies::bump::{BumpSettings, BumpStudy};
-    use crate::studies::driver::{Study, execute};
     let settings = if options.quick {
         BumpSettings::quick()
     } else {
@@ -371,18 +371,17 @@ fn bump_section(
     settings.validate()?;
     let study = BumpStudy {
         settings,
-        world: crate::world::WorldParams::miapure_60kg(),
+        world: WorldParams::miapure_60kg(),
     };
-    let runs = study.jobs().iter().map(|j| study.runs_estimate(j)).sum();
-    observer.start("bump", runs);
-    let records = execute(&study, 0, &|what| observer.step(what))?;
-    observer.finish();
-    let table = super::bump::table(&study, &records);
+    let (table, json) = driver_section(
+        &study,
+        "bump",
+        observer,
+        super::bump::table,
+        super::bump::summary_json,
+    )?;
     observer.text(table.strip_suffix('\n').unwrap_or(&table));
-    summary.insert(
-        "bump_tolerance".to_owned(),
-        super::bump::summary_json(&study, &records),
-    );
+    summary.insert("bump_tolerance".to_owned(), json);
     Ok(())
 }
 
@@ -392,7 +391,6 @@ fn controllers_3d_section(
     summary: &mut Map<String, Value>,
 ) -> Result<(), ReportError> {
     use crate::studies::controllers_3d::{Controllers3dSettings, Controllers3dStudy};
-    use crate::studies::driver::{Study, execute};
     let settings = if options.quick {
         Controllers3dSettings::quick()
     } else {
@@ -401,19 +399,38 @@ fn controllers_3d_section(
     settings.validate()?;
     let study = Controllers3dStudy {
         settings,
-        world: crate::world::WorldParams::miapure_60kg(),
+        world: WorldParams::miapure_60kg(),
     };
-    let runs = study.jobs().iter().map(|j| study.runs_estimate(j)).sum();
-    observer.start("controllers_3d", runs);
-    let records = execute(&study, 0, &|what| observer.step(what))?;
-    observer.finish();
-    let table = super::controllers_3d::table(&study, &records);
+    let (table, json) = driver_section(
+        &study,
+        "controllers_3d",
+        observer,
+        super::controllers_3d::table,
+        super::controllers_3d::summary_json,
+    )?;
     observer.text(table.strip_suffix('\n').unwrap_or(&table));
-    summary.insert(
-        "controllers_3d".to_owned(),
-        super::controllers_3d::summary_json(&study, &records),
-    );
+    summary.insert("controllers_3d".to_owned(), json);
     Ok(())
+}
+
+/// Runs `study` on the experiment driver under a progress bar named `name` and renders its
+/// records: the table to print and the summary's JSON.
+fn driver_section<S>(
+    study: &S,
+    name: &str,
+    observer: &dyn ReproduceObserver,
+    table: fn(&S, &[JobRecord<S::Trial>]) -> String,
+    json: fn(&S, &[JobRecord<S::Trial>]) -> Value,
+) -> Result<(String, Value), ReportError>
+where
+    S: Study,
+    ReportError: From<S::Error>,
+{
+    let runs = study.jobs().iter().map(|j| study.runs_estimate(j)).sum();
+    observer.start(name, runs);
+    let records = execute(study, 0, &|what| observer.step(what))?;
+    observer.finish();
+    Ok((table(study, &records), json(study, &records)))
 }
 
 fn world_suite_section(
