@@ -81,6 +81,7 @@
 //! [`Mode::ControlledStop`]: crate::safety::Mode::ControlledStop
 
 mod balance;
+mod balancing;
 mod design;
 mod feedforward;
 mod guard;

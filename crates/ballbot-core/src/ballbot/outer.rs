@@ -1,13 +1,14 @@
 //! The outer loop (400 Hz): [`BallbotController`], from IMU, encoders and command to the
 //! [`MotorReferences`] sent to the motor drivers.
 
+use super::balancing::pi_pd_plane;
 use super::feedforward::InputFeedforward;
 use super::{
     BalancePoint, BalanceSample, BalancingLaw, BallbotControllerConfig, SpinOuter, WheelMapping,
 };
 use crate::check::{lit, positive};
 use crate::command::{Command, CommandShaper, PlanarCommands, Trajectory, TrajectoryLimits};
-use crate::control::{LqrPiOuter, LqrPiOuterOutput, PiPdController, StepStatus};
+use crate::control::{LqrPiOuter, PiPdController, StepStatus};
 use crate::estimation::{
     EncoderSample, Estimator, ImuSample, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos,
 };
@@ -794,27 +795,4 @@ fn shift_to_balance_point<T: RealField + Copy>(
     sagittal[TILT] -= offset[1];
     let (fsc, ssc) = (frontal[TILT].sin_cos(), sagittal[TILT].sin_cos());
     (frontal, sagittal, fsc, ssc)
-}
-
-/// One plane's PI-PD step in the LQR-PI outer loop's output form: its torque as the reference
-/// torque, the measured ball rate as the motors' reference (no reference model), no reference
-/// acceleration.
-fn pi_pd_plane<T: RealField + Copy>(
-    controller: &mut PiPdController<T>,
-    measured: &WipState<T>,
-    command: &WipState<T>,
-    dt_secs: T,
-) -> LqrPiOuterOutput<T> {
-    let out = controller.step(measured, command, dt_secs);
-    LqrPiOuterOutput {
-        reference_torque_nm: out.torque_nm,
-        reference_ball_rate_rad_per_s: measured[BALL_RATE],
-        reference_ball_accel_rad_per_s2: T::zero(),
-        tilt_term_nm: out.tilt_p_term_nm,
-        tilt_rate_term_nm: out.tilt_d_term_nm,
-        ball_rate_term_nm: T::zero(),
-        saturation_nm: out.saturation_nm,
-        anchor_correction_rad_per_s: T::zero(),
-        status: out.status,
-    }
 }
