@@ -57,6 +57,7 @@ pub(super) const CHECKED: &[&str] = &[
     "traction/params.rs",
     "command/limit.rs",
     "ballbot/balance.rs",
+    "ballbot/balancing.rs",
     "ballbot/guard.rs",
     "command/pending.rs",
     "hal.rs",
