@@ -37,19 +37,19 @@ fn trial_of<'a>(
     })
 }
 
-/// `controllers_3d`: the protocol and, per drivetrain (`default`, `rigid`), controller
-/// (`lqr`, `pi_pd`, `lqr_pi`) and task (`standing`, `velocity_cycle`, `push`), whether it
-/// balanced, the tilt RMS (rad), the speed RMS error (m/s), the torque jitter (N m), the peak
-/// tilt, the measured time and what happened. The default world's entries are also at the top
-/// level, `controllers_3d.<controller>.<task>`.
+/// `controllers_3d`: the protocol and, per controller (`lqr`, `pi_pd`, `lqr_pi`) and task
+/// (`standing`, `velocity_cycle`, `push`), whether it balanced, the tilt RMS (rad), the speed
+/// RMS error (m/s), the torque jitter (N m), the peak tilt, the measured time and what happened:
+/// the default world's at `controllers_3d.<controller>.<task>`, the same world with a rigid
+/// drivetrain (when run) at `controllers_3d.rigid_drivetrain.<controller>.<task>`. Each record
+/// stands once.
 pub fn summary_json(
     study: &Controllers3dStudy,
     records: &[JobRecord<Controllers3dTrial>],
 ) -> Value {
     let jobs = study.jobs();
-    let mut by_drivetrain = Map::new();
-    for &drivetrain in &study.settings.drivetrains {
-        let mut controllers = Map::new();
+    let controllers = |drivetrain: Drivetrain3d| {
+        let mut out = Map::new();
         for controller in Controller3d::ALL {
             let mut tasks = Map::new();
             for task in Task3d::ALL {
@@ -57,22 +57,27 @@ pub fn summary_json(
                     tasks.insert(task.as_str().to_owned(), trial_json(t));
                 }
             }
-            controllers.insert(controller.as_str().to_owned(), Value::Object(tasks));
+            out.insert(controller.as_str().to_owned(), Value::Object(tasks));
         }
-        by_drivetrain.insert(drivetrain.as_str().to_owned(), Value::Object(controllers));
-    }
+        out
+    };
     let mut out = Map::new();
     out.insert("protocol".to_owned(), json!(study.settings));
     out.insert(
         "stop_rules".to_owned(),
         json!(crate::world::StopRules::contact_rules_off().to_string()),
     );
-    if let Some(Value::Object(default)) = by_drivetrain.get("default") {
-        for (k, v) in default {
-            out.insert(k.clone(), v.clone());
+    for &drivetrain in &study.settings.drivetrains {
+        match drivetrain {
+            Drivetrain3d::Default => out.extend(controllers(drivetrain)),
+            Drivetrain3d::Rigid => {
+                out.insert(
+                    "rigid_drivetrain".to_owned(),
+                    Value::Object(controllers(drivetrain)),
+                );
+            }
         }
     }
-    out.insert("by_drivetrain".to_owned(), Value::Object(by_drivetrain));
     Value::Object(out)
 }
 

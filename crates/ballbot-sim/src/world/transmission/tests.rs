@@ -52,6 +52,12 @@ fn stiction_holds_the_drivetrain_below_breakaway_and_releases_it_above() {
             "{params:?}: {s:?}"
         );
         assert!(s.wheel_angle_rad.abs() < 1e-9, "{s:?}");
+        let held = d.step(&mut s, &motor_only(0.95 * t_s), DT);
+        assert_eq!(held.mode, GearboxMode::Stuck);
+        assert!(
+            (held.friction_torque_nm - 0.95 * t_s).abs() < 1e-9,
+            "{held:?}"
+        );
         // 5 % above it: the drivetrain breaks away, and once sliding its momentum about the
         // output, J_m w_m + I_w w_w, grows at tau - T_c (the backlash rattles, the coupling
         // rings, but both are internal).
@@ -65,6 +71,10 @@ fn stiction_holds_the_drivetrain_below_breakaway_and_releases_it_above() {
         let before = momentum(&s);
         run(&d, tau, 0.1, &mut s);
         let rate = (momentum(&s) - before) / 0.1;
+        assert_eq!(
+            d.step(&mut s, &motor_only(tau), DT).mode,
+            GearboxMode::Sliding
+        );
         let expected = tau - params.coulomb_torque_nm;
         assert!(
             (rate - expected).abs() < 1e-3 * expected,
