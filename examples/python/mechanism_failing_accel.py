@@ -36,6 +36,7 @@ def variants() -> dict[str, ballbot.WorldParams]:
         },
         "motor_driver": {**ideal, "driver": full["driver"]},
         "drivetrain": {**ideal, "transmission": full["transmission"]},
+        "sensing": {**ideal, "sensors": ballbot.SensorParams.preset("miapure").to_dict()},
         "all": full,
     }
     return {name: ballbot.WorldParams.from_dict(d) for name, d in worlds.items()}

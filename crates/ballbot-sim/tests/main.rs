@@ -32,6 +32,7 @@ mod world_max_speed;
 mod world_mechanisms;
 mod world_multirate;
 mod world_paper_ablation;
+mod world_sensing;
 mod world_setters;
 mod world_traction;
 mod world_yaw;

@@ -18,10 +18,15 @@ fn velocity(vx_m_per_s: f64) -> Command<'static, f64> {
 
 #[test]
 fn the_shipped_loop_arms_drives_and_shuts_down_at_rest_in_the_world() {
-    let mut sim = WorldRobot::new(WorldParams::miapure_60kg()).unwrap();
+    let params = WorldParams::miapure_60kg();
+    let latency_steps = (params.sensors.link_latency_secs / params.dt_secs).round() as usize;
+    let mut sim = WorldRobot::new(params).unwrap();
     assert_eq!(sim.phase(), Phase::StartingUp);
-    sim.step(velocity(0.5));
-    // Upright and still at t = 0 with no settling time: armed at the first outer task.
+    for _ in 0..=latency_steps {
+        sim.step(velocity(0.5));
+    }
+    // Upright and still at t = 0 with no settling time: armed at the first outer task, on
+    // the sample of t = 0 once the link latency has passed.
     assert_eq!((sim.phase(), sim.mode()), (Phase::Running, Mode::Balancing));
     for _ in 0..4 * 8000 {
         sim.step(velocity(0.5));

@@ -32,23 +32,23 @@ fn each_mechanism_changes_only_its_own_part_of_the_ideal_world() {
         let rubber = p.contact.normal_stiffness_n_per_m != ideal.contact.normal_stiffness_n_per_m;
         let driver = p.driver != ideal.driver;
         let drivetrain = p.transmission != ideal.transmission;
-        let changed = [gaps, axle, rubber, driver, drivetrain];
+        let sensing = p.sensors != ideal.sensors;
+        let changed = [gaps, axle, rubber, driver, drivetrain, sensing];
         let expected = match m {
-            Mechanism::Ideal => [false; 5],
-            Mechanism::RollerGaps => [true, false, false, false, false],
-            Mechanism::AxleLosses => [false, true, false, false, false],
-            Mechanism::RubberCoating => [false, false, true, false, false],
-            Mechanism::MotorDriver => [false, false, false, true, false],
-            Mechanism::Drivetrain => [false, false, false, false, true],
-            Mechanism::All => [true; 5],
+            Mechanism::Ideal => [false; 6],
+            Mechanism::RollerGaps => [true, false, false, false, false, false],
+            Mechanism::AxleLosses => [false, true, false, false, false, false],
+            Mechanism::RubberCoating => [false, false, true, false, false, false],
+            Mechanism::MotorDriver => [false, false, false, true, false, false],
+            Mechanism::Drivetrain => [false, false, false, false, true, false],
+            Mechanism::Sensing => [false, false, false, false, false, true],
+            // The default world: every mechanism but the sensing.
+            Mechanism::All => [true, true, true, true, true, false],
         };
         assert_eq!(changed, expected, "{}", m.as_str());
-        // Nothing else moves: the robot, sensors, failure limits and the step are the ideal's.
+        // Nothing else moves: the robot, failure limits and the step are the ideal's.
         assert_eq!(p.robot, ideal.robot);
-        assert_eq!(
-            (p.sensors, p.failure, p.dt_secs),
-            (ideal.sensors, ideal.failure, ideal.dt_secs)
-        );
+        assert_eq!((p.failure, p.dt_secs), (ideal.failure, ideal.dt_secs));
     }
     assert_eq!(
         WorldParams::realistic(robot()).driver.model,

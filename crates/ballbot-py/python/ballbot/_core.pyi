@@ -47,6 +47,9 @@ _DriverPreset = Literal["ideal", "odrive_v36_factory", "miapure"]
 _DriverModel = Literal["ideal", "odrive"]
 _DriverLimit = Literal["none", "current", "voltage", "velocity_limiter", "disarmed"]
 _TransmissionPreset = Literal["rigid", "miapure"]
+_ImuModel = Literal["truth", "attitude_filter"]
+_ImuPreset = Literal["truth", "vn100"]
+_SensorPreset = Literal["default", "miapure"]
 
 OUTER_LOOP_RATE_HZ: float
 OUTER_LOOP_DT_SECS: float
@@ -1140,9 +1143,58 @@ class AxleLossParams:
     def regularisation_speed_m_per_s(self) -> float: ...
 
 @final
+class ImuParams:
+    """The IMU of the 3D world: ``model`` ``"truth"`` (the true attitude plus white noise) or
+    ``"attitude_filter"`` (gyro bias and noise, accelerometer, an accelerometer-aided attitude
+    filter and an output delay; the preset ``"vn100"``)."""
+
+    def __new__(
+        cls,
+        *,
+        model: _ImuModel = ...,
+        sample_rate_hz: float = ...,
+        output_delay_secs: float = ...,
+        filter_time_constant_secs: float = ...,
+        gyro_noise_density_rad_per_s_per_sqrt_hz: float = ...,
+        gyro_bias_rad_per_s: float = ...,
+        gyro_bias_correlation_time_secs: float = ...,
+        accel_noise_density_m_per_s2_per_sqrt_hz: float = ...,
+    ) -> ImuParams: ...
+    @staticmethod
+    def preset(name: _ImuPreset) -> ImuParams: ...
+    @staticmethod
+    def presets() -> list[_ImuPreset]: ...
+    def replace(self, **kwargs: Any) -> ImuParams: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    @staticmethod
+    def from_dict(fields: dict[str, Any]) -> ImuParams: ...
+    def save(self, path: _Path) -> None: ...
+    @staticmethod
+    def load(path: _Path) -> ImuParams: ...
+    def tilt_error_under_acceleration_rad(
+        self, accel_m_per_s2: float, gravity_m_per_s2: float, t_secs: float
+    ) -> float: ...
+    @property
+    def model(self) -> _ImuModel: ...
+    @property
+    def sample_rate_hz(self) -> float: ...
+    @property
+    def output_delay_secs(self) -> float: ...
+    @property
+    def filter_time_constant_secs(self) -> float: ...
+    @property
+    def gyro_noise_density_rad_per_s_per_sqrt_hz(self) -> float: ...
+    @property
+    def gyro_bias_rad_per_s(self) -> float: ...
+    @property
+    def gyro_bias_correlation_time_secs(self) -> float: ...
+    @property
+    def accel_noise_density_m_per_s2_per_sqrt_hz(self) -> float: ...
+
+@final
 class SensorParams:
-    """Sensor noise and resolution of the 3D world: seeded Gaussian IMU noise, quantised
-    encoders."""
+    """Sensors of the 3D world: the IMU, the link latency to the motor drivers, seeded
+    Gaussian noise, quantised encoders."""
 
     def __new__(
         cls,
@@ -1151,11 +1203,13 @@ class SensorParams:
         tilt_noise_rad: float = ...,
         gyro_noise_rad_per_s: float = ...,
         encoder_counts_per_rev: int = ...,
+        imu: Union[ImuParams, dict[str, Any]] = ...,
+        link_latency_secs: float = ...,
     ) -> SensorParams: ...
     @staticmethod
-    def preset(name: _DefaultPreset) -> SensorParams: ...
+    def preset(name: _SensorPreset) -> SensorParams: ...
     @staticmethod
-    def presets() -> list[_DefaultPreset]: ...
+    def presets() -> list[_SensorPreset]: ...
     def replace(self, **kwargs: Any) -> SensorParams: ...
     def to_dict(self) -> dict[str, Any]: ...
     @staticmethod
@@ -1171,6 +1225,10 @@ class SensorParams:
     def gyro_noise_rad_per_s(self) -> float: ...
     @property
     def encoder_counts_per_rev(self) -> int: ...
+    @property
+    def imu(self) -> ImuParams: ...
+    @property
+    def link_latency_secs(self) -> float: ...
 
 @final
 class FailureParams:

@@ -83,6 +83,13 @@ impl CoreParams for SensorParams {
     }
 }
 
+impl CoreParams for ImuParams {
+    const NAME: &'static str = "ImuParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.sensors.imu = *self)
+    }
+}
+
 impl CoreParams for FailureParams {
     const NAME: &'static str = "FailureParams";
     fn check(&self, py: Python<'_>) -> PyResult<()> {
@@ -141,16 +148,54 @@ py_params! {
 }
 
 py_params! {
-    /// Sensor noise and resolution of the 3D world (`ballbot_sim::world::SensorParams`):
-    /// Gaussian IMU noise from a generator seeded with `seed`, quantised encoders.
-    PySensorParams(SensorParams, "SensorParams", default = SensorParams::default) {
-        floats { tilt_noise_rad, gyro_noise_rad_per_s }
-        ints { seed: u64, encoder_counts_per_rev: u32 }
+    /// The IMU of the 3D world (`ballbot_sim::world::ImuParams`): `model` `"truth"` (the true
+    /// attitude plus white noise, the ideal world's) or `"attitude_filter"` (gyro with bias
+    /// and noise, accelerometer, an accelerometer-aided attitude filter with the time constant
+    /// `filter_time_constant_secs`, and an output delay; preset `"vn100"`, the default
+    /// world's). Errors name the field (`sensors.imu.sample_rate_hz`).
+    PyImuParams(ImuParams, "ImuParams", default = ImuParams::truth) {
+        floats {
+            sample_rate_hz, output_delay_secs, filter_time_constant_secs,
+            gyro_noise_density_rad_per_s_per_sqrt_hz, gyro_bias_rad_per_s,
+            gyro_bias_correlation_time_secs, accel_noise_density_m_per_s2_per_sqrt_hz,
+        }
+        names { model }
         arrays {}
         nested {}
     }
     presets {
+        "truth" => ImuParams::truth,
+        "vn100" => ImuParams::vn100,
+    }
+    methods {
+        /// The filter's tilt error (rad, towards the apparent vertical) `t_secs` after a
+        /// constant horizontal acceleration starts, the body held upright.
+        fn tilt_error_under_acceleration_rad(
+            &self,
+            accel_m_per_s2: f64,
+            gravity_m_per_s2: f64,
+            t_secs: f64,
+        ) -> f64 {
+            self.inner
+                .tilt_error_under_acceleration_rad(accel_m_per_s2, gravity_m_per_s2, t_secs)
+        }
+    }
+}
+
+py_params! {
+    /// Sensors of the 3D world (`ballbot_sim::world::SensorParams`): the IMU (`imu`), the
+    /// link latency to the motor drivers, Gaussian noise from a generator seeded with `seed`,
+    /// quantised encoders. Presets `"default"` (the ideal world's: the true attitude plus
+    /// noise, no latency) and `"miapure"` (the VN-100 and the CAN link, the default world's).
+    PySensorParams(SensorParams, "SensorParams", default = SensorParams::default) {
+        floats { tilt_noise_rad, gyro_noise_rad_per_s, link_latency_secs }
+        ints { seed: u64, encoder_counts_per_rev: u32 }
+        arrays {}
+        nested { imu: PyImuParams }
+    }
+    presets {
         "default" => SensorParams::default,
+        "miapure" => SensorParams::miapure,
     }
 }
 
@@ -292,6 +337,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRollerParams>()?;
     m.add_class::<PyAxleLossParams>()?;
     m.add_class::<PyContactParams>()?;
+    m.add_class::<PyImuParams>()?;
     m.add_class::<PySensorParams>()?;
     m.add_class::<PyFailureParams>()?;
     m.add_class::<PyDriverParams>()?;

@@ -4,7 +4,7 @@ use super::devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
 use super::events::EventLog;
 use super::inject::{Injector, NoFaults, Tick};
 use crate::world::driver::DriverFault;
-use crate::world::{BallbotWorld, StepTelemetry, WorldError, WorldParams};
+use crate::world::{BallbotWorld, Measurement, StepTelemetry, WorldError, WorldParams};
 use ballbot_core::ballbot::{BallbotControllerConfig, OuterOutput};
 use ballbot_core::command::Command;
 use ballbot_core::estimation::{EncoderSample, ImuSample};
@@ -20,8 +20,9 @@ pub type WorldRobotLoop = RobotLoop<f64, WorldImu, WorldEncoders, WorldMotors, W
 ///
 /// Every physics step (8 kHz) the loop's inner task runs the motor speed PIs on the encoders'
 /// speed estimate and the motor drivers apply its torque (or nothing while the motors are
-/// off); every `outer_dt / dt` steps the outer task runs first on a fresh sensor sample (IMU
-/// with its noise, encoders). The loop arms itself at the first outer step once the body is
+/// off); every `outer_dt / dt` steps the sensors are sampled (the IMU as its model has it,
+/// the encoders) and the outer task runs on that sample once the link latency
+/// ([`crate::world::SensorParams::link_latency_secs`]) has passed, before the inner task. The loop arms itself at the first outer step once the body is
 /// upright and still (settling time 0: an experiment starts from a balanced robot) and passes
 /// the command with a fresh timestamp, as a healthy command link would.
 ///
@@ -42,7 +43,12 @@ pub struct WorldRobot {
     world: BallbotWorld,
     robot: WorldRobotLoop,
     steps_per_outer: u64,
+    /// [`crate::world::SensorParams::link_latency_secs`] in world steps.
+    latency_steps: u64,
     step_index: u64,
+    /// The outer task's sensor sample waiting for the link latency: the step it was taken
+    /// at and the sample.
+    pending: Option<(u64, Measurement)>,
     last_outer: Option<OuterOutput<f64>>,
     events: EventLog,
 }
@@ -67,6 +73,14 @@ impl WorldRobot {
             return Err(WorldError::InvalidParameter {
                 field: "outer_dt_secs",
                 requirement: "must be a whole multiple of the physics step dt_secs",
+            });
+        }
+        let steps_per_outer = ratio.round() as u64;
+        let latency_steps = (params.sensors.link_latency_secs / params.dt_secs).round() as u64;
+        if latency_steps >= steps_per_outer {
+            return Err(WorldError::InvalidParameter {
+                field: "sensors.link_latency_secs",
+                requirement: "must be below one control period (outer_dt_secs)",
             });
         }
         let outer_period_us = (config.outer_dt_secs * 1e6).round();
@@ -98,8 +112,10 @@ impl WorldRobot {
         Ok(Self {
             world,
             robot,
-            steps_per_outer: ratio.round() as u64,
+            steps_per_outer,
+            latency_steps,
             step_index: 0,
+            pending: None,
             last_outer: None,
             events: EventLog::default(),
         })
@@ -161,39 +177,13 @@ impl WorldRobot {
         faults: &mut F,
     ) -> &StepTelemetry {
         if self.step_index.is_multiple_of(self.steps_per_outer) {
-            let m = self.world.measure();
-            let now_us = (m.time_secs * 1e6).round() as u64;
-            if let Tick::Run { task_us } = faults.outer_tick(now_us) {
-                let (imu, encoders, _, clock) = self.robot.devices_mut();
-                let fresh_imu = ImuSample {
-                    timestamp_us: now_us,
-                    roll_rad: m.tilt_rad[0],
-                    pitch_rad: m.tilt_rad[1],
-                    yaw_rad: m.yaw_rad,
-                    angular_velocity_rad_per_s: Vector3::from(m.body_rate_rad_per_s),
-                };
-                if let Some(sample) = faults.imu(now_us, fresh_imu) {
-                    imu.sample = sample;
-                }
-                let fresh_encoders = EncoderSample {
-                    timestamp_us: now_us,
-                    wheel_speeds_rad_per_s: Vector3::from(m.wheel_speed_rad_per_s),
-                };
-                if let Some(sample) = faults.encoders(now_us, fresh_encoders, true) {
-                    encoders.sample = sample;
-                }
-                *clock = WorldClock { now_us, task_us };
-                let command_timestamp_us = faults.command_timestamp_us(now_us);
-                let report = self.robot.outer_task(&OperatorInput {
-                    command,
-                    command_timestamp_us,
-                    request: ModeRequest::None,
-                });
-                self.last_outer = Some(report.output);
-                let outer_dt = self.world.params().dt_secs * self.steps_per_outer as f64;
-                self.events
-                    .observe_controller(m.time_secs, &report.output, outer_dt);
-            }
+            self.pending = Some((self.step_index, self.world.measure()));
+        }
+        if let Some((taken_at, m)) = self.pending
+            && self.step_index == taken_at + self.latency_steps
+        {
+            self.pending = None;
+            self.outer_step(&m, command, faults);
         }
         self.step_index += 1;
         let speeds = Vector3::from(self.world.encoder_speeds_rad_per_s());
@@ -219,6 +209,49 @@ impl WorldRobot {
         let feedback = faults.feedback(now_us, self.driver_feedback());
         self.robot.devices_mut().2.feedback = feedback;
         self.world.telemetry()
+    }
+
+    /// The outer task on the sensor sample `m`, as the controller computed it at the sample's
+    /// time; it runs once the link latency has passed, when its output reaches the drivers.
+    fn outer_step<F: Injector + ?Sized>(
+        &mut self,
+        m: &Measurement,
+        command: Command<'_, f64>,
+        faults: &mut F,
+    ) {
+        let now_us = (m.time_secs * 1e6).round() as u64;
+        let Tick::Run { task_us } = faults.outer_tick(now_us) else {
+            return;
+        };
+        let (imu, encoders, _, clock) = self.robot.devices_mut();
+        let fresh_imu = ImuSample {
+            timestamp_us: now_us,
+            roll_rad: m.tilt_rad[0],
+            pitch_rad: m.tilt_rad[1],
+            yaw_rad: m.yaw_rad,
+            angular_velocity_rad_per_s: Vector3::from(m.body_rate_rad_per_s),
+        };
+        if let Some(sample) = faults.imu(now_us, fresh_imu) {
+            imu.sample = sample;
+        }
+        let fresh_encoders = EncoderSample {
+            timestamp_us: now_us,
+            wheel_speeds_rad_per_s: Vector3::from(m.wheel_speed_rad_per_s),
+        };
+        if let Some(sample) = faults.encoders(now_us, fresh_encoders, true) {
+            encoders.sample = sample;
+        }
+        *clock = WorldClock { now_us, task_us };
+        let command_timestamp_us = faults.command_timestamp_us(now_us);
+        let report = self.robot.outer_task(&OperatorInput {
+            command,
+            command_timestamp_us,
+            request: ModeRequest::None,
+        });
+        self.last_outer = Some(report.output);
+        let outer_dt = self.world.params().dt_secs * self.steps_per_outer as f64;
+        self.events
+            .observe_controller(m.time_secs, &report.output, outer_dt);
     }
 
     /// What the world's motor drivers report after the step just taken: the torque their

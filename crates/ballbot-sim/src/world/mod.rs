@@ -17,7 +17,7 @@
 //!   [`transmission`]: the drivetrain between motor and wheel (gearbox stiction, elastomeric
 //!   coupling, backlash; rigid in [`WorldParams::ideal`]).
 //! * [`sensors`], [`failure`], [`telemetry`]: IMU and encoders, failure detection, per-step
-//!   records.
+//!   records; [`imu`]: the IMU's attitude filter, bias and delay (on in the default world).
 //!
 //! MCAP logs of world runs (telemetry, controller, a Foxglove 3D scene) are written by
 //! [`crate::log::WorldLogger`] ([`crate::log::world`]).
@@ -33,6 +33,7 @@ pub mod contact;
 pub mod disturbance;
 pub mod driver;
 pub mod failure;
+pub mod imu;
 pub mod params;
 mod rigid;
 pub mod rollers;
@@ -46,6 +47,7 @@ pub use axle_loss::AxleLossParams;
 pub use disturbance::FloorBump;
 pub use driver::{DriverLimit, DriverModel, DriverParams};
 pub use failure::{Failure, FailureKind, StopRules, wheel_name};
+pub use imu::{ImuModel, ImuParams};
 pub use params::{
     ContactParams, DEFAULT_RIGID_STEP_RATIO, FailureParams, MAX_BALL_CONTACT_PHASE_RAD,
     MAX_RIGID_STEP_RATIO, SensorParams, WorldParams,

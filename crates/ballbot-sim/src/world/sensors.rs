@@ -1,9 +1,11 @@
-//! Sensors: an IMU on the body (tilt, yaw, body rates) and one encoder per omniwheel, with
+//! Sensors: an IMU on the body (tilt, yaw, body rates; [`crate::world::imu`] models it as the
+//! truth plus noise or as the VN-100's attitude filter) and one encoder per omniwheel, with
 //! seeded Gaussian noise and encoder quantisation. Encoders read the motor (relative to the
 //! body, at the gearbox output), not the wheel and not the ball: when a wheel slips, its
 //! encoder no longer measures the ball, and the drivetrain's compliance and backlash
 //! ([`crate::world::transmission`]) lie between encoder and wheel.
 
+use super::imu::{AttitudeFilter, ImuModel, ImuTruth};
 use super::params::SensorParams;
 use super::telemetry::StepTelemetry;
 use rand_chacha::ChaCha8Rng;
@@ -47,6 +49,8 @@ pub struct Sensors {
     next: usize,
     filled: usize,
     dt_secs: f64,
+    /// The attitude filter, with [`ImuModel::AttitudeFilter`].
+    filter: Option<AttitudeFilter>,
 }
 
 impl Sensors {
@@ -63,6 +67,25 @@ impl Sensors {
             next: 0,
             filled: 0,
             dt_secs,
+            filter: (params.imu.model == ImuModel::AttitudeFilter)
+                .then(|| AttitudeFilter::new(params.imu, dt_secs, params.seed)),
+        }
+    }
+
+    /// Starts the IMU's attitude filter again from the next recorded state (after a pose or
+    /// velocity set from outside); its bias carries on.
+    pub fn restart_imu(&mut self) {
+        if let Some(filter) = &mut self.filter {
+            filter.restart();
+        }
+    }
+
+    /// Records one physics step's true motion, which `truth` gives, for the IMU's own
+    /// sampling (only the attitude filter model samples between the controller's reads, and
+    /// only it calls `truth`).
+    pub fn record_imu(&mut self, truth: impl FnOnce() -> ImuTruth) {
+        if let Some(filter) = &mut self.filter {
+            filter.record(&truth());
         }
     }
 
@@ -106,23 +129,42 @@ impl Sensors {
         std_dev * z
     }
 
-    /// Samples every sensor from the true state in `truth`.
+    /// Samples every sensor from the true state in `truth`: the IMU as its model has it
+    /// ([`crate::world::imu`]), the encoders now.
     pub fn sample(&mut self, truth: &StepTelemetry) -> Measurement {
+        let reading = self.filter.as_ref().and_then(AttitudeFilter::reading);
+        let (tilt_rad, yaw_rad, body_rate_rad_per_s) = match reading {
+            Some(r) => {
+                let (roll, pitch, yaw) = r.orientation.euler_angles();
+                ([roll, pitch], yaw, r.body_rate_rad_per_s.into())
+            }
+            None => self.noisy_truth(truth),
+        };
+        Measurement {
+            time_secs: truth.time_secs,
+            tilt_rad,
+            yaw_rad,
+            body_rate_rad_per_s,
+            wheel_angle_rad: truth.wheels.map(|w| self.quantise(w.motor_angle_rad)),
+            wheel_speed_rad_per_s: self.wheel_speeds(),
+        }
+    }
+
+    /// The `truth` IMU model (and the filter's before its first sample): the true tilt, yaw
+    /// and rates plus white noise.
+    fn noisy_truth(&mut self, truth: &StepTelemetry) -> ([f64; 2], f64, [f64; 3]) {
         let tilt = self.params.tilt_noise_rad;
         let gyro = self.params.gyro_noise_rad_per_s;
         let (roll, pitch, yaw) = truth.body_orientation.euler_angles();
         let rate = truth.body_rate_rad_per_s;
-        Measurement {
-            time_secs: truth.time_secs,
-            tilt_rad: [roll + self.noise(tilt), pitch + self.noise(tilt)],
-            yaw_rad: yaw + self.noise(tilt),
-            body_rate_rad_per_s: [
+        (
+            [roll + self.noise(tilt), pitch + self.noise(tilt)],
+            yaw + self.noise(tilt),
+            [
                 rate.x + self.noise(gyro),
                 rate.y + self.noise(gyro),
                 rate.z + self.noise(gyro),
             ],
-            wheel_angle_rad: truth.wheels.map(|w| self.quantise(w.motor_angle_rad)),
-            wheel_speed_rad_per_s: self.wheel_speeds(),
-        }
+        )
     }
 }

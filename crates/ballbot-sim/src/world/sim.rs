@@ -5,6 +5,7 @@ use super::check::non_negative;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
 use super::driver::{DriverFault, MotorDriver};
 use super::failure::{Failure, FailureMonitor, StopRules};
+use super::imu::ImuTruth;
 use super::params::WorldParams;
 use super::rigid::{RigidState, RigidStepper, Wrench};
 use super::rollers::{RimContact, RollerProfile};
@@ -318,7 +319,8 @@ impl BallbotWorld {
     }
 
     /// Sets the body's linear velocity of its centre of mass (m/s) and angular velocity
-    /// (rad/s, world frame), e.g. to start a test from a moving state.
+    /// (rad/s, world frame), e.g. to start a test from a moving state. The IMU's attitude
+    /// filter starts again from the new state (a jump no accelerometer could sense).
     pub fn set_body_velocity(
         &mut self,
         linear_m_per_s: Vector3<f64>,
@@ -329,6 +331,7 @@ impl BallbotWorld {
         body.set_linvel(to_glam(linear_m_per_s), true);
         body.set_angvel(to_glam(angular_rad_per_s), true);
         self.restart_rigid();
+        self.sensors.restart_imu();
     }
 
     /// Sets the ball's linear (m/s) and angular (rad/s) velocity.
@@ -345,7 +348,8 @@ impl BallbotWorld {
     }
 
     /// Rotates the body about the ball centre by `tilt_rad = [theta_x, theta_y]` (rotation
-    /// about world x, then y), keeping the contacts' penetration.
+    /// about world x, then y), keeping the contacts' penetration: a starting pose, so the
+    /// IMU's attitude filter starts again from it, as if it had converged there.
     pub fn tilt_body(&mut self, tilt_rad: [f64; 2]) {
         self.sync_rigid();
         let c = self.physics.bodies[self.ball].translation();
@@ -357,6 +361,7 @@ impl BallbotWorld {
         body.set_rotation(rot * pose.rotation, true);
         self.restart_rigid();
         self.refresh_poses();
+        self.sensors.restart_imu();
     }
 
     /// Moves the whole robot (ball and body) by `offset_m`, e.g. into the air.
@@ -614,6 +619,14 @@ impl BallbotWorld {
         if self.rigid.add(ball, body, dt) {
             self.step_rigid();
         }
+        let (telemetry, rigid, gravity) = (&self.telemetry, &self.rigid, self.physics.gravity);
+        self.sensors.record_imu(|| ImuTruth {
+            time_secs: telemetry.time_secs,
+            orientation: telemetry.body_orientation,
+            body_rate_rad_per_s: telemetry.body_rate_rad_per_s,
+            velocity_m_per_s: to_na(rigid.now().body_velocity),
+            gravity_m_per_s2: to_na(gravity),
+        });
         let clearance = self.chassis_clearance_m();
         self.monitor.update(&self.telemetry, clearance, dt);
         &self.telemetry

@@ -3,14 +3,14 @@
 
 use crate::studies::max_speed::{self, MaxSpeedProtocol};
 use crate::world::{
-    AxleLossParams, ContactParams, DriverParams, RollerParams, RubberLayer, TransmissionParams,
-    WorldError, WorldParams,
+    AxleLossParams, ContactParams, DriverParams, RollerParams, RubberLayer, SensorParams,
+    TransmissionParams, WorldError, WorldParams,
 };
 use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_core::command::AxisLimits;
 
 /// A world variant: the ideal world, the ideal world with one realistic mechanism added, or
-/// every mechanism at once (the default world).
+/// every mechanism of the default world at once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Mechanism {
     /// [`WorldParams::ideal`]: stiff continuous-rim contacts, no axle forces, the straight
@@ -33,19 +33,25 @@ pub enum Mechanism {
     /// stiction (0.37 N m breakaway), an elastomeric coupling (3e3 N m/rad) and 0.22 deg of
     /// backlash, with the encoders on the motor side.
     Drivetrain,
-    /// Every mechanism: the default world, [`WorldParams::realistic`].
+    /// The sensors as the robot has them ([`SensorParams::miapure`]): the VN-100's
+    /// accelerometer-aided attitude filter with its bias and delay, and the 1 ms link to the
+    /// drivers. Not (yet) part of [`Self::All`], the default world (docs/world.md, "Sensing").
+    Sensing,
+    /// Every mechanism of the default world, [`WorldParams::realistic`] (all but
+    /// [`Self::Sensing`]).
     All,
 }
 
 impl Mechanism {
     /// Every variant, the ideal world first and all mechanisms together last.
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 8] = [
         Self::Ideal,
         Self::RollerGaps,
         Self::AxleLosses,
         Self::RubberCoating,
         Self::MotorDriver,
         Self::Drivetrain,
+        Self::Sensing,
         Self::All,
     ];
 
@@ -58,6 +64,7 @@ impl Mechanism {
             Self::RubberCoating => "rubber_coating",
             Self::MotorDriver => "motor_driver",
             Self::Drivetrain => "drivetrain",
+            Self::Sensing => "sensing",
             Self::All => "all",
         }
     }
@@ -71,6 +78,7 @@ impl Mechanism {
             Self::RubberCoating => "+ rubber-coating stiffness and damping",
             Self::MotorDriver => "+ ODrive v3.6 driver limits",
             Self::Drivetrain => "+ gearbox stiction, coupling and backlash",
+            Self::Sensing => "+ VN-100 attitude filter and link latency",
             Self::All => "all mechanisms (the default world)",
         }
     }
@@ -88,6 +96,7 @@ impl Mechanism {
             }
             Self::MotorDriver => p.driver = DriverParams::miapure(),
             Self::Drivetrain => p.transmission = TransmissionParams::miapure(),
+            Self::Sensing => p.sensors = SensorParams::miapure(),
             Self::All => p = WorldParams::realistic(robot),
         }
         p
