@@ -11,6 +11,7 @@
 //!     --duration-secs 4 --out out/world.mcap
 //! ballbot world --push-ns 40 --push-at-secs 1.0 --push-heading-deg 90 --duration-secs 3
 //! ballbot world --live --duration-secs 30 --decimate 8    # watch it in Foxglove as it runs
+//! ballbot world --duration-secs 60 --no-log               # the same run, no log
 //! ```
 //!
 //! With `--live` the run is also served over the Foxglove SDK's WebSocket server
@@ -20,7 +21,9 @@ use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, WorldLogOptions};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
-use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world, run_world_with_sink};
+use ballbot_sim::studies::world_run::{
+    WorldRunSettings, run_logged_world, run_world, run_world_with_sink,
+};
 use ballbot_sim::world::{StopRules, WorldParams, wheel_name};
 use std::io::Write;
 use std::path::PathBuf;
@@ -35,6 +38,7 @@ Examples:
   ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-secs 1 --duration-secs 3
 
   ballbot world --live --duration-secs 30 --decimate 8
+  ballbot world --duration-secs 60 --no-log            # the same run without a log
 
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
 normal force, cone utilisation, slip speed). With --live, open a Foxglove WebSocket connection
@@ -117,6 +121,10 @@ pub struct WorldArgs {
     /// The MCAP log to write (its folder is created).
     #[arg(long, default_value = "out/world.mcap")]
     pub out: PathBuf,
+    /// Write no log: the same run, step for step, printing only its outcome (what a log
+    /// costs is the difference in speed).
+    #[arg(long, conflicts_with_all = ["live", "out", "decimate", "scene_hz"])]
+    pub no_log: bool,
     /// Write the telemetry every N physics steps (1: every 8 kHz step).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub decimate: u32,
@@ -164,6 +172,7 @@ impl Default for WorldArgs {
             controller: ControllerChoice::Design,
             reference_filter_secs: None,
             out: PathBuf::from("out/world.mcap"),
+            no_log: false,
             decimate: 1,
             scene_hz: 50.0,
             json: false,
@@ -345,12 +354,15 @@ impl WorldArgs {
     }
 }
 
-/// Runs the world as `args` say, writes the log and returns the outcome (without printing).
-/// `--live` is not served here (see [`run`]).
+/// Runs the world as `args` say, writes the log (none with `--no-log`) and returns the
+/// outcome (without printing). `--live` is not served here (see [`run`]).
 pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     args.validate()?;
     let params = args.world_params()?;
     let config = args.controller_config(&params)?;
+    if args.no_log {
+        return Ok(run_world(params, config, &args.run_settings())?);
+    }
     run_logged_world(
         params,
         config,
@@ -477,6 +489,10 @@ pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
         "peak cone utilisation: {:.3} (OW{}); min normal force {:.1} N; max tilt {:.2} deg",
         o.peak_cone_utilisation, o.peak_cone_wheel, o.min_normal_force_n, o.max_tilt_deg
     );
-    println!("log: {} ({:.2} MB)", o.log, o.log_bytes as f64 / 1.0e6);
+    if args.no_log {
+        println!("log: none (--no-log)");
+    } else {
+        println!("log: {} ({:.2} MB)", o.log, o.log_bytes as f64 / 1.0e6);
+    }
     Ok(())
 }

@@ -1,6 +1,6 @@
 //! MCAP logs of the 3D world and `ballbot world`: channels and counts, schemas, transforms that
-//! match the telemetry, bit-identical files for a seed, a killed run still readable, and the
-//! committed Foxglove world layout.
+//! match the telemetry, bit-identical files for a seed, the same run without a log, a killed
+//! run still readable, and the committed Foxglove world layout.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -369,6 +369,45 @@ fn decimation_thins_the_telemetry_only() {
     let series = log.numeric_series(topics::WORLD_TELEMETRY).unwrap();
     let dt = 1.0 / 8000.0;
     assert!((series.time_secs[1] - series.time_secs[0] - 8.0 * dt).abs() < 1e-9);
+}
+
+/// The figures of a run's outcome, without its log.
+#[derive(Debug, PartialEq)]
+struct WorldOutcomeFigures(String);
+
+impl WorldOutcomeFigures {
+    fn of(outcome: &ballbot_cli::world::WorldOutcome) -> Self {
+        let mut value = serde_json::to_value(outcome).unwrap();
+        let fields = value.as_object_mut().unwrap();
+        fields.remove("log");
+        fields.remove("log_bytes");
+        Self(value.to_string())
+    }
+}
+
+#[test]
+fn without_a_log_the_run_is_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let logged = simulate(&args(&dir.path().join("w.mcap"))).unwrap();
+    let mut a = args(&dir.path().join("none.mcap"));
+    a.no_log = true;
+    let unlogged = simulate(&a).unwrap();
+    assert_eq!(
+        WorldOutcomeFigures::of(&unlogged),
+        WorldOutcomeFigures::of(&logged)
+    );
+    assert_eq!((unlogged.log.as_str(), unlogged.log_bytes), ("", 0));
+    assert!(!dir.path().join("none.mcap").exists());
+    // --no-log refuses the flags of a log.
+    for flags in [["--no-log", "--live"], ["--no-log", "--decimate=8"]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_ballbot"))
+            .arg("world")
+            .args(flags)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{flags:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--no-log"));
+    }
 }
 
 #[test]
