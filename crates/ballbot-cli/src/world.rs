@@ -11,6 +11,7 @@
 //!     --duration-secs 4 --out out/world.mcap
 //! ballbot world --push-ns 40 --push-at-secs 1.0 --push-heading-deg 90 --duration-secs 3
 //! ballbot world --live --duration-secs 30 --decimate 8    # watch it in Foxglove as it runs
+//! ballbot world --duration-secs 60 --decimate 8000        # a 1 Hz log of a minute
 //! ballbot world --duration-secs 60 --no-log               # the same run, no log
 //! ```
 //!
@@ -38,13 +39,14 @@ Examples:
   ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-secs 1 --duration-secs 3
 
   ballbot world --live --duration-secs 30 --decimate 8
+  ballbot world --duration-secs 60 --decimate 8000     # every channel at most 1 Hz
   ballbot world --duration-secs 60 --no-log            # the same run without a log
 
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
 normal force, cone utilisation, slip speed). With --live, open a Foxglove WebSocket connection
 to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Size: about
 3.3 MB per simulated second with telemetry at every 8 kHz step, 0.81 MB with --decimate 8
-(1 kHz).";
+(1 kHz), about 4 kB with --decimate 8000 (1 Hz).";
 
 /// How long `--live` waits, once a client has connected, for it to subscribe before the run
 /// starts.
@@ -125,7 +127,10 @@ pub struct WorldArgs {
     /// costs is the difference in speed).
     #[arg(long, conflicts_with_all = ["live", "out", "decimate", "scene_hz"])]
     pub no_log: bool,
-    /// Write the telemetry every N physics steps (1: every 8 kHz step).
+    /// Write the telemetry every N physics steps (1: every 8 kHz step), and no other channel
+    /// more often: the controller's output (400 Hz), the transforms and joint states (twice
+    /// --scene-hz) and the scene (--scene-hz) keep their rates where these are slower, so
+    /// `--decimate 8000` is a 1 Hz log.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub decimate: u32,
     /// Rate of the Foxglove scene (SceneUpdate) messages (Hz, > 0); the frame transforms are
@@ -327,8 +332,9 @@ impl WorldArgs {
 }
 
 impl WorldArgs {
-    /// What the log writes and how often.
-    fn log_options(&self) -> WorldLogOptions {
+    /// What the log of a world stepping every `dt_secs` writes and how often: no channel
+    /// faster than the telemetry.
+    fn log_options(&self, dt_secs: f64) -> WorldLogOptions {
         let scene_interval_secs = 1.0 / self.scene_hz;
         WorldLogOptions {
             telemetry_every_steps: self.decimate,
@@ -336,6 +342,7 @@ impl WorldArgs {
             transform_interval_secs: 0.5 * scene_interval_secs,
             ..WorldLogOptions::default()
         }
+        .capped_at_telemetry_rate(dt_secs)
     }
 
     /// The command and push of the run.
@@ -368,7 +375,7 @@ pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
         config,
         &args.run_settings(),
         &args.out,
-        args.log_options(),
+        args.log_options(params.dt_secs),
     )
     .with_context(|| format!("ballbot world --out {}", args.out.display()))
 }
@@ -400,7 +407,7 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
-    let options = args.log_options();
+    let options = args.log_options(params.dt_secs);
     let file = McapLogger::create(&args.out, options.logger.clone())
         .with_context(|| format!("ballbot world --out {}", args.out.display()))?;
     let sink = LogSink::file(file).with_live(server.clone());
