@@ -11,6 +11,8 @@
 //!     --duration-secs 4 --out out/world.mcap
 //! ballbot world --push-ns 40 --push-at-secs 1.0 --push-heading-deg 90 --duration-secs 3
 //! ballbot world --live --duration-secs 30 --decimate 8    # watch it in Foxglove as it runs
+//! ballbot world --duration-secs 60 --decimate 8000        # a 1 Hz log of a minute
+//! ballbot world --duration-secs 60 --no-log               # the same run, no log
 //! ```
 //!
 //! With `--live` the run is also served over the Foxglove SDK's WebSocket server
@@ -20,7 +22,9 @@ use anyhow::{Context, bail};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, WorldLogOptions};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
-use ballbot_sim::studies::world_run::{WorldRunSettings, run_logged_world, run_world_with_sink};
+use ballbot_sim::studies::world_run::{
+    WorldRunSettings, run_logged_world, run_world, run_world_with_sink,
+};
 use ballbot_sim::world::{StopRules, WorldParams, wheel_name};
 use std::io::Write;
 use std::path::PathBuf;
@@ -35,12 +39,14 @@ Examples:
   ballbot world --top-speed-m-per-s 0 --push-ns 40 --push-at-secs 1 --duration-secs 3
 
   ballbot world --live --duration-secs 30 --decimate 8
+  ballbot world --duration-secs 60 --decimate 8000     # every channel at most 1 Hz
+  ballbot world --duration-secs 60 --no-log            # the same run without a log
 
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
 normal force, cone utilisation, slip speed). With --live, open a Foxglove WebSocket connection
 to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Size: about
 3.3 MB per simulated second with telemetry at every 8 kHz step, 0.81 MB with --decimate 8
-(1 kHz).";
+(1 kHz), about 4 kB with --decimate 8000 (1 Hz).";
 
 /// How long `--live` waits, once a client has connected, for it to subscribe before the run
 /// starts.
@@ -117,7 +123,14 @@ pub struct WorldArgs {
     /// The MCAP log to write (its folder is created).
     #[arg(long, default_value = "out/world.mcap")]
     pub out: PathBuf,
-    /// Write the telemetry every N physics steps (1: every 8 kHz step).
+    /// Write no log: the same run, step for step, printing only its outcome (what a log
+    /// costs is the difference in speed).
+    #[arg(long, conflicts_with_all = ["live", "out", "decimate", "scene_hz"])]
+    pub no_log: bool,
+    /// Write the telemetry every N physics steps (1: every 8 kHz step), and no other channel
+    /// more often: the controller's output (400 Hz), the transforms and joint states (twice
+    /// --scene-hz) and the scene (--scene-hz) keep their rates where these are slower, so
+    /// `--decimate 8000` is a 1 Hz log.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub decimate: u32,
     /// Rate of the Foxglove scene (SceneUpdate) messages (Hz, > 0); the frame transforms are
@@ -164,6 +177,7 @@ impl Default for WorldArgs {
             controller: ControllerChoice::Design,
             reference_filter_secs: None,
             out: PathBuf::from("out/world.mcap"),
+            no_log: false,
             decimate: 1,
             scene_hz: 50.0,
             json: false,
@@ -318,8 +332,9 @@ impl WorldArgs {
 }
 
 impl WorldArgs {
-    /// What the log writes and how often.
-    fn log_options(&self) -> WorldLogOptions {
+    /// What the log of a world stepping every `dt_secs` writes and how often: no channel
+    /// faster than the telemetry.
+    fn log_options(&self, dt_secs: f64) -> WorldLogOptions {
         let scene_interval_secs = 1.0 / self.scene_hz;
         WorldLogOptions {
             telemetry_every_steps: self.decimate,
@@ -327,6 +342,7 @@ impl WorldArgs {
             transform_interval_secs: 0.5 * scene_interval_secs,
             ..WorldLogOptions::default()
         }
+        .capped_at_telemetry_rate(dt_secs)
     }
 
     /// The command and push of the run.
@@ -345,18 +361,21 @@ impl WorldArgs {
     }
 }
 
-/// Runs the world as `args` say, writes the log and returns the outcome (without printing).
-/// `--live` is not served here (see [`run`]).
+/// Runs the world as `args` say, writes the log (none with `--no-log`) and returns the
+/// outcome (without printing). `--live` is not served here (see [`run`]).
 pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     args.validate()?;
     let params = args.world_params()?;
     let config = args.controller_config(&params)?;
+    if args.no_log {
+        return Ok(run_world(params, config, &args.run_settings())?);
+    }
     run_logged_world(
         params,
         config,
         &args.run_settings(),
         &args.out,
-        args.log_options(),
+        args.log_options(params.dt_secs),
     )
     .with_context(|| format!("ballbot world --out {}", args.out.display()))
 }
@@ -388,7 +407,7 @@ pub fn simulate_live(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
-    let options = args.log_options();
+    let options = args.log_options(params.dt_secs);
     let file = McapLogger::create(&args.out, options.logger.clone())
         .with_context(|| format!("ballbot world --out {}", args.out.display()))?;
     let sink = LogSink::file(file).with_live(server.clone());
@@ -477,6 +496,10 @@ pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
         "peak cone utilisation: {:.3} (OW{}); min normal force {:.1} N; max tilt {:.2} deg",
         o.peak_cone_utilisation, o.peak_cone_wheel, o.min_normal_force_n, o.max_tilt_deg
     );
-    println!("log: {} ({:.2} MB)", o.log, o.log_bytes as f64 / 1.0e6);
+    if args.no_log {
+        println!("log: none (--no-log)");
+    } else {
+        println!("log: {} ({:.2} MB)", o.log, o.log_bytes as f64 / 1.0e6);
+    }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! MCAP logs of the 3D world and `ballbot world`: channels and counts, schemas, transforms that
-//! match the telemetry, bit-identical files for a seed, a killed run still readable, and the
-//! committed Foxglove world layout.
+//! match the telemetry, bit-identical files for a seed, decimation that thins every channel of
+//! the same run, the same run without a log, a killed run still readable, and the committed
+//! Foxglove world layout.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -352,7 +353,7 @@ fn bad_flags_are_named_in_the_error() {
 }
 
 #[test]
-fn decimation_thins_the_telemetry_only() {
+fn decimation_to_1_khz_thins_the_telemetry_only() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("d.mcap");
     let mut a = args(&path);
@@ -369,6 +370,88 @@ fn decimation_thins_the_telemetry_only() {
     let series = log.numeric_series(topics::WORLD_TELEMETRY).unwrap();
     let dt = 1.0 / 8000.0;
     assert!((series.time_secs[1] - series.time_secs[0] - 8.0 * dt).abs() < 1e-9);
+}
+
+#[test]
+fn a_log_decimated_below_the_outer_rate_thins_every_channel_of_the_same_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let full_path = dir.path().join("full.mcap");
+    let full_outcome = simulate(&args(&full_path)).unwrap();
+    let full = McapLog::open(&full_path).unwrap();
+    let thin_path = dir.path().join("thin.mcap");
+    let mut a = args(&thin_path);
+    a.decimate = 400; // 20 Hz: every 20th outer step, transforms and scene at 20 Hz
+    let thin_outcome = simulate(&a).unwrap();
+    let thin = McapLog::open(&thin_path).unwrap();
+    assert_eq!(
+        WorldOutcomeFigures::of(&thin_outcome),
+        WorldOutcomeFigures::of(&full_outcome)
+    );
+    let every_nth = |topic: &str, n: usize| -> Vec<(f64, Value)> {
+        let all = full.decode::<Value>(topic).unwrap();
+        all.into_iter().step_by(n).collect()
+    };
+    let thin_of = |topic: &str| thin.decode::<Value>(topic).unwrap();
+    // The same run: the written telemetry and controller output are the full log's, thinned.
+    assert_eq!(
+        thin_of(topics::WORLD_TELEMETRY),
+        every_nth(topics::WORLD_TELEMETRY, 400)
+    );
+    assert_eq!(
+        thin_of(topics::WORLD_CONTROLLER),
+        every_nth(topics::WORLD_CONTROLLER, 20)
+    );
+    // Mode changes and the push are events, written whatever the rates.
+    assert_eq!(
+        thin_of(topics::FAULTS),
+        full.decode::<Value>(topics::FAULTS).unwrap()
+    );
+    let count = |t: &str| thin.channel(t).map(|c| c.message_count);
+    // 0.6 s on a 0.05 s grid: the first step, then 0.05, ..., 0.6 s (commands from t = 0 to
+    // the last step's start).
+    assert_eq!(count(topics::TRANSFORMS), Some(13));
+    assert_eq!(count(topics::JOINT_STATES), Some(13));
+    assert_eq!(count(topics::SCENE), Some(13));
+    assert_eq!(count(topics::WORLD_COMMAND), Some(12));
+}
+
+/// The figures of a run's outcome, without its log.
+#[derive(Debug, PartialEq)]
+struct WorldOutcomeFigures(String);
+
+impl WorldOutcomeFigures {
+    fn of(outcome: &ballbot_cli::world::WorldOutcome) -> Self {
+        let mut value = serde_json::to_value(outcome).unwrap();
+        let fields = value.as_object_mut().unwrap();
+        fields.remove("log");
+        fields.remove("log_bytes");
+        Self(value.to_string())
+    }
+}
+
+#[test]
+fn without_a_log_the_run_is_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let logged = simulate(&args(&dir.path().join("w.mcap"))).unwrap();
+    let mut a = args(&dir.path().join("none.mcap"));
+    a.no_log = true;
+    let unlogged = simulate(&a).unwrap();
+    assert_eq!(
+        WorldOutcomeFigures::of(&unlogged),
+        WorldOutcomeFigures::of(&logged)
+    );
+    assert_eq!((unlogged.log.as_str(), unlogged.log_bytes), ("", 0));
+    assert!(!dir.path().join("none.mcap").exists());
+    // --no-log refuses the flags of a log.
+    for flags in [["--no-log", "--live"], ["--no-log", "--decimate=8"]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_ballbot"))
+            .arg("world")
+            .args(flags)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{flags:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--no-log"));
+    }
 }
 
 #[test]

@@ -1,11 +1,12 @@
 //! One run of the 3D world with the core's controller in the loop, written to an MCAP log
 //! ([`WorldLogger`]): a velocity ramp towards a heading after a [`SETTLE_SECS`] hold, optionally a
-//! push of the body; reduced to a [`WorldOutcome`]. What `ballbot world` runs.
+//! push of the body; reduced to a [`WorldOutcome`]. What `ballbot world` runs; [`run_world`] is the
+//! same run without a log (`ballbot world --no-log`).
 
 use crate::log::{LogError, LogSink, McapLogger, WorldLogOptions, WorldLogger};
 use crate::rig::{Event, Outcome, OutcomeTracker, WorldRobot};
 use crate::world::failure::tilt_from_vertical_rad;
-use crate::world::{Failure, StopRules, WorldError, WorldParams};
+use crate::world::{Failure, StepTelemetry, StopRules, WorldError, WorldParams};
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use nalgebra::{Rotation3, Vector3};
@@ -125,6 +126,22 @@ pub fn run_logged_world(
     run_world_with_sink(params, config, args, sink, options, |_| {})
 }
 
+/// Runs the world with `config` in the loop as `args` say, without a log, and returns the
+/// outcome (`log` empty, `log_bytes` 0): the same run as [`run_logged_world`], step for step,
+/// and the baseline of what a log costs (`ballbot world --no-log`).
+pub fn run_world(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    args: &WorldRunSettings,
+) -> Result<WorldOutcome, WorldRunError> {
+    let sim = robot(params, config, args)?;
+    // Without a log nothing is written, so no log error can arise.
+    drive(sim, args, None).map_err(|source| WorldRunError::Log {
+        path: PathBuf::from("no log"),
+        source,
+    })
+}
+
 /// Runs the world with `config` in the loop as `args` say, writing to `sink` (an MCAP file, a
 /// live Foxglove view that paces the run, or both) with `options`, and returns the outcome
 /// (`log` is empty and `log_bytes` 0 without a file).
@@ -146,43 +163,55 @@ pub fn run_world_with_sink(
         .path()
         .map_or_else(|| PathBuf::from("live view"), Path::to_owned);
     let has_file = sink.path().is_some();
-    let mut sim = WorldRobot::with_config(params, config)?;
-    sim.world_mut().set_stop_rules(args.stop_rules);
-    let mut judge = OutcomeTracker::default();
+    let sim = robot(params, config, args)?;
     let log_error = |source| WorldRunError::Log {
         path: out.clone(),
         source,
     };
     let mut log = WorldLogger::with_sink(sink, &params, options).map_err(log_error)?;
     before_first_step(log.sink_mut());
+    let mut outcome = drive(sim, args, Some(&mut log)).map_err(log_error)?;
+    log.finish().map_err(log_error)?;
+    if has_file {
+        outcome.log = out.display().to_string();
+        outcome.log_bytes = std::fs::metadata(&out)
+            .map_err(|source| WorldRunError::Io {
+                path: out.clone(),
+                source,
+            })?
+            .len();
+    }
+    Ok(outcome)
+}
 
-    let dt = params.dt_secs;
+/// The robot of a run: the world built from `params` with `config` in the loop and the run's
+/// stop rules.
+fn robot(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    args: &WorldRunSettings,
+) -> Result<WorldRobot, WorldError> {
+    let mut sim = WorldRobot::with_config(params, config)?;
+    sim.world_mut().set_stop_rules(args.stop_rules);
+    Ok(sim)
+}
+
+/// Runs `sim` through the ramp and push of `args`, recording each step to `log` if there is
+/// one, and returns the outcome without its log fields. The log only observes: the run is the
+/// same with or without it.
+fn drive(
+    mut sim: WorldRobot,
+    args: &WorldRunSettings,
+    mut log: Option<&mut WorldLogger>,
+) -> Result<WorldOutcome, LogError> {
+    let dt = sim.world().params().dt_secs;
     let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
     let heading = Vector3::new(cos_h, sin_h, 0.0);
     let steps = (args.duration_secs / dt).ceil() as u64;
     let mut pushed = args.push_ns <= 0.0;
     let mut failure: Option<Failure> = None;
-    let mut outcome = WorldOutcome {
-        outcome: Outcome::Unsettled,
-        events: Vec::new(),
-        events_dropped: 0,
-        stop_rules: args.stop_rules.to_string(),
-        failure: None,
-        failure_wheel: None,
-        failure_time_secs: None,
-        max_speed_m_per_s: 0.0,
-        peak_cone_utilisation: 0.0,
-        peak_cone_wheel: 1,
-        min_normal_force_n: f64::INFINITY,
-        max_tilt_deg: 0.0,
-        end_time_secs: 0.0,
-        log: if has_file {
-            out.display().to_string()
-        } else {
-            String::new()
-        },
-        log_bytes: 0,
-    };
+    let mut judge = OutcomeTracker::default();
+    let mut outcome = WorldOutcome::start(args);
     for k in 0..steps {
         let t = k as f64 * dt;
         if failure.is_some_and(|f| t > f.time_secs + args.after_failure_secs) {
@@ -196,30 +225,15 @@ pub fn run_world_with_sink(
         };
         if !pushed && t + 0.5 * dt >= args.push_at_secs {
             pushed = true;
-            let telemetry = sim.world().telemetry();
-            let (_, _, yaw) = telemetry.body_orientation.euler_angles();
-            let direction = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
-                * Vector3::new(
-                    args.push_heading_deg.to_radians().cos(),
-                    args.push_heading_deg.to_radians().sin(),
-                    0.0,
-                );
-            let tilt = tilt_from_vertical_rad(telemetry);
-            sim.world_mut().push_body(direction * args.push_ns);
-            log.record_event(
-                t,
-                "push",
-                &format!(
-                    "push of {} N s towards {} deg (body frame)",
-                    args.push_ns, args.push_heading_deg
-                ),
-                tilt,
-            )
-            .map_err(log_error)?;
+            push(&mut sim, args, t, log.as_deref_mut())?;
         }
-        log.record_command(t, &command).map_err(log_error)?;
+        if let Some(log) = log.as_deref_mut() {
+            log.record_command(t, &command)?;
+        }
         let telemetry = *sim.step(Command::Velocity(command));
-        log.record_robot(&sim).map_err(log_error)?;
+        if let Some(log) = log.as_deref_mut() {
+            log.record_robot(&sim)?;
+        }
         outcome.end_time_secs = telemetry.time_secs;
         if failure.is_some() {
             continue;
@@ -232,37 +246,89 @@ pub fn run_world_with_sink(
             [command.vx_m_per_s, command.vy_m_per_s],
         );
         failure = sim.world().failure();
-        if failure.is_some() {
-            continue;
+        if failure.is_none() {
+            outcome.track(&telemetry, v_yaw.dot(&heading));
         }
-        outcome.max_speed_m_per_s = outcome.max_speed_m_per_s.max(v_yaw.dot(&heading));
-        for (i, w) in telemetry.wheels.iter().enumerate() {
-            if w.cone_utilisation > outcome.peak_cone_utilisation {
-                outcome.peak_cone_utilisation = w.cone_utilisation;
-                outcome.peak_cone_wheel = i + 1;
-            }
-            outcome.min_normal_force_n = outcome.min_normal_force_n.min(w.normal_force_n);
-        }
-        outcome.max_tilt_deg = outcome
-            .max_tilt_deg
-            .max(tilt_from_vertical_rad(&telemetry).to_degrees());
     }
-    log.finish().map_err(log_error)?;
-    outcome.outcome = judge.outcome(failure);
-    outcome.events = sim.events().events().to_vec();
-    outcome.events_dropped = sim.events().dropped();
-    if let Some(f) = failure {
-        outcome.failure = Some(f.kind.as_str().to_owned());
-        outcome.failure_wheel = f.kind.wheel().map(|w| w + 1);
-        outcome.failure_time_secs = Some(f.time_secs);
-    }
-    if has_file {
-        outcome.log_bytes = std::fs::metadata(&out)
-            .map_err(|source| WorldRunError::Io {
-                path: out.clone(),
-                source,
-            })?
-            .len();
-    }
+    outcome.finish(&sim, judge.outcome(failure), failure);
     Ok(outcome)
+}
+
+/// Pushes the body as `args` say at `t` (the direction in the body's yaw frame) and records
+/// the push as an event.
+fn push(
+    sim: &mut WorldRobot,
+    args: &WorldRunSettings,
+    t: f64,
+    log: Option<&mut WorldLogger>,
+) -> Result<(), LogError> {
+    let telemetry = sim.world().telemetry();
+    let (_, _, yaw) = telemetry.body_orientation.euler_angles();
+    let direction = Rotation3::from_axis_angle(&Vector3::z_axis(), yaw)
+        * Vector3::new(
+            args.push_heading_deg.to_radians().cos(),
+            args.push_heading_deg.to_radians().sin(),
+            0.0,
+        );
+    let tilt = tilt_from_vertical_rad(telemetry);
+    sim.world_mut().push_body(direction * args.push_ns);
+    let Some(log) = log else {
+        return Ok(());
+    };
+    let description = format!(
+        "push of {} N s towards {} deg (body frame)",
+        args.push_ns, args.push_heading_deg
+    );
+    log.record_event(t, "push", &description, tilt)
+}
+
+impl WorldOutcome {
+    /// The outcome before the first step of a run with `args`.
+    fn start(args: &WorldRunSettings) -> Self {
+        Self {
+            outcome: Outcome::Unsettled,
+            events: Vec::new(),
+            events_dropped: 0,
+            stop_rules: args.stop_rules.to_string(),
+            failure: None,
+            failure_wheel: None,
+            failure_time_secs: None,
+            max_speed_m_per_s: 0.0,
+            peak_cone_utilisation: 0.0,
+            peak_cone_wheel: 1,
+            min_normal_force_n: f64::INFINITY,
+            max_tilt_deg: 0.0,
+            end_time_secs: 0.0,
+            log: String::new(),
+            log_bytes: 0,
+        }
+    }
+
+    /// Updates the peaks with a step before any failure, whose ball speed along the heading
+    /// is `speed_m_per_s`.
+    fn track(&mut self, telemetry: &StepTelemetry, speed_m_per_s: f64) {
+        self.max_speed_m_per_s = self.max_speed_m_per_s.max(speed_m_per_s);
+        for (i, w) in telemetry.wheels.iter().enumerate() {
+            if w.cone_utilisation > self.peak_cone_utilisation {
+                self.peak_cone_utilisation = w.cone_utilisation;
+                self.peak_cone_wheel = i + 1;
+            }
+            self.min_normal_force_n = self.min_normal_force_n.min(w.normal_force_n);
+        }
+        self.max_tilt_deg = self
+            .max_tilt_deg
+            .max(tilt_from_vertical_rad(telemetry).to_degrees());
+    }
+
+    /// Fills in how the run of `sim` ended and its events.
+    fn finish(&mut self, sim: &WorldRobot, outcome: Outcome, failure: Option<Failure>) {
+        self.outcome = outcome;
+        self.events = sim.events().events().to_vec();
+        self.events_dropped = sim.events().dropped();
+        if let Some(f) = failure {
+            self.failure = Some(f.kind.as_str().to_owned());
+            self.failure_wheel = f.kind.wheel().map(|w| w + 1);
+            self.failure_time_secs = Some(f.time_secs);
+        }
+    }
 }

@@ -111,7 +111,9 @@ impl WorldLogger {
             records: 0,
             transform_grid: Grid::new(options.transform_interval_secs),
             scene_grid: Grid::new(options.scene_interval_secs),
-            command_grid: Grid::new(options.controller_interval_secs),
+            command_grid: Grid::new(
+                options.controller_interval_secs * f64::from(options.controller_every_outer_steps),
+            ),
             last_outer_index: None,
             last_mode: None,
             failure_logged: false,
@@ -159,9 +161,10 @@ impl WorldLogger {
     /// Records one step from its parts: the step's telemetry, the first failure detected so
     /// far, and the controller's latest outer-loop output.
     ///
-    /// The outer output is written once per outer step (every `controller_interval_secs`),
-    /// stamped with the time at which the controller computed it: the start of the physics
-    /// step at which an outer step falls due, as in [`WorldRobot::step`].
+    /// The outer output is written once per outer step (every `controller_interval_secs`;
+    /// every `controller_every_outer_steps`-th), stamped with the time at which the controller
+    /// computed it: the start of the physics step at which an outer step falls due, as in
+    /// [`WorldRobot::step`].
     pub fn record_telemetry(
         &mut self,
         t: &StepTelemetry,
@@ -227,11 +230,11 @@ impl WorldLogger {
         }
         self.last_outer_index = Some(outer_index);
         let computed_secs = (outer_index * self.steps_per_outer) as f64 * self.dt_secs;
-        self.log.write(
-            &self.controller,
-            computed_secs,
-            &WorldControllerMsg::from(out),
-        )?;
+        let every = u64::from(self.options.controller_every_outer_steps);
+        if outer_index.is_multiple_of(every) {
+            let msg = WorldControllerMsg::from(out);
+            self.log.write(&self.controller, computed_secs, &msg)?;
+        }
         let mode = out.safety.mode;
         if self.last_mode != Some(mode) {
             self.last_mode = Some(mode);

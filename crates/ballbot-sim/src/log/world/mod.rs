@@ -9,13 +9,16 @@
 //! | topic | message | rate (defaults) |
 //! | --- | --- | --- |
 //! | [`topics::WORLD_TELEMETRY`](crate::log::topics::WORLD_TELEMETRY) `/world/telemetry` | [`WorldTelemetryMsg`]: per wheel normal force, traction, cone utilisation, slip speed, wheel speed, motor torque, slipping; ball position/velocity/angular velocity; body pose, rates, tilt | every step (8 kHz), or every `telemetry_every_steps`-th |
-//! | [`topics::WORLD_CONTROLLER`](crate::log::topics::WORLD_CONTROLLER) `/world/controller` | [`WorldControllerMsg`]: the outer loop's references, estimates, shaped commands, safety mode and faults | once per outer step (400 Hz) |
+//! | [`topics::WORLD_CONTROLLER`](crate::log::topics::WORLD_CONTROLLER) `/world/controller` | [`WorldControllerMsg`]: the outer loop's references, estimates, shaped commands, safety mode and faults | once per outer step (400 Hz), or every `controller_every_outer_steps`-th |
 //! | [`topics::WORLD_COMMAND`](crate::log::topics::WORLD_COMMAND) `/world/command` | [`WorldCommandMsg`]: the velocity command given ([`WorldLogger::record_command`]) | at most 400 Hz |
 //! | [`topics::TRANSFORMS`](crate::log::topics::TRANSFORMS) `/tf` | `foxglove.FrameTransforms` (protobuf): `world -> ball` (with the ball's rotation), `world -> body`, `body -> ow1..ow3` (with each wheel's spin angle) | 100 Hz |
 //! | [`topics::JOINT_STATES`](crate::log::topics::JOINT_STATES) `/joint_states` | `foxglove.JointStates` (protobuf): `ow1..ow3` angle (rad), speed (rad/s), motor torque as effort (N m) | 100 Hz |
 //! | [`topics::SCENE`](crate::log::topics::SCENE) `/scene` | `foxglove.SceneUpdate` (protobuf): floor, ball, body, the three omniwheels, contact-force arrows coloured by cone utilisation (red when slipping), wheel labels | 50 Hz |
 //! | [`topics::FAULTS`](crate::log::topics::FAULTS) `/faults` | [`WorldEventMsg`]: the world's failure (tilt, body on the floor, sustained slip, lift-off), safety-mode changes, user events such as a push | on events |
 //! | [`topics::LOG`](crate::log::topics::LOG) `/log` | `foxglove.Log` (protobuf): the same events as text, for Foxglove's Log panel (failure: error; controlled stop: warning) | on events |
+//!
+//! [`WorldLogOptions::capped_at_telemetry_rate`] slows every periodic channel to the telemetry's
+//! rate, so that a log decimated to 1 Hz costs little between the steps it writes.
 //!
 //! `foxglove/world-layout.json` (in the repository) opens such a log with the 3D panel and plots
 //! of the per-wheel forces. The bytes are a function of the messages only (no wall clock), so

@@ -28,6 +28,10 @@ pub struct WorldLogOptions {
     /// often. Default 1/400 s, the core's outer-loop rate. Must be a whole multiple of the
     /// physics step.
     pub controller_interval_secs: f64,
+    /// Write the controller's output at every n-th outer step (1: every one), and commands at
+    /// most once per n outer steps. Default 1. Must be >= 1. Safety-mode changes are written
+    /// on `/faults` at the outer step they happen, whatever n.
+    pub controller_every_outer_steps: u32,
     /// Length of a contact-force arrow per newton (m/N). Default 5e-4 (the 344 N static load
     /// draws 0.17 m). Must be finite and > 0.
     pub metres_per_newton: f64,
@@ -42,6 +46,7 @@ impl Default for WorldLogOptions {
             transform_interval_secs: 0.01,
             scene_interval_secs: 0.02,
             controller_interval_secs: OUTER_LOOP_DT_SECS,
+            controller_every_outer_steps: 1,
             metres_per_newton: 5e-4,
             logger: LoggerOptions::default(),
         }
@@ -64,6 +69,35 @@ impl WorldLogOptions {
         }
     }
 
+    /// These options with no periodic channel written more often than the telemetry, every
+    /// `telemetry_every_steps` physics steps of `dt_secs`: the transforms and joint states,
+    /// the scene, the controller's output and the command keep their own rates where these
+    /// are slower. Telemetry at 1 kHz or faster changes nothing; at 1 Hz (every 8,000th step
+    /// at 8 kHz) the log writes about one message per channel and simulated second, so it
+    /// costs little between the steps it writes (`ballbot world --decimate`).
+    ///
+    /// ```
+    /// use ballbot_sim::log::WorldLogOptions;
+    /// let dt = 1.0 / 8000.0;
+    /// assert_eq!(WorldLogOptions::compact().capped_at_telemetry_rate(dt), WorldLogOptions::compact());
+    /// let one_hz = WorldLogOptions { telemetry_every_steps: 8000, ..WorldLogOptions::default() }
+    ///     .capped_at_telemetry_rate(dt);
+    /// assert_eq!(one_hz.scene_interval_secs, 1.0);
+    /// assert_eq!(one_hz.controller_every_outer_steps, 400);
+    /// ```
+    #[must_use]
+    pub fn capped_at_telemetry_rate(mut self, dt_secs: f64) -> Self {
+        let every = f64::from(self.telemetry_every_steps);
+        let telemetry_interval_secs = every * dt_secs;
+        self.transform_interval_secs = self.transform_interval_secs.max(telemetry_interval_secs);
+        self.scene_interval_secs = self.scene_interval_secs.max(telemetry_interval_secs);
+        let steps_per_outer = (self.controller_interval_secs / dt_secs).round().max(1.0);
+        // At most `telemetry_every_steps` (a u32): the cast cannot truncate.
+        let outer_steps = (every / steps_per_outer).ceil() as u32;
+        self.controller_every_outer_steps = self.controller_every_outer_steps.max(outer_steps);
+        self
+    }
+
     /// Checks every field against the physics step `dt_secs`; `path` only names the file in
     /// the error.
     pub fn validate(&self, path: &Path, dt_secs: f64) -> Result<(), LogError> {
@@ -74,6 +108,9 @@ impl WorldLogOptions {
         };
         if self.telemetry_every_steps == 0 {
             return Err(invalid("telemetry_every_steps", ">= 1"));
+        }
+        if self.controller_every_outer_steps == 0 {
+            return Err(invalid("controller_every_outer_steps", ">= 1"));
         }
         let positive = |x: f64| x.is_finite() && x > 0.0;
         if !positive(self.transform_interval_secs) {
