@@ -337,3 +337,26 @@ def test_miapures_sensors_read_a_filtered_delayed_imu() -> None:
     assert imu.tilt_error_under_acceleration_rad(1.0, 9.81, 0.0) == pytest.approx(0.0, abs=1e-15)
     late = imu.tilt_error_under_acceleration_rad(1.0, 9.81, 10.0 * imu.filter_time_constant_secs)
     assert late == pytest.approx(lean, rel=1e-3)
+
+
+def test_correcting_the_imu_filters_lean_brings_the_robot_to_rest_after_a_stop() -> None:
+    params = ballbot.WorldParams.preset("miapure_60kg").replace(
+        sensors=ballbot.SensorParams.preset("miapure")
+    )
+    tau = params.sensors.imu.filter_time_constant_secs
+
+    # A 0.5 m/s^2 ramp to 1.4 m/s from 0.5 s, a stop command at 5 s; the speed at 7 s.
+    t = np.arange(7 * 8000) / 8000.0
+    vx = np.where((t >= 0.5) & (t < 5.0), np.minimum((t - 0.5) * 0.5, 1.4), 0.0)
+    command = np.stack([vx, np.zeros_like(vx), np.zeros_like(vx)], axis=1)
+
+    def speed_after_stop(correction: bool) -> float:
+        sim = ballbot.WorldLoop(params, imu_lean_time_constant_secs=tau if correction else None)
+        sim.run(len(t), command, record_every=8000)
+        assert sim.failure is None
+        return float(np.linalg.norm(sim.telemetry.ball_velocity_m_per_s))
+
+    assert speed_after_stop(False) > 0.1
+    assert speed_after_stop(True) < 0.05
+    with pytest.raises(ValueError, match="imu_lean.filter_time_constant_secs"):
+        ballbot.WorldLoop(params, imu_lean_time_constant_secs=-1.0)

@@ -2,12 +2,15 @@
 //! default world with the VN-100 model (`SensorParams::miapure`), a ramp at 0.5 m/s^2 to a
 //! top speed, held to 5 s, then a step command to rest. Per heading, top speed and filter
 //! time constant (`truth`: the default world's IMU): the largest tilt error the controller
-//! read (sampled every 10 ms), the speed 2 s after the stop command, and any failure.
+//! read (sampled every 10 ms), the speed 2 s after the stop command, and any failure; then the
+//! same with the controller correcting the filter's lean
+//! (`BallbotControllerConfig::with_imu_lean_correction` at the filter's time constant).
 //!
 //! ```text
 //! cargo run --release -p ballbot-sim --example imu_time_constant
 //! ```
 
+use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_sim::rig::WorldRobot;
 use ballbot_sim::studies::runner::run_jobs;
@@ -32,7 +35,13 @@ fn commanded_speed(t: f64, top: f64) -> f64 {
     }
 }
 
-fn run(heading_deg: f64, top: f64, tau_secs: Option<f64>) -> Result<Outcome, WorldError> {
+/// One run; `correct`: the controller corrects the filter's lean.
+fn run(
+    heading_deg: f64,
+    top: f64,
+    tau_secs: Option<f64>,
+    correct: bool,
+) -> Result<Outcome, WorldError> {
     let mut params = WorldParams {
         sensors: SensorParams::miapure(),
         ..WorldParams::miapure_60kg()
@@ -41,7 +50,11 @@ fn run(heading_deg: f64, top: f64, tau_secs: Option<f64>) -> Result<Outcome, Wor
         None => params.sensors = SensorParams::default(),
         Some(tau) => params.sensors.imu.filter_time_constant_secs = tau,
     }
-    let mut sim = WorldRobot::new(params)?;
+    let mut config = BallbotControllerConfig::design(&params.robot)?;
+    if let (Some(tau), true) = (tau_secs, correct) {
+        config = config.with_imu_lean_correction(tau);
+    }
+    let mut sim = WorldRobot::with_config(params, config)?;
     let (c, s) = (
         heading_deg.to_radians().cos(),
         heading_deg.to_radians().sin(),
@@ -93,16 +106,22 @@ fn main() -> Result<(), WorldError> {
             jobs.extend(taus.iter().map(|&tau| (heading, top, tau)));
         }
     }
-    let outcomes = run_jobs(&jobs, 0, |&(h, top, tau)| run(h, top, tau), &|_| {})?;
+    let outcomes = run_jobs(&jobs, 0, |&(h, top, tau)| run(h, top, tau, false), &|_| {})?;
+    let corrected = run_jobs(&jobs, 0, |&(h, top, tau)| run(h, top, tau, true), &|_| {})?;
     println!(
-        "| heading (deg) | top speed (m/s) | tau (s) | largest tilt error read (deg) | speed 2 s after the stop (m/s) | failure |"
+        "| heading (deg) | top speed (m/s) | tau (s) | largest tilt error read (deg) | \
+         speed 2 s after the stop (m/s) | the same, corrected | failure |"
     );
-    println!("|---|---|---|---|---|---|");
-    for (&(h, top, tau), o) in jobs.iter().zip(outcomes) {
+    println!("|---|---|---|---|---|---|---|");
+    for ((&(h, top, tau), o), c) in jobs.iter().zip(outcomes).zip(corrected) {
         let tau = tau.map_or("truth".to_string(), |t| format!("{t}"));
         println!(
-            "| {h} | {top} | {tau} | {:.2} | {:.3} | {} |",
-            o.max_tilt_error_deg, o.speed_after_stop_m_per_s, o.failure
+            "| {h} | {top} | {tau} | {:.2} | {:.3} | {:.3} | {}{} |",
+            o.max_tilt_error_deg,
+            o.speed_after_stop_m_per_s,
+            c.speed_after_stop_m_per_s,
+            o.failure,
+            c.failure
         );
     }
     Ok(())

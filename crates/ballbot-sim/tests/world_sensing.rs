@@ -2,6 +2,7 @@
 //! attitude filter's tilt is pulled towards the apparent vertical, as its first-order law
 //! predicts; the link latency and the IMU's delay reach the controller.
 
+use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_sim::rig::WorldRobot;
 use ballbot_sim::world::{ImuParams, SensorParams, WorldParams};
@@ -96,5 +97,53 @@ fn a_link_latency_of_a_control_period_or_more_is_refused() {
             assert_eq!(field, "sensors.link_latency_secs")
         }
         other => panic!("{:?}", other.err()),
+    }
+}
+
+/// The ball's speed 2 s after a stop command that follows a 0.5 m/s^2 ramp to 1.4 m/s towards
+/// `heading_deg` (m/s), the controller's tilt corrected for the filter's lean or not.
+fn speed_after_stop(heading_deg: f64, correct: bool) -> f64 {
+    let params = with_sensing();
+    let mut config = BallbotControllerConfig::design(&params.robot).unwrap();
+    if correct {
+        let tau = params.sensors.imu.filter_time_constant_secs;
+        config = config.with_imu_lean_correction(tau);
+    }
+    let mut sim = WorldRobot::with_config(params, config).unwrap();
+    let (s, c) = heading_deg.to_radians().sin_cos();
+    for k in 0..(7.0 / DT) as u64 {
+        let t = k as f64 * DT;
+        let v = if (0.5..5.0).contains(&t) {
+            ((t - 0.5) * 0.5).min(1.4)
+        } else {
+            0.0
+        };
+        sim.step(Command::Velocity(VelocityCommand {
+            vx_m_per_s: v * c,
+            vy_m_per_s: v * s,
+            yaw_rate_rad_per_s: 0.0,
+        }));
+    }
+    assert!(
+        sim.world().failure().is_none(),
+        "{:?}",
+        sim.world().failure()
+    );
+    sim.world().telemetry().ball_velocity_m_per_s.norm()
+}
+
+#[test]
+fn correcting_the_filters_lean_brings_the_robot_to_rest_after_a_stop() {
+    for heading in [0.0, 90.0] {
+        let (raw, corrected) = (
+            speed_after_stop(heading, false),
+            speed_after_stop(heading, true),
+        );
+        println!("{heading} deg: {raw:.3} m/s as measured, {corrected:.3} m/s corrected");
+        assert!(
+            raw > 0.1,
+            "{heading} deg: the filter's lean keeps it rolling: {raw}"
+        );
+        assert!(corrected < 0.05, "{heading} deg: {corrected}");
     }
 }

@@ -2,7 +2,7 @@
 //! ([`BallbotControllerConfig::design`]), with the per-motor PI gains
 //! ([`motor_speed_pi_gains`]).
 
-use super::{BalancePointParams, SpinGains, SpinOuterConfig, WheelMapping};
+use super::{BalancePointParams, ImuLeanParams, SpinGains, SpinOuterConfig, WheelMapping};
 use crate::check::{lit, positive};
 use crate::command::{AxisLimits, CommandShaperParams};
 use crate::control::{LqrGains, LqrPiOuterConfig, PiPdGains, SpeedPiGains};
@@ -58,6 +58,11 @@ pub struct BallbotControllerConfig<T> {
     /// LQR-PI ([`BalancingLaw::LqrPi`], every designed configuration) or, as the paper's
     /// comparison, a cascaded PI-PD ([`Self::with_pi_pd`]).
     pub balancing: BalancingLaw<T>,
+    /// The correction for an IMU whose attitude filter leans its estimate into the
+    /// acceleration ([`super::ImuLean`]): off in every designed configuration (the IMU
+    /// reports the true attitude); [`Self::with_imu_lean_correction`] sets the filter's time
+    /// constant.
+    pub imu_lean: ImuLeanParams<T>,
 }
 
 /// The law of the two balancing planes (frontal and sagittal); the spin loop and everything
@@ -258,6 +263,7 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
             traction: TractionParams::off(robot),
             balance_point: BalancePointParams::off(),
             balancing: BalancingLaw::LqrPi,
+            imu_lean: ImuLeanParams::off(),
         })
     }
 
@@ -366,6 +372,26 @@ impl<T: RealField + Copy> BallbotControllerConfig<T> {
     #[must_use]
     pub fn with_balance_point_estimation(mut self) -> Self {
         self.balance_point = BalancePointParams::recommended();
+        self
+    }
+
+    /// This configuration with the tilt corrected for an IMU whose attitude filter pulls its
+    /// estimate towards the accelerometer's vertical with the time constant
+    /// `filter_time_constant_secs` ([`super::ImuLean`]): what the filter reads into the
+    /// commanded acceleration is added back.
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let robot = BallbotParams::<f64>::miapure_60kg();
+    /// let config = BallbotControllerConfig::design(&robot)?.with_imu_lean_correction(2.29);
+    /// assert!(config.imu_lean.enabled());
+    /// assert!(BallbotController::new(config)?.imu_lean().is_some());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    #[must_use]
+    pub fn with_imu_lean_correction(mut self, filter_time_constant_secs: T) -> Self {
+        self.imu_lean = ImuLeanParams::for_filter(filter_time_constant_secs);
         self
     }
 

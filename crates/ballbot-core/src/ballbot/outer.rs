@@ -4,7 +4,8 @@
 use super::balancing::pi_pd_plane;
 use super::feedforward::InputFeedforward;
 use super::{
-    BalancePoint, BalanceSample, BalancingLaw, BallbotControllerConfig, SpinOuter, WheelMapping,
+    BalancePoint, BalanceSample, BalancingLaw, BallbotControllerConfig, ImuLean, SpinOuter,
+    WheelMapping,
 };
 use crate::check::{lit, positive};
 use crate::command::{Command, CommandShaper, PlanarCommands, Trajectory, TrajectoryLimits};
@@ -256,6 +257,7 @@ pub struct BallbotController<T: RealField + Copy> {
     feedforward: InputFeedforward<T>,
     traction: Option<TractionControl<T>>,
     balance_point: Option<BalancePoint<T>>,
+    imu_lean: Option<ImuLean<T>>,
     trajectory_limits: TrajectoryLimits<T>,
 }
 
@@ -288,6 +290,17 @@ impl<T: RealField + Copy> BallbotController<T> {
             config.balance_point.validate()?;
             None
         };
+        config.imu_lean.validate()?;
+        let gravity = config.robot.sagittal.gravity_m_per_s2;
+        let imu_lean = if config.imu_lean.enabled() {
+            Some(ImuLean::new(
+                config.imu_lean,
+                config.outer_dt_secs,
+                gravity,
+            )?)
+        } else {
+            None
+        };
         Ok(Self {
             config,
             kinematics,
@@ -307,6 +320,7 @@ impl<T: RealField + Copy> BallbotController<T> {
             feedforward: InputFeedforward::new(&config),
             traction,
             balance_point,
+            imu_lean,
             trajectory_limits: config.trajectory_limits()?,
         })
     }
@@ -400,6 +414,20 @@ impl<T: RealField + Copy> BallbotController<T> {
     /// ```
     pub fn balance_point(&self) -> Option<&BalancePoint<T>> {
         self.balance_point.as_ref()
+    }
+
+    /// The IMU filter's lean as the controller tracks it, when the correction is on
+    /// ([`BallbotControllerConfig::imu_lean`]).
+    ///
+    /// ```
+    /// use ballbot_core::BallbotParams;
+    /// use ballbot_core::ballbot::{BallbotController, BallbotControllerConfig};
+    /// let config = BallbotControllerConfig::design(&BallbotParams::<f64>::miapure_60kg())?;
+    /// assert!(BallbotController::new(config)?.imu_lean().is_none());
+    /// # Ok::<(), ballbot_core::Error>(())
+    /// ```
+    pub fn imu_lean(&self) -> Option<&ImuLean<T>> {
+        self.imu_lean.as_ref()
     }
 
     /// The configuration.
@@ -526,7 +554,16 @@ impl<T: RealField + Copy> BallbotController<T> {
             safety.encoders_valid.then_some(&input.encoders),
             dt,
         );
+        if let Some(lean) = &self.imu_lean {
+            let [roll, pitch] = lean.correction_rad();
+            states.frontal[TILT] += roll;
+            states.sagittal[TILT] += pitch;
+        }
         if !safety.mode.motors_enabled() {
+            // At rest on its support: the filter's lean decays.
+            if let Some(lean) = &mut self.imu_lean {
+                lean.follow(T::zero(), T::zero());
+            }
             return self.disabled(safety, states);
         }
         let mut safety = safety;
@@ -584,6 +621,9 @@ impl<T: RealField + Copy> BallbotController<T> {
         let mut c = shaped.planar;
         let ff = &self.feedforward;
         let a = &shaped.acceleration;
+        if let Some(lean) = &mut self.imu_lean {
+            lean.follow(a.x, a.y);
+        }
         let [tilt_accel_x, tilt_accel_y] = shaped.tilt_accel_rad_per_s2;
         let tilt_shift_x = ff.frontal_tilt.shift(c.frontal[TILT], tilt_accel_x);
         let tilt_shift_y = ff.sagittal_tilt.shift(c.sagittal[TILT], tilt_accel_y);

@@ -59,6 +59,7 @@ pub(super) const CHECKED: &[&str] = &[
     "ballbot/balance.rs",
     "ballbot/balancing.rs",
     "ballbot/guard.rs",
+    "ballbot/imu_lean.rs",
     "command/pending.rs",
     "hal.rs",
     "linalg.rs",

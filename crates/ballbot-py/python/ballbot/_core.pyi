@@ -1724,6 +1724,7 @@ class WorldLoop:
         wheel_mapping: Optional[Literal["rolling_ball", "upright"]] = None,
         traction_control: bool = True,
         balance_point: bool = True,
+        imu_lean_time_constant_secs: Optional[float] = None,
     ) -> WorldLoop: ...
     @property
     def mode(self) -> Mode: ...

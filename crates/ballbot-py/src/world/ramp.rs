@@ -112,6 +112,7 @@ pub(crate) fn max_speed_ramp<'py>(
         // The paper's configuration, as the Rust ramp study (`studies::ramp`) pins it.
         traction_control: false,
         balance_point: false,
+        imu_lean_time_constant_secs: None,
     }
     .config(py, &params)?;
     let ramp = RampParams {

@@ -36,6 +36,9 @@ pub(crate) struct Shaping {
     /// Balance-point estimation on
     /// (`BallbotControllerConfig::with_balance_point_estimation`).
     pub(crate) balance_point: bool,
+    /// The IMU filter's time constant to correct the tilt for
+    /// (`BallbotControllerConfig::with_imu_lean_correction`); `None`: no correction.
+    pub(crate) imu_lean_time_constant_secs: Option<f64>,
 }
 
 impl Shaping {
@@ -102,6 +105,9 @@ impl Shaping {
         if self.balance_point {
             config = config.with_balance_point_estimation();
         }
+        if let Some(tau) = self.imu_lean_time_constant_secs {
+            config = config.with_imu_lean_correction(tau);
+        }
         Ok(config)
     }
 }
@@ -135,6 +141,9 @@ world_class! {
     /// `balance_point` (default `True`) is balance-point estimation
     /// (`BallbotControllerConfig::with_balance_point_estimation`). With both `False` the
     /// controller is the paper's configuration (`BallbotControllerConfig::paper`).
+    /// `imu_lean_time_constant_secs` corrects the measured tilt for an IMU attitude filter of
+    /// that time constant (`BallbotControllerConfig::with_imu_lean_correction`; for the world's
+    /// `SensorParams.preset("miapure")`, its `imu.filter_time_constant_secs`); default `None`.
     PyWorldLoop("WorldLoop") {
         inner: WorldRobot,
         world: |this| this.inner.world(),
@@ -146,7 +155,7 @@ world_class! {
             params = None, *, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
             max_jerk_m_per_s3 = None, max_tilt_command_rad = None,
             max_tilt_rate_command_rad_per_s = None, wheel_mapping = None,
-            traction_control = true, balance_point = true,
+            traction_control = true, balance_point = true, imu_lean_time_constant_secs = None,
         ))]
         #[allow(clippy::too_many_arguments)]
         fn py_new(
@@ -160,6 +169,7 @@ world_class! {
             wheel_mapping: Option<&str>,
             traction_control: bool,
             balance_point: bool,
+            imu_lean_time_constant_secs: Option<f64>,
         ) -> PyResult<Self> {
             let params = params_or_default(params);
             let wheel_mapping = wheel_mapping
@@ -182,6 +192,7 @@ world_class! {
                 wheel_mapping,
                 traction_control,
                 balance_point,
+                imu_lean_time_constant_secs,
             }
             .config(py, &params)?;
             let inner = WorldRobot::with_config(params, config).map_err(|e| world_error(py, e))?;
