@@ -117,6 +117,7 @@ __all__ = [
     "DriverParams",
     "Failure",
     "FailureParams",
+    "ImuParams",
     "Measurement",
     "RollerParams",
     "SensorParams",
