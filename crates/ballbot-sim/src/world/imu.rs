@@ -194,12 +194,15 @@ impl ImuParams {
         lean + 2.0 * ((-lean / 2.0).tan() * decay).atan()
     }
 
-    /// Checks every field for the world step `dt_secs`; the error names the field and bound.
+    /// Checks every field, and for the filter model that its sample period is a whole number
+    /// of world steps `dt_secs` (the `truth` model does not sample); the error names the field
+    /// and bound.
     pub fn validate(&self, dt_secs: f64) -> Result<(), WorldError> {
         let invalid = |field, requirement| Err(WorldError::InvalidParameter { field, requirement });
         positive(self.sample_rate_hz, "sensors.imu.sample_rate_hz")?;
         let steps = 1.0 / (self.sample_rate_hz * dt_secs);
-        if !((1.0 - 1e-9..1e6).contains(&steps) && (steps - steps.round()).abs() < 1e-6) {
+        let whole = (1.0 - 1e-9..1e6).contains(&steps) && (steps - steps.round()).abs() < 1e-6;
+        if self.model == ImuModel::AttitudeFilter && !whole {
             return invalid(
                 "sensors.imu.sample_rate_hz",
                 "its period must be a whole number (1 to 1e6) of world steps (dt_secs)",

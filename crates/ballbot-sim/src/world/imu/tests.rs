@@ -145,6 +145,13 @@ fn validation_names_the_field() {
         ..p
     };
     assert_eq!(field(odd_rate), "sensors.imu.sample_rate_hz");
+    // The truth model does not sample: any world step will do.
+    let truth = ImuParams {
+        sample_rate_hz: 700.0,
+        ..ImuParams::truth()
+    };
+    assert!(truth.validate(DT).is_ok());
+    assert!(ImuParams::truth().validate(1.0 / 7000.0).is_ok());
     let long_delay = ImuParams {
         output_delay_secs: 0.1,
         ..p
