@@ -89,6 +89,7 @@ mod imu_lean;
 mod mapping;
 mod motor;
 mod outer;
+mod outer_io;
 mod spin;
 #[cfg(test)]
 mod tests;
@@ -100,5 +101,6 @@ pub use guard::SpeedGuard;
 pub use imu_lean::{ImuLean, ImuLeanParams};
 pub use mapping::WheelMapping;
 pub use motor::{InnerOutput, MotorSpeedLoop, MotorSpeedPi};
-pub use outer::{BallbotController, MotorReferences, OuterInput, OuterOutput};
+pub use outer::BallbotController;
+pub use outer_io::{MotorReferences, OuterInput, OuterOutput};
 pub use spin::{SpinGains, SpinOuter, SpinOuterConfig, SpinOuterOutput};

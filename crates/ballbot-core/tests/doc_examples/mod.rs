@@ -102,6 +102,7 @@ pub(super) const CHECKED: &[&str] = &[
     "ballbot/mapping.rs",
     "ballbot/motor.rs",
     "ballbot/outer.rs",
+    "ballbot/outer_io.rs",
     "ballbot/spin.rs",
     "ballbot/trajectory_limits.rs",
 ];
