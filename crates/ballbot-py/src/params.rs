@@ -14,8 +14,8 @@ use ballbot_core::{
     ActuatorParams, BallbotParams, DrivetrainParams, PlanarRobotParams, SpinParams, WipParams,
 };
 use ballbot_sim::world::{
-    AxleLossParams, ContactParams, DriverParams, FailureParams, ImuParams, RollerParams,
-    RubberLayer, SensorParams, TransmissionParams, WorldParams,
+    AxleLossParams, ContactParams, DriverParams, FailureParams, FloorParams, ImuParams,
+    RollerParams, RubberLayer, SensorParams, TransmissionParams, WorldParams,
 };
 use numpy::PyArray1;
 use pyo3::prelude::*;

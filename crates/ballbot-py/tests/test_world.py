@@ -360,3 +360,23 @@ def test_correcting_the_imu_filters_lean_brings_the_robot_to_rest_after_a_stop()
     assert speed_after_stop(True) < 0.05
     with pytest.raises(ValueError, match="imu_lean.filter_time_constant_secs"):
         ballbot.WorldLoop(params, imu_lean_time_constant_secs=-1.0)
+
+
+def test_the_floor_is_the_coatings_compliant_contact_and_can_be_inclined() -> None:
+    floor = ballbot.WorldParams.preset("miapure_60kg").floor
+    assert floor == ballbot.FloorParams.preset("miapure")
+    assert floor == ballbot.WorldParams.preset("ideal_miapure_60kg").floor
+    assert floor.coating_shore_a_hardness == 60.0 and floor.slope_rad == 0.0
+    with pytest.raises(ValueError, match="floor.slope_rad"):
+        ballbot.FloorParams(slope_rad=0.7)
+    # At rest on the level floor the ball sits 1.20 mm deep in its coating, carrying the
+    # robot's weight; on a 0.05 rad incline the floor's force is still the weight, now with
+    # friction along the slope.
+    params = ballbot.WorldParams.preset("miapure_60kg")
+    world = ballbot.World(params)
+    run = world.run(800)
+    weight = (params.robot.sagittal.ball_mass_kg + params.robot.sagittal.body_mass_kg) * 9.81
+    assert run["floor_force_n"][-1] == pytest.approx(weight, rel=0.01)
+    inclined = params.replace(floor=floor.replace(slope_rad=0.05))
+    assert inclined.floor.slope_rad == 0.05
+    ballbot.World(inclined).run(80)

@@ -3,7 +3,6 @@
 // Tests may unwrap and panic: a failure is a test failure.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod balance;
 mod export;
 mod gym;
 mod log;
@@ -27,6 +26,7 @@ mod world_bump;
 mod world_contact;
 mod world_controllers_3d;
 mod world_driver;
+mod world_floor;
 mod world_load_transfer;
 mod world_max_speed;
 mod world_mechanisms;

@@ -120,8 +120,14 @@ fn runs_do_not_depend_on_the_thread_count_and_rerun_from_their_seed() {
     assert_eq!(replayed, one.all_runs[1]);
     assert!(steps > 8_000, "{steps}");
     assert!(study.passed(&replayed));
-    // A 40 N s push at the COM: every one of these robots stays up.
-    assert_eq!(one.stayed_up, 3, "{:?}", one.all_runs);
+    // A 40 N s push at the COM. On rapier's floor every one of these robots stayed up; on the
+    // coating's compliant floor (2026-12-02) run 2 (pushed towards 165 deg) lifts OW1 off the
+    // ball for 30 ms, past the lift-off rule's 20 ms, at a peak tilt of 0.8 deg.
+    assert_eq!(one.stayed_up, 2, "{:?}", one.all_runs);
+    assert_eq!(
+        one.all_runs.iter().filter(|r| r.stayed_up).count(),
+        one.stayed_up
+    );
 }
 
 #[test]

@@ -47,6 +47,7 @@ _DriverPreset = Literal["ideal", "odrive_v36_factory", "miapure"]
 _DriverModel = Literal["ideal", "odrive"]
 _DriverLimit = Literal["none", "current", "voltage", "velocity_limiter", "disarmed"]
 _TransmissionPreset = Literal["rigid", "miapure"]
+_FloorPreset = Literal["miapure"]
 _ImuModel = Literal["truth", "attitude_filter"]
 _ImuPreset = Literal["truth", "vn100"]
 _SensorPreset = Literal["default", "miapure"]
@@ -123,6 +124,7 @@ __all__ = [
     "SensorParams",
     "StepTelemetry",
     "TransmissionParams",
+    "FloorParams",
     "WheelTelemetry",
     "GymEnv",
     "GymVecEnv",
@@ -1330,6 +1332,46 @@ class DriverParams:
     def enable_overspeed_error(self) -> bool: ...
 
 @final
+class FloorParams:
+    """The floor and the ball coating's compliant contact on it: the coating's hardness,
+    thickness and loss factor, the kinetic friction ratio and the floor's inclination
+    (preset ``"miapure"``: level)."""
+
+    def __new__(
+        cls,
+        *,
+        coating_shore_a_hardness: float = ...,
+        coating_thickness_m: float = ...,
+        coating_loss_factor: float = ...,
+        kinetic_friction_ratio: float = ...,
+        slope_rad: float = ...,
+        slope_heading_deg: float = ...,
+    ) -> FloorParams: ...
+    @staticmethod
+    def preset(name: _FloorPreset) -> FloorParams: ...
+    @staticmethod
+    def presets() -> list[_FloorPreset]: ...
+    def replace(self, **kwargs: Any) -> FloorParams: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    @staticmethod
+    def from_dict(fields: dict[str, Any]) -> FloorParams: ...
+    def save(self, path: _Path) -> None: ...
+    @staticmethod
+    def load(path: _Path) -> FloorParams: ...
+    @property
+    def coating_shore_a_hardness(self) -> float: ...
+    @property
+    def coating_thickness_m(self) -> float: ...
+    @property
+    def coating_loss_factor(self) -> float: ...
+    @property
+    def kinetic_friction_ratio(self) -> float: ...
+    @property
+    def slope_rad(self) -> float: ...
+    @property
+    def slope_heading_deg(self) -> float: ...
+
+@final
 class TransmissionParams:
     """The drivetrain between each motor and its omniwheel, at the gearbox output: gearbox
     stiction and Coulomb friction, an elastomeric coupling and backlash
@@ -1395,6 +1437,7 @@ class WorldParams:
         failure: Union[FailureParams, dict[str, Any]] = ...,
         driver: Union[DriverParams, dict[str, Any]] = ...,
         transmission: Union[TransmissionParams, dict[str, Any]] = ...,
+        floor: Union[FloorParams, dict[str, Any]] = ...,
     ) -> WorldParams: ...
     @staticmethod
     def preset(name: _WorldPreset) -> WorldParams: ...
@@ -1434,8 +1477,9 @@ class WorldParams:
     def dt_secs(self) -> float: ...
     @property
     def rigid_step_ratio(self) -> int:
-        """World steps per rapier step: the rigid bodies and the floor step at
-        ``rigid_step_ratio * dt_secs``, contacts, wheels, drivers and sensors at ``dt_secs``
+        """World steps per rapier step: the rigid bodies' orientations step at
+        ``rigid_step_ratio * dt_secs``; the wheel and floor contacts, wheels, drivers and
+        sensors at ``dt_secs``
         (10 in the default world, 1 in the ideal one; docs/world.md, "Multi-rate world")."""
     def max_rigid_step_ratio(self) -> int:
         """The largest ``rigid_step_ratio`` these parameters allow (the rigid step's phase on
@@ -1448,6 +1492,8 @@ class WorldParams:
     def driver(self) -> DriverParams: ...
     @property
     def transmission(self) -> TransmissionParams: ...
+    @property
+    def floor(self) -> FloorParams: ...
 
 @final
 class WheelTelemetry:

@@ -111,6 +111,13 @@ impl CoreParams for TransmissionParams {
     }
 }
 
+impl CoreParams for FloorParams {
+    const NAME: &'static str = "FloorParams";
+    fn check(&self, py: Python<'_>) -> PyResult<()> {
+        check_world_part(py, |w| w.floor = *self)
+    }
+}
+
 impl CoreParams for WorldParams {
     const NAME: &'static str = "WorldParams";
     fn check(&self, py: Python<'_>) -> PyResult<()> {
@@ -273,6 +280,25 @@ py_params! {
 }
 
 py_params! {
+    /// The floor and the ball coating's compliant contact on it
+    /// (`ballbot_sim::world::FloorParams`): the coating's hardness, thickness and loss factor
+    /// (Hertz's plus the thin bonded layer's law, hysteretic damping, friction in a cone), the
+    /// kinetic friction ratio, and the floor's inclination. Preset `"miapure"` (level) in both
+    /// worlds. Errors name the field (`floor.slope_rad`).
+    PyFloorParams(FloorParams, "FloorParams", default = FloorParams::miapure) {
+        floats {
+            coating_shore_a_hardness, coating_thickness_m, coating_loss_factor,
+            kinetic_friction_ratio, slope_rad, slope_heading_deg,
+        }
+        arrays {}
+        nested {}
+    }
+    presets {
+        "miapure" => FloorParams::miapure,
+    }
+}
+
+py_params! {
     /// Everything the 3D world needs (`ballbot_sim::world::WorldParams`): the robot
     /// (`BallbotParams`) plus the contact, wheel and rotor inertia, floor friction, chassis,
     /// physics step, sensors, failure limits, the motor driver and the drivetrain. Errors name
@@ -292,6 +318,7 @@ py_params! {
             failure: PyFailureParams,
             driver: PyDriverParams,
             transmission: PyTransmissionParams,
+            floor: PyFloorParams,
         }
     }
     presets {
@@ -342,6 +369,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyFailureParams>()?;
     m.add_class::<PyDriverParams>()?;
     m.add_class::<PyTransmissionParams>()?;
+    m.add_class::<PyFloorParams>()?;
     m.add_class::<PyWorldParams>()?;
     Ok(())
 }

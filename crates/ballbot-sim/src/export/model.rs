@@ -215,7 +215,7 @@ pub struct RobotModel {
     /// ball, as in the default world (1.4 mm).
     pub roller_contact_timeconst_secs: f64,
     /// Time constant of the ball-floor contact (s): two time steps, MuJoCo's stiffest stable
-    /// setting (the ball settles 1.3 mm into the floor; 1.5 mm in the world's rapier floor).
+    /// setting (the ball settles 1.3 mm into the floor; 1.20 mm into the world's coating).
     pub floor_contact_timeconst_secs: f64,
 }
 

@@ -53,7 +53,7 @@ pub fn summary_json(study: &BumpStudy, records: &[JobRecord<BumpTrial>]) -> Valu
     json!({
         "protocol": study.settings,
         "stop_rules": crate::world::StopRules::contact_rules_off().to_string(),
-        "floor_contact": "rigid (rapier's soft constraint), the default world",
+        "floor_contact": "the ball coating's compliant contact (world::floor), the default world",
         "cells": cells,
     })
 }

@@ -13,9 +13,8 @@
 //! A job bisects the height ([`crate::studies::driver::bisect`]).
 //!
 //! The study is a [`Study`]: [`BumpSettings`] is the type, [`execute`](super::driver::execute)
-//! runs it, `report::bump` renders it. What the bar's contact is: the world's rigid floor
-//! contact (rapier's soft constraint), not a compliant coating; that is issue 28's subject,
-//! and this study is the number it should move.
+//! runs it, `report::bump` renders it. The bar's contact is the floor's: the ball coating's
+//! compliant law on the bar's arc ([`crate::world::floor`]).
 
 use super::driver::{Bisection, Study};
 use crate::rig::{Happened, Outcome, OutcomeTracker, WorldRobot};

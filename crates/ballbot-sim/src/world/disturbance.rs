@@ -1,18 +1,18 @@
 //! Disturbances of a running world that its parameters do not describe: a payload that shifts
-//! on the body, and a bump on the floor (the fault-injection matrix,
-//! `crate::studies::robustness`, uses both).
+//! on the body, and a bump or a step on the floor (the fault-injection matrix,
+//! `crate::studies::robustness`, uses the first two; the floor's model:
+//! [`crate::world::floor`]).
 
 use super::WorldError;
 use super::check::positive;
 use super::sim::BallbotWorld;
 use nalgebra::Vector3;
 use rapier3d_f64::glamx::DVec3;
-use rapier3d_f64::prelude::{ColliderBuilder, MassProperties};
+use rapier3d_f64::prelude::MassProperties;
 
 /// A rigid bump across the robot's path with a circular-arc profile of chord `width_m` and
-/// rise `height_m`: a rounded door threshold or a cable protector. The ball rolls over it; the
-/// wheels above may lose contact. (A sharp-edged bar would be a worse model: the rigid ball
-/// would roll over a knife edge that a rubber-coated ball wraps around.)
+/// rise `height_m`: a rounded door threshold or a cable protector. The ball's coating rolls
+/// over it ([`crate::world::floor`]); the wheels above may lose contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FloorBump {
     /// Where the bar's centre line crosses the path, on the floor (m).
@@ -39,22 +39,65 @@ impl FloorBump {
     /// assert!(err.to_string().contains("height_m"));
     /// ```
     pub fn validate(&self) -> Result<(), WorldError> {
-        let finite = |v: f64, field| {
-            if v.is_finite() {
-                Ok(())
-            } else {
-                Err(WorldError::InvalidParameter {
-                    field,
-                    requirement: "must be finite",
-                })
-            }
-        };
         finite(self.centre_m[0], "centre_m")?;
         finite(self.centre_m[1], "centre_m")?;
         finite(self.heading_deg, "heading_deg")?;
         positive(self.height_m, "height_m")?;
         positive(self.width_m, "width_m")?;
         positive(self.length_m, "length_m")
+    }
+}
+
+/// A step up across the robot's path: from the edge line on, the floor is `height_m` higher,
+/// and the edge is rounded with `edge_radius_m`. Driven the other way, from a plateau the
+/// robot starts on ([`BallbotWorld::translate_robot`] lifts it there), it is a step down.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FloorStep {
+    /// A point of the edge line on the floor (m).
+    pub edge_m: [f64; 2],
+    /// The climbing direction (deg from world x); the edge lies across it, infinitely long.
+    pub heading_deg: f64,
+    /// The plateau's height above the floor (m), > 0.
+    pub height_m: f64,
+    /// The edge's radius (m), in (0, `height_m`].
+    pub edge_radius_m: f64,
+}
+
+impl FloorStep {
+    /// Checks every field (finite; height > 0; edge radius in (0, height]).
+    ///
+    /// ```
+    /// use ballbot_sim::world::FloorStep;
+    /// let step = FloorStep { edge_m: [0.5, 0.0], heading_deg: 0.0, height_m: 0.01,
+    ///                        edge_radius_m: 0.002 };
+    /// assert!(step.validate().is_ok());
+    /// let err = FloorStep { edge_radius_m: 0.02, ..step }.validate().unwrap_err();
+    /// assert!(err.to_string().contains("edge_radius_m"));
+    /// ```
+    pub fn validate(&self) -> Result<(), WorldError> {
+        finite(self.edge_m[0], "edge_m")?;
+        finite(self.edge_m[1], "edge_m")?;
+        finite(self.heading_deg, "heading_deg")?;
+        positive(self.height_m, "height_m")?;
+        positive(self.edge_radius_m, "edge_radius_m")?;
+        if self.edge_radius_m > self.height_m {
+            return Err(WorldError::InvalidParameter {
+                field: "edge_radius_m",
+                requirement: "must be <= height_m",
+            });
+        }
+        Ok(())
+    }
+}
+
+fn finite(v: f64, field: &'static str) -> Result<(), WorldError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(WorldError::InvalidParameter {
+            field,
+            requirement: "must be finite",
+        })
     }
 }
 
@@ -112,7 +155,7 @@ impl BallbotWorld {
         Vector3::new(c.x, c.y, c.z)
     }
 
-    /// Puts `bump` on the floor, with the floor's friction.
+    /// Puts `bump` on the floor, with the floor's friction and coating law.
     ///
     /// Errors (the world unchanged): [`FloorBump::validate`].
     ///
@@ -128,19 +171,32 @@ impl BallbotWorld {
     /// ```
     pub fn add_floor_bump(&mut self, bump: FloorBump) -> Result<(), WorldError> {
         bump.validate()?;
-        let heading = bump.heading_deg.to_radians();
-        let friction = self.params().robot.drivetrain.ball_floor_friction;
-        // The arc's circle: radius rho = (w^2 / 4 + h^2) / (2 h), its centre h - rho above
-        // the floor (below it for a flat bump), a capsule lying across the path.
-        let (w, h) = (bump.width_m, bump.height_m);
-        let rho = (0.25 * w * w + h * h) / (2.0 * h);
-        let collider = ColliderBuilder::capsule_y(0.5 * bump.length_m, rho)
-            .translation(DVec3::new(bump.centre_m[0], bump.centre_m[1], h - rho))
-            .rotation(DVec3::new(0.0, 0.0, heading))
-            .friction(friction)
-            .restitution(0.0);
-        let handle = self.physics.colliders.insert(collider);
-        self.obstacles.push(handle);
+        self.floor.add_bump(&bump);
         Ok(())
+    }
+
+    /// Puts `step` on the floor.
+    ///
+    /// Errors (the world unchanged): [`FloorStep::validate`].
+    ///
+    /// ```
+    /// use ballbot_sim::world::{BallbotWorld, FloorStep, WorldParams};
+    /// let mut world = BallbotWorld::new(WorldParams::miapure_60kg())?;
+    /// let step = FloorStep { edge_m: [0.5, 0.0], heading_deg: 0.0, height_m: 0.01,
+    ///                        edge_radius_m: 0.003 };
+    /// world.add_floor_step(step)?;
+    /// assert!((world.floor_height_m(0.6, 0.0) - 0.01).abs() < 1e-12);
+    /// assert!(world.add_floor_step(FloorStep { height_m: f64::NAN, ..step }).is_err());
+    /// # Ok::<(), ballbot_sim::world::WorldError>(())
+    /// ```
+    pub fn add_floor_step(&mut self, step: FloorStep) -> Result<(), WorldError> {
+        step.validate()?;
+        self.floor.add_step(&step);
+        Ok(())
+    }
+
+    /// The floor's height at `(x_m, y_m)` (m): the plane, bumps and steps.
+    pub fn floor_height_m(&self, x_m: f64, y_m: f64) -> f64 {
+        self.floor.height_m(x_m, y_m)
     }
 }

@@ -6,13 +6,16 @@
 //! [`crate::report`] or the command line (the experiments run in it live in
 //! [`crate::studies`]).
 //!
-//! * [`sim`]: the world ([`BallbotWorld`]): rapier3d integrates ball and body; ball-floor
-//!   contact and friction are rapier's, plus rolling resistance and a torsional spin friction.
+//! * [`sim`]: the world ([`BallbotWorld`]): rapier3d integrates ball and body.
+//! * [`floor`]: the floor as a height map (a plane, its slope, bumps and steps) and the ball
+//!   coating's compliant contact on it, with friction in a cone, rolling resistance and a
+//!   torsional spin friction.
 //! * [`contact`]: the omniwheel contact law and its step-size needs; [`rollers`] (roller
 //!   gaps), [`axle_loss`] (roller losses along the axle) and [`rubber`] (stiffness and damping
 //!   of the ball's coating) are its realistic mechanisms (on in the default world,
 //!   [`WorldParams::realistic`]; off in [`WorldParams::ideal`]).
-//! * [`disturbance`]: a payload that shifts, a bump on the floor ([`FloorBump`]).
+//! * [`disturbance`]: a payload that shifts, a bump or a step on the floor ([`FloorBump`],
+//!   [`FloorStep`]).
 //! * [`driver`]: the motor driver between torque command and motor (ideal line or ODrive);
 //!   [`transmission`]: the drivetrain between motor and wheel (gearbox stiction, elastomeric
 //!   coupling, backlash; rigid in [`WorldParams::ideal`]).
@@ -33,6 +36,7 @@ pub mod contact;
 pub mod disturbance;
 pub mod driver;
 pub mod failure;
+pub mod floor;
 pub mod imu;
 pub mod params;
 mod rigid;
@@ -44,9 +48,10 @@ pub mod telemetry;
 pub mod transmission;
 
 pub use axle_loss::AxleLossParams;
-pub use disturbance::FloorBump;
+pub use disturbance::{FloorBump, FloorStep};
 pub use driver::{DriverLimit, DriverModel, DriverParams};
 pub use failure::{Failure, FailureKind, StopRules, wheel_name};
+pub use floor::FloorParams;
 pub use imu::{ImuModel, ImuParams};
 pub use params::{
     ContactParams, DEFAULT_RIGID_STEP_RATIO, FailureParams, MAX_BALL_CONTACT_PHASE_RAD,

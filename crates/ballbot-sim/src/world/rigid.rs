@@ -9,25 +9,21 @@
 //! Euler, the same integrator as rapier's):
 //!
 //! * ball: `m_B v_dot = sum F_i + m_B g + F_floor`, `I_B w_dot = sum (p_i - c) x F_i + T_floor`
-//!   plus its rolling and spin friction;
+//!   plus its rolling and spin friction, with the floor's compliant contact
+//!   ([`crate::world::floor`]) evaluated at that step too;
 //! * body: `m_U v_dot = -sum F_i + m_U g`, `I_U w_dot = -sum (p_i - c_U) x F_i - sum a_i tau_i`
 //!   (`I_U` in world axes at the last rapier step);
 //! * the wheel centres move with the body's predicted velocity field; the body's orientation and
 //!   its wheel axles stay at the last rapier step's (over 1 ms the body turns by about 1 mrad at
 //!   1 rad/s).
 //!
-//! The floor's force and torque on the ball (`F_floor`, `T_floor`, obstacles included) are held
-//! at their averages over the previous rapier step, measured as the part of that step's velocity
-//! change that the applied forces and gravity do not explain.
-//!
 //! At the end of the interval rapier steps the two bodies by `ratio dt` with the average of the
-//! predicted forces and torques, so the new velocities carry rapier's floor contact and friction.
-//! Positions keep the finely integrated path: the new ball centre and body centre of mass are the
-//! predicted ones plus `ratio dt` times the velocity correction that rapier's floor contact made
-//! (`v_rapier - v_predicted`), i.e. exactly rapier's update when the prediction is exact. So the
-//! stiff modes (the ball against the body on the three contacts, the ball's surface against the
-//! wheel rims) are integrated at `dt`; only the floor contact, the floor load the rolling and spin
-//! friction read, and the bodies' orientations step at `ratio dt`.
+//! predicted forces and torques. Rapier has no contact of its own, so for the linear velocities
+//! its step and the prediction agree up to rounding. Positions keep the finely integrated path:
+//! the new ball centre and body centre of mass are the predicted ones plus `ratio dt` times
+//! `v_rapier - v_predicted`. So everything that is stiff (the ball against the body on the
+//! three contacts, the ball's surface against the wheel rims, the ball on the floor) is
+//! integrated at `dt`; only the bodies' orientations step at `ratio dt`.
 //!
 //! Momentum: the contact forces act on ball and body in equal and opposite pairs every world
 //! step, and rapier applies their sums, so the total linear momentum changes only by gravity and
@@ -108,7 +104,6 @@ impl RigidState {
 struct InverseMass {
     /// Whether rapier moves the body (a test rig can clamp it).
     dynamic: bool,
-    mass: f64,
     inv_mass: f64,
     /// Principal axes in the world frame.
     frame: DQuat,
@@ -124,7 +119,6 @@ impl InverseMass {
         let principal = local.principal_inertia();
         Self {
             dynamic: rb.is_dynamic(),
-            mass: rb.mass(),
             inv_mass: inv(rb.mass()),
             frame: rb.position().rotation * local.principal_inertia_local_frame,
             inv_principal: DVec3::new(inv(principal.x), inv(principal.y), inv(principal.z)),
@@ -136,8 +130,8 @@ impl InverseMass {
     }
 }
 
-/// One rigid step's bookkeeping: the state at its start, the predicted state now, the sums of
-/// the wrenches applied so far and the floor's estimated wrench on the ball.
+/// One rigid step's bookkeeping: the state at its start, the predicted state now and the sums
+/// of the wrenches applied so far.
 pub(super) struct RigidStepper {
     ratio: u32,
     substeps: u32,
@@ -145,7 +139,6 @@ pub(super) struct RigidStepper {
     now: RigidState,
     ball_sum: Wrench,
     body_sum: Wrench,
-    floor: Wrench,
     /// The body's rotation over the interval so far, `sum w_k dt` (rad, world axes).
     body_turn: DVec3,
     ball_mass: InverseMass,
@@ -169,7 +162,6 @@ impl RigidStepper {
             now: state,
             ball_sum: Wrench::ZERO,
             body_sum: Wrench::ZERO,
-            floor: Wrench::ZERO,
             body_turn: DVec3::ZERO,
             ball_mass: InverseMass::read(physics, ball),
             body_mass: InverseMass::read(physics, body),
@@ -215,20 +207,6 @@ impl RigidStepper {
         }
     }
 
-    /// Forgets the floor estimate (after a change that makes it stale, such as moving the robot).
-    pub(super) fn forget_floor(&mut self) {
-        self.floor = Wrench::ZERO;
-    }
-
-    /// Sets the floor estimate to a static floor carrying `weight_n` (N) upwards, e.g. the whole
-    /// robot at rest before the first rapier step.
-    pub(super) fn set_static_floor(&mut self, weight_n: f64) {
-        self.floor = Wrench {
-            force: DVec3::new(0.0, 0.0, weight_n),
-            torque: DVec3::ZERO,
-        };
-    }
-
     /// Adds one world step's wrenches on ball and body (torques about their current centres)
     /// and, between rapier steps, advances the predicted state by `dt_secs`. Returns whether
     /// the interval is complete (rapier steps now).
@@ -249,8 +227,8 @@ impl RigidStepper {
         let b = &self.ball_mass;
         let u = &self.body_mass;
         if b.dynamic {
-            s.ball_velocity += (self.gravity + (ball.force + self.floor.force) * b.inv_mass) * dt;
-            s.ball_angvel += b.inv_inertia_times(ball.torque + self.floor.torque) * dt;
+            s.ball_velocity += (self.gravity + ball.force * b.inv_mass) * dt;
+            s.ball_angvel += b.inv_inertia_times(ball.torque) * dt;
         }
         if u.dynamic {
             s.body_velocity += (self.gravity + body.force * u.inv_mass) * dt;
@@ -277,9 +255,8 @@ impl RigidStepper {
     }
 
     /// After rapier stepped the interval (`interval_secs`, with [`Self::averages`] applied):
-    /// moves ball and body to the finely integrated positions corrected by the floor's velocity
-    /// change, updates the floor estimate and starts the next interval. At `ratio = 1` this
-    /// only reads the state.
+    /// moves ball and body to the finely integrated positions and starts the next interval. At
+    /// `ratio = 1` this only reads the state.
     pub(super) fn finish(
         &mut self,
         physics: &mut PhysicsWorld,
@@ -289,24 +266,13 @@ impl RigidStepper {
     ) {
         let (ball, body) = handles;
         if self.ratio > 1 {
-            let (ball_avg, _) = self.averages();
             let (p, s0) = (&self.now, &self.start);
-            // Rapier moved each body by `interval * v_end` (plus its floor contact's position
-            // correction); the fine path differs from that by what the velocities did within
-            // the interval, which is added back.
+            // Rapier moved each body by `interval * v_end`; the fine path differs from that by
+            // what the velocities did within the interval, which is added back.
             if self.ball_mass.dynamic {
                 let rb = &mut physics.bodies[ball];
                 let fine = p.ball_centre - (s0.ball_centre + p.ball_velocity * interval_secs);
                 rb.set_translation(rb.translation() + fine, false);
-                // The floor's wrench: what the velocity change does not owe to the applied
-                // forces and gravity (obstacles included).
-                let m = self.ball_mass.mass;
-                let force = (rb.linvel() - s0.ball_velocity) * (m / interval_secs)
-                    - ball_avg.force
-                    - self.gravity * m;
-                let dw = rb.angvel() - s0.ball_angvel;
-                let torque = inertia_times(&self.ball_mass, dw / interval_secs) - ball_avg.torque;
-                self.floor = Wrench { force, torque };
             }
             if self.body_mass.dynamic {
                 let rb = &mut physics.bodies[body];
@@ -322,15 +288,4 @@ impl RigidStepper {
         let state = RigidState::read(physics, ball, body, wheels_local.0, wheels_local.1);
         self.restart(physics, ball, body, state);
     }
-}
-
-/// `I w` for a body's world inertia (the inverse of [`InverseMass::inv_inertia_times`]).
-fn inertia_times(m: &InverseMass, w: DVec3) -> DVec3 {
-    let inv = m.inv_principal;
-    let principal = DVec3::new(
-        if inv.x > 0.0 { 1.0 / inv.x } else { 0.0 },
-        if inv.y > 0.0 { 1.0 / inv.y } else { 0.0 },
-        if inv.z > 0.0 { 1.0 / inv.z } else { 0.0 },
-    );
-    m.frame * (principal * (m.frame.inverse() * w))
 }

@@ -33,6 +33,19 @@
 //!    3.4 kg) on the three contacts' vertical stiffness `3 k cos^2 alpha`: `omega` = 383 rad/s
 //!    (61 Hz), `c` = 88 N s/m, damping ratio `eta / 2` = 0.05.
 //!
+//! 6. **The whole range** ([`CoatingLaw`], the ball on the floor): the thin-layer law holds
+//!    once the patch is several layer thicknesses wide, Hertz's half-space law
+//!    `F = (4/3) E* sqrt(R_e) delta^1.5` (`E* = 4 G` for the incompressible rubber on a rigid
+//!    body; Johnson, section 4.2) while it is much narrower. Their sum keeps each limit and
+//!    is our interpolation between them. On the floor (`R_e` = the ball's 114.5 mm) the
+//!    loaded robot's 764 N compresses the layer by 1.20 mm (19 % of its thickness), with a
+//!    patch `2 a = 4 sqrt(R_e delta)` = 47 mm wide, 7.4 layer thicknesses; the Hertz term
+//!    carries 12 % of it. The linear theory under-predicts the stiffness of rubber compressed
+//!    beyond about 30 % (1.9 mm here): there the law is soft.
+//!    The patch's shear stiffness is the same kind of sum: the thin layer's `G pi a^2 / t`
+//!    plus Mindlin's `8 G a / (2 - nu)`.
+//!    Damping from the loss factor as in 5 ([`crate::world::floor`]).
+//!
 //! The linear spring keeps the static force but not the static deflection (1.0 mm instead of
 //! 3.1 mm): lift-off comes earlier than with the cubic law. At 8 kHz the mode's `omega dt` is
 //! 0.05, well inside the explicit step's bound.
@@ -99,6 +112,108 @@ impl RubberLayer {
     /// (N s/m).
     pub fn damping_n_s_per_m(&self, stiffness_n_per_m: f64, omega_rad_per_s: f64) -> f64 {
         self.loss_factor * stiffness_n_per_m / omega_rad_per_s
+    }
+}
+
+/// The coating's force-deflection law against a rigid body, over the whole range from first
+/// touch to a patch many layer thicknesses wide (module documentation, items 3 and 6):
+/// `F(delta) = K_H delta^1.5 + K_T delta^3`, the sum of Hertz's half-space law (exact while the
+/// patch is much narrower than the layer) and the thin bonded layer's (exact once it is much
+/// wider). Between the two limits the sum is an interpolation, an assumption of ours: it is at
+/// most twice either limit where they cross. Used for the ball on the floor
+/// ([`crate::world::floor`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoatingLaw {
+    /// `K_H = (4/3) E* sqrt(R_e)` with `E* = 4 G` for the incompressible layer on a rigid
+    /// body (N / m^1.5).
+    pub hertz_n_per_m1_5: f64,
+    /// `K_T = 2 pi G R_e^2 / t^3` (N / m^3).
+    pub thin_layer_n_per_m3: f64,
+    /// The patch's shear stiffness is the same kind of sum; its thin-layer term per metre of
+    /// deflection, `4 pi G R_e / t` (the layer's `G pi a^2 / t` with `a^2 = 4 R_e delta`)
+    /// (N/m^2).
+    pub shear_thin_n_per_m2: f64,
+    /// Its Hertz-range term per square root of deflection: Mindlin's `8 G a / (2 - nu)` with
+    /// `nu = 1/2` and Hertz's `a = sqrt(R_e delta)`, `(16/3) G sqrt(R_e)` (N / m^1.5).
+    pub shear_hertz_n_per_m1_5: f64,
+}
+
+/// One evaluation of [`CoatingLaw`] at a deflection.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CoatingForce {
+    /// The elastic force `F(delta)` (N), >= 0.
+    pub force_n: f64,
+    /// Its tangent `dF/d delta` (N/m).
+    pub stiffness_n_per_m: f64,
+    /// The patch's tangential (shear) stiffness (N/m).
+    pub shear_stiffness_n_per_m: f64,
+}
+
+impl CoatingLaw {
+    /// The law of `layer` pressed by a rigid body; `equivalent_radius_m` is `R_e` of the two
+    /// surfaces (the ball's radius on a flat floor).
+    ///
+    /// ```
+    /// use ballbot_sim::world::rubber::{CoatingLaw, RubberLayer};
+    /// let law = CoatingLaw::new(&RubberLayer::miapure(), 0.1145);
+    /// // The loaded robot (77.9 kg) on the floor: 1.20 mm.
+    /// let d = law.deflection_m(77.9 * 9.81);
+    /// assert!((d - 1.20e-3).abs() < 0.01e-3, "{d}");
+    /// assert!((law.evaluate(d).force_n - 77.9 * 9.81).abs() < 1e-6);
+    /// ```
+    pub fn new(layer: &RubberLayer, equivalent_radius_m: f64) -> Self {
+        let g = layer.youngs_modulus_pa() / 3.0;
+        let r_e = equivalent_radius_m;
+        let t = layer.thickness_m;
+        Self {
+            hertz_n_per_m1_5: 16.0 / 3.0 * g * r_e.sqrt(),
+            thin_layer_n_per_m3: std::f64::consts::TAU * g * r_e * r_e / (t * t * t),
+            shear_thin_n_per_m2: 2.0 * std::f64::consts::TAU * g * r_e / t,
+            shear_hertz_n_per_m1_5: 16.0 / 3.0 * g * r_e.sqrt(),
+        }
+    }
+
+    /// Force, stiffness and shear stiffness at `deflection_m` (all 0 for `deflection_m <= 0`).
+    #[inline]
+    pub fn evaluate(&self, deflection_m: f64) -> CoatingForce {
+        if deflection_m.is_nan() || deflection_m <= 0.0 {
+            return CoatingForce::default();
+        }
+        let d = deflection_m;
+        let sqrt_d = d.sqrt();
+        let d2 = d * d;
+        CoatingForce {
+            force_n: self.hertz_n_per_m1_5 * d * sqrt_d + self.thin_layer_n_per_m3 * d2 * d,
+            stiffness_n_per_m: 1.5 * self.hertz_n_per_m1_5 * sqrt_d
+                + 3.0 * self.thin_layer_n_per_m3 * d2,
+            shear_stiffness_n_per_m: self.shear_thin_n_per_m2 * d
+                + self.shear_hertz_n_per_m1_5 * sqrt_d,
+        }
+    }
+
+    /// The elastic energy stored at `deflection_m`, `K_H delta^2.5 / 2.5 + K_T delta^4 / 4`
+    /// (J).
+    pub fn energy_j(&self, deflection_m: f64) -> f64 {
+        let d = deflection_m.max(0.0);
+        self.hertz_n_per_m1_5 * d * d * d.sqrt() / 2.5 + self.thin_layer_n_per_m3 * d.powi(4) / 4.0
+    }
+
+    /// The deflection that carries `load_n` (m): Newton's method on the monotone law from the
+    /// thin layer's value (0 for `load_n <= 0`).
+    pub fn deflection_m(&self, load_n: f64) -> f64 {
+        if load_n.is_nan() || load_n <= 0.0 {
+            return 0.0;
+        }
+        let mut d = (load_n / self.thin_layer_n_per_m3).cbrt();
+        for _ in 0..50 {
+            let f = self.evaluate(d);
+            let step = (f.force_n - load_n) / f.stiffness_n_per_m;
+            d = (d - step).max(0.5 * d);
+            if step.abs() < 1e-15 {
+                break;
+            }
+        }
+        d
     }
 }
 

@@ -5,6 +5,7 @@ use super::check::non_negative;
 use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
 use super::driver::{DriverFault, MotorDriver};
 use super::failure::{Failure, FailureMonitor, StopRules};
+use super::floor::{BallState, Floor};
 use super::imu::ImuTruth;
 use super::params::WorldParams;
 use super::rigid::{RigidState, RigidStepper, Wrench};
@@ -15,21 +16,15 @@ use super::transmission::{Drivetrain, DrivetrainLoads, DrivetrainState};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use rapier3d_f64::glamx::{DQuat, DVec3};
 use rapier3d_f64::prelude::{
-    ColliderBuilder, ColliderHandle, MassProperties, PhysicsWorld, RigidBodyBuilder,
-    RigidBodyHandle, RigidBodyType,
+    ColliderBuilder, MassProperties, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
 };
 
 mod energy;
 
-/// Solver iterations (substeps) of rapier's step. The only rapier contact is the ball on the
-/// floor; at the 8 kHz step one substep gives the same trajectories as rapier's default four
-/// (8 s of driving under the core controller: ball positions within 0.2 mm, tilts within
-/// 1e-4 rad) and the same static floor load, for about 60 % of the instructions per world
-/// step.
-/// The floor is rapier's soft contact (60 Hz, damping ratio 10 against the ball's mass): the
-/// ball settles about 1.5 mm into it, with a time constant of about 0.1 s at one substep and
-/// 0.3 s at four. CCD is off: in one 125 us step the ball would need 160 m/s to travel
-/// rapier's 2 cm contact prediction distance.
+/// Solver iterations (substeps) of rapier's step. Rapier has no contact to solve: the floor is
+/// the world's own compliant contact ([`crate::world::floor`]), evaluated every world step
+/// like the omniwheels'; rapier integrates the two bodies under the forces applied to them.
+/// One substep does that, and CCD is off.
 pub const RAPIER_SOLVER_ITERATIONS: usize = 1;
 
 /// Body-fixed geometry of one omniwheel.
@@ -50,10 +45,10 @@ struct WheelState {
 }
 
 /// The simulated ballbot: rapier3d integrates ball and body; the omniwheel contacts, the
-/// wheel spin states and the ball's rolling and spin friction on the floor are computed here
-/// (see [`crate::world::contact`]).
+/// wheel spin states, the ball's compliant contact on the floor and its rolling and spin
+/// friction are computed here (see [`crate::world::contact`], [`crate::world::floor`]).
 ///
-/// Frames: world z up, floor at z = 0. The body frame's origin is the nominal ball centre
+/// Frames: world z up, a level floor at z = 0 (an inclined one through the origin). The body frame's origin is the nominal ball centre
 /// (where the ball centre sits when all three contacts touch with zero penetration), x towards
 /// OW1; the body's centre of mass is at `(0, 0, l)` in it.
 ///
@@ -61,8 +56,8 @@ struct WheelState {
 /// use ballbot_core::BallbotParams;
 /// use ballbot_sim::world::{BallbotWorld, WorldParams};
 /// let mut world = BallbotWorld::new(WorldParams::ideal(BallbotParams::miapure_60kg()))?;
-/// // Motors off for 1 s: the ball has settled into the floor, the perfectly upright body has
-/// // not started to fall, and each omniwheel carries m_U g / (3 cos alpha) = 343.6 N.
+/// // Motors off for 1 s: the perfectly upright body has not started to fall, and each
+/// // omniwheel carries m_U g / (3 cos alpha) = 343.6 N.
 /// for _ in 0..8000 {
 ///     world.step([0.0; 3]);
 /// }
@@ -83,10 +78,8 @@ pub struct BallbotWorld {
     pub(super) physics: PhysicsWorld,
     ball: RigidBodyHandle,
     pub(super) body: RigidBodyHandle,
-    ball_collider: ColliderHandle,
-    floor_collider: ColliderHandle,
-    /// Floor obstacles added after construction ([`BallbotWorld::add_floor_bump`]).
-    pub(super) obstacles: Vec<ColliderHandle>,
+    /// The floor and the ball's contact on it ([`crate::world::floor`]).
+    pub(super) floor: Floor,
     law: ContactLaw,
     rollers: RollerProfile,
     geometry: [WheelGeometry; 3],
@@ -127,37 +120,34 @@ impl BallbotWorld {
         let mut physics = PhysicsWorld::new();
         physics.gravity = DVec3::new(0.0, 0.0, -g);
         physics.integration_parameters.dt = params.rigid_step_secs();
-        // One contact (ball on floor) needs one solver substep at 8 kHz, and nothing moves far
-        // enough in 125 us to tunnel: see RAPIER_SOLVER_ITERATIONS.
+        // No contact for rapier to solve: see RAPIER_SOLVER_ITERATIONS.
         physics.integration_parameters.num_solver_iterations = RAPIER_SOLVER_ITERATIONS;
         physics.integration_parameters.max_ccd_substeps = 0;
 
-        let floor = physics.insert_body(RigidBodyBuilder::fixed());
-        let floor_collider = physics.colliders.insert_with_parent(
-            ColliderBuilder::cuboid(1.0e3, 1.0e3, 0.5)
-                .translation(DVec3::new(0.0, 0.0, -0.5))
-                .friction(dt.ball_floor_friction)
-                .restitution(0.0),
-            floor,
-            &mut physics.bodies,
-        );
+        let m_u = robot.sagittal.body_mass_kg;
+        let m_b = robot.sagittal.ball_mass_kg;
+        // The ball starts pressed into the floor by the robot's weight, along the plane's
+        // normal.
+        let load_n = (m_b + m_u) * g * params.floor.plane_normal().z;
+        let floor = Floor::new(&params.floor, r, m_b, load_n, dt.ball_floor_friction);
+        let floor_sink = floor.static_deflection_m(load_n);
+        let ball_centre = floor.plane_normal() * (r - floor_sink);
 
         let ball_props = MassProperties::new(
             DVec3::ZERO,
             robot.sagittal.ball_mass_kg,
             DVec3::splat(robot.sagittal.ball_inertia_kg_m2),
         );
-        let (ball, ball_collider) = physics.insert(
+        // The collider only carries the ball's mass properties: it touches nothing.
+        let (ball, _) = physics.insert(
             RigidBodyBuilder::dynamic()
-                .translation(DVec3::new(0.0, 0.0, r))
+                .translation(ball_centre)
                 .can_sleep(false),
             ColliderBuilder::ball(r)
                 .mass_properties(ball_props)
-                .friction(dt.ball_floor_friction)
-                .restitution(0.0),
+                .sensor(true),
         );
 
-        let m_u = robot.sagittal.body_mass_kg;
         let body_props = MassProperties::new(
             DVec3::new(0.0, 0.0, robot.sagittal.com_height_m),
             m_u,
@@ -173,7 +163,7 @@ impl BallbotWorld {
         let sink_m = static_n / params.contact.normal_stiffness_n_per_m / a.cos();
         let body = physics.insert_body(
             RigidBodyBuilder::dynamic()
-                .translation(DVec3::new(0.0, 0.0, r - sink_m))
+                .translation(ball_centre - DVec3::new(0.0, 0.0, sink_m))
                 .additional_mass_properties(body_props)
                 .can_sleep(false),
         );
@@ -211,9 +201,7 @@ impl BallbotWorld {
             physics,
             ball,
             body,
-            ball_collider,
-            floor_collider,
-            obstacles: Vec::new(),
+            floor,
             law,
             rollers,
             geometry,
@@ -247,10 +235,6 @@ impl BallbotWorld {
             world.physics.bodies[h].recompute_mass_properties_from_colliders(colliders);
         }
         world.restart_rigid();
-        // The robot starts at rest on the floor, which carries its whole weight.
-        world
-            .rigid
-            .set_static_floor((robot.sagittal.ball_mass_kg + m_u) * g);
         world.refresh_poses();
         Ok(world)
     }
@@ -374,7 +358,7 @@ impl BallbotWorld {
             rb.set_translation(t + off, true);
         }
         self.restart_rigid();
-        self.rigid.forget_floor();
+        self.floor.release();
         self.refresh_poses();
     }
 
@@ -404,12 +388,7 @@ impl BallbotWorld {
     pub fn set_floor_friction(&mut self, friction: f64) -> Result<(), WorldError> {
         non_negative(friction, "robot.drivetrain.ball_floor_friction")?;
         self.params.robot.drivetrain.ball_floor_friction = friction;
-        let floors = [self.ball_collider, self.floor_collider];
-        for &h in floors.iter().chain(&self.obstacles) {
-            if let Some(c) = self.physics.colliders.get_mut(h) {
-                c.set_friction(friction);
-            }
-        }
+        self.floor.set_friction(friction);
         Ok(())
     }
 
@@ -452,15 +431,19 @@ impl BallbotWorld {
         self.restart_rigid();
     }
 
-    /// Height of the chassis' lowest corner above the floor (m).
+    /// Height of the chassis' lowest corner above the floor below it (m).
     pub fn chassis_clearance_m(&self) -> f64 {
-        // The corners (+-h, +-h, 0) of the body frame sit at z = t_z + x ex_z + y ey_z; the
-        // lowest one takes the signs that make both terms negative.
+        // The corners (+-h, +-h, 0) of the body frame.
         let pose = self.physics.bodies[self.body].position();
         let h = self.params.chassis_half_width_m;
-        let ex_z = (pose.rotation * DVec3::X).z;
-        let ey_z = (pose.rotation * DVec3::Y).z;
-        pose.translation.z - h * (ex_z.abs() + ey_z.abs())
+        let ex = pose.rotation * DVec3::X * h;
+        let ey = pose.rotation * DVec3::Y * h;
+        let mut clearance = f64::INFINITY;
+        for (sx, sy) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+            let p = pose.translation + ex * sx + ey * sy;
+            clearance = clearance.min(p.z - self.floor.height_m(p.x, p.y));
+        }
+        clearance
     }
 
     fn contact_geometry(&self) -> [ContactKinematics; 3] {
@@ -588,9 +571,19 @@ impl BallbotWorld {
                 gearbox_friction_nm: spin.friction_torque_nm,
             };
         }
-        // Rolling resistance and spin (torsional) friction of the ball on the floor, both
-        // bounded by the floor load of the previous step.
-        let floor_n = self.telemetry.floor_force_n;
+        // The floor's compliant contact, then the ball's rolling resistance and spin
+        // (torsional) friction, both bounded by its load.
+        let floor = self.floor.step(
+            &BallState {
+                centre: c,
+                velocity: state.ball_velocity,
+                angvel: state.ball_angvel,
+            },
+            dt,
+        );
+        ball_force += floor.wrench.force;
+        ball_torque += floor.wrench.torque;
+        let floor_n = floor.normal_n;
         let w_ball = state.ball_angvel;
         let w_h = DVec3::new(w_ball.x, w_ball.y, 0.0);
         let r = self.params.robot.ball_radius_m();
@@ -614,6 +607,7 @@ impl BallbotWorld {
         };
         self.telemetry.time_secs += dt;
         self.telemetry.wheels = wheel_tel;
+        self.telemetry.floor_force_n = floor.wrench.force.z;
         self.sensors
             .record_encoders(wheel_tel.map(|w| w.motor_angle_rad));
         if self.rigid.add(ball, body, dt) {
@@ -663,12 +657,6 @@ impl BallbotWorld {
         if !full {
             self.physics.integration_parameters.dt = self.params.rigid_step_secs();
         }
-        let floor_impulse = self
-            .physics
-            .narrow_phase
-            .contact_pair(self.floor_collider, self.ball_collider)
-            .map_or(0.0, |pair| pair.total_impulse().z.abs());
-        self.telemetry.floor_force_n = floor_impulse / interval;
         let wheels = self.wheels_local();
         self.rigid
             .finish(&mut self.physics, (self.ball, self.body), wheels, interval);

@@ -92,7 +92,8 @@ pub struct StepTelemetry {
     pub body_rate_rad_per_s: Vector3<f64>,
     /// Body tilt about the body-aligned horizontal axes `[theta_x, theta_y]` (rad).
     pub tilt_rad: [f64; 2],
-    /// Normal force of the floor on the ball (N).
+    /// Vertical force of the floor on the ball (N): every contact patch's normal force and
+    /// friction, bumps and steps included ([`crate::world::floor`]).
     pub floor_force_n: f64,
 }
 
