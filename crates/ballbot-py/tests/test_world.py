@@ -376,7 +376,7 @@ def test_the_floor_is_the_coatings_compliant_contact_and_can_be_inclined() -> No
     world = ballbot.World(params)
     run = world.run(800)
     weight = (params.robot.sagittal.ball_mass_kg + params.robot.sagittal.body_mass_kg) * 9.81
-    assert run["floor_force_n"][-1] == pytest.approx(weight, rel=0.01)
+    assert run.floor_force_n[-1] == pytest.approx(weight, rel=0.01)
     inclined = params.replace(floor=floor.replace(slope_rad=0.05))
     assert inclined.floor.slope_rad == 0.05
     ballbot.World(inclined).run(80)

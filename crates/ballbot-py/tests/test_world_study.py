@@ -10,16 +10,16 @@ import ballbot
 from ballbot import _core
 
 
-def test_failing_acceleration_towards_ow1_is_1_75() -> None:
-    # docs/world.md (ideal world): towards OW1 the ramp survives 1.75 m/s^2 and OW2/OW3 slip
-    # from 1.8.
+def test_failing_acceleration_towards_ow1_is_1_70() -> None:
+    # Ideal world: towards OW1 the ramp survives 1.70 m/s^2 and OW2/OW3 slip from 1.75 (1.75
+    # and 1.8 on rapier's floor, before the coating's compliant floor of issue 28).
     found = ballbot.failing_acceleration(
         ballbot.WorldParams.preset("ideal_miapure_60kg"),
         heading_deg=0.0, accel_bracket_m_per_s2=(1.5, 2.0), accel_resolution_m_per_s2=0.05
     )
-    assert found.largest_surviving_m_per_s2 == pytest.approx(1.75)
-    assert found.smallest_failing_m_per_s2 == pytest.approx(1.8)
-    assert found.text == "1.75" and not found.censored and found.runs >= 3
+    assert found.largest_surviving_m_per_s2 == pytest.approx(1.70)
+    assert found.smallest_failing_m_per_s2 == pytest.approx(1.75)
+    assert found.text == "1.70" and not found.censored and found.runs >= 3
     failing = found.failing
     assert failing is not None and failing.failure is not None
     assert failing.failure.kind is ballbot.FailureKind.SUSTAINED_SLIP
