@@ -48,9 +48,10 @@ struct WheelState {
 /// wheel spin states, the ball's compliant contact on the floor and its rolling and spin
 /// friction are computed here (see [`crate::world::contact`], [`crate::world::floor`]).
 ///
-/// Frames: world z up, a level floor at z = 0 (an inclined one through the origin). The body frame's origin is the nominal ball centre
-/// (where the ball centre sits when all three contacts touch with zero penetration), x towards
-/// OW1; the body's centre of mass is at `(0, 0, l)` in it.
+/// Frames: world z up, a level floor at z = 0 (an inclined one through the origin). The body
+/// frame's origin is the nominal ball centre (where the ball centre sits when all three
+/// contacts touch with zero penetration), x towards OW1; the body's centre of mass is at
+/// `(0, 0, l)` in it.
 ///
 /// ```
 /// use ballbot_core::BallbotParams;
