@@ -27,8 +27,9 @@
 //!   [`crate::world::WorldParams::spin_friction_m`]) read the sum of the normal forces.
 //!
 //! The force acts at the contact point `p = c - R n` on the ball's surface. Bumps and steps
-//! stand on the plane: their heights are measured from the plane below the ball, exact on a
-//! level floor and within `slope^2` on an incline.
+//! stand on the plane: their heights are measured vertically from the plane below the ball,
+//! exact on a level floor and an approximation on an incline (the plane's normal is not
+//! vertical there).
 //!
 //! # Step size
 //!
