@@ -38,13 +38,15 @@
 //! peaks at 2,539 N (1.83 mm), where the stiffness is 2.2 times higher: still far inside the
 //! semi-implicit Euler step's bound of 2.
 
+pub mod obstacle;
 pub mod terrain;
 #[cfg(test)]
 mod tests;
 
+pub use obstacle::{FloorBump, FloorStep};
+
 use super::WorldError;
 use super::check::positive;
-use super::disturbance::{FloorBump, FloorStep};
 use super::rigid::Wrench;
 use super::rubber::{CoatingLaw, RubberLayer};
 use rapier3d_f64::glamx::DVec3;

@@ -48,10 +48,9 @@ pub mod telemetry;
 pub mod transmission;
 
 pub use axle_loss::AxleLossParams;
-pub use disturbance::{FloorBump, FloorStep};
 pub use driver::{DriverLimit, DriverModel, DriverParams};
 pub use failure::{Failure, FailureKind, StopRules, wheel_name};
-pub use floor::FloorParams;
+pub use floor::{FloorBump, FloorParams, FloorStep};
 pub use imu::{ImuModel, ImuParams};
 pub use params::{
     ContactParams, DEFAULT_RIGID_STEP_RATIO, FailureParams, MAX_BALL_CONTACT_PHASE_RAD,

@@ -17,9 +17,9 @@
 //! Heights of bumps and steps are measured from the plane below the ball (module
 //! [`super`]).
 
-use super::super::disturbance::{FloorBump, FloorStep};
 use super::super::rubber::{CoatingLaw, RubberLayer};
 use super::law_on_cylinder;
+use super::obstacle::{FloorBump, FloorStep};
 use rapier3d_f64::glamx::DVec3;
 
 /// Where the ball touches one primitive.
