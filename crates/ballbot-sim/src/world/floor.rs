@@ -261,7 +261,7 @@ impl Floor {
     }
 
     pub(super) fn add_step(&mut self, step: &FloorStep) {
-        self.terrain.add_step(step, &self.layer, self.ball_radius_m);
+        self.terrain.add_step(step);
         self.bristles.push(DVec3::ZERO);
     }
 

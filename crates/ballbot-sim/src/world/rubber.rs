@@ -191,13 +191,6 @@ impl CoatingLaw {
         }
     }
 
-    /// The elastic energy stored at `deflection_m`, `K_H delta^2.5 / 2.5 + K_T delta^4 / 4`
-    /// (J).
-    pub fn energy_j(&self, deflection_m: f64) -> f64 {
-        let d = deflection_m.max(0.0);
-        self.hertz_n_per_m1_5 * d * d * d.sqrt() / 2.5 + self.thin_layer_n_per_m3 * d.powi(4) / 4.0
-    }
-
     /// The deflection that carries `load_n` (m): Newton's method on the monotone law from the
     /// thin layer's value (0 for `load_n <= 0`).
     pub fn deflection_m(&self, load_n: f64) -> f64 {

@@ -104,12 +104,8 @@ impl Terrain {
         });
     }
 
-    pub(in crate::world) fn add_step(
-        &mut self,
-        step: &FloorStep,
-        _layer: &RubberLayer,
-        _ball_radius_m: f64,
-    ) {
+    /// A step uses the flat law (module documentation).
+    pub(in crate::world) fn add_step(&mut self, step: &FloorStep) {
         let heading = step.heading_deg.to_radians();
         self.obstacles.push(Obstacle::Step {
             edge: step.edge_m,

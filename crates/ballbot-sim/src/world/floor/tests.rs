@@ -50,7 +50,7 @@ impl Ball {
 /// Contact time and rebound speed of a ball dropped at `v0` onto the plane, from the law's
 /// energy integral (gravity included, no damping): `t_c = 2 int_0^d_max d delta / v(delta)`
 /// with `m v^2 / 2 = m v0^2 / 2 + m g delta - U(delta)`, computed here from the law's
-/// coefficients (not from the code's `energy_j`), with `delta = d_max (1 - u^2)` to remove the
+/// coefficients (the code has no energy function of its own), with `delta = d_max (1 - u^2)` to remove the
 /// turning point's singularity.
 fn analytic_contact_time_secs(law: &CoatingLaw, v0: f64) -> f64 {
     let u_el = |d: f64| {
