@@ -380,3 +380,24 @@ def test_the_floor_is_the_coatings_compliant_contact_and_can_be_inclined() -> No
     inclined = params.replace(floor=floor.replace(slope_rad=0.05))
     assert inclined.floor.slope_rad == 0.05
     ballbot.World(inclined).run(80)
+
+
+def test_the_wheel_contacts_follow_the_coatings_law_in_the_default_world() -> None:
+    default = ballbot.WorldParams.preset("miapure_60kg").contact
+    assert default.normal_law == "coating" and default.roller_radius_m == 0.011
+    assert ballbot.ContactParams().normal_law == "linear"
+    assert ballbot.ContactParams.preset("coating").normal_law == "coating"
+    assert ballbot.ContactParams(normal_law="coating").to_dict()["normal_law"] == "coating"
+    with pytest.raises(ValueError, match="contact.roller_radius_m"):
+        ballbot.ContactParams(roller_radius_m=0.0)
+    with pytest.raises(ValueError):
+        ballbot.ContactParams(normal_law="cubic")
+    # At rest each wheel carries its share of the body's weight on its tilted normal, 2.7 mm
+    # deep in the coating (the whole-range law; its linear fit would press 1.0 mm).
+    params = ballbot.WorldParams.preset("ideal_miapure_60kg").replace(
+        contact=ballbot.ContactParams.preset("coating")
+    )
+    world = ballbot.World(params)
+    world.run(800)
+    loads = [w.normal_force_n for w in world.telemetry.wheels]
+    assert loads == pytest.approx([349.0] * 3, rel=0.005)

@@ -40,7 +40,8 @@ _DrivetrainPreset = Literal["miapure"]
 _BallbotPreset = Literal["miapure_60kg", "miapure_unloaded"]
 _PlanarRobotPreset = Literal["piptb"]
 _DefaultPreset = Literal["default"]
-_ContactPreset = Literal["default", "ideal", "rubber_coated_miapure_60kg"]
+_ContactPreset = Literal["default", "ideal", "coating", "rubber_coated_miapure_60kg"]
+_ContactNormalLaw = Literal["linear", "coating"]
 _RollerPreset = Literal["none", "miapure"]
 _WorldPreset = Literal["miapure_60kg", "miapure_unloaded", "ideal_miapure_60kg"]
 _DriverPreset = Literal["ideal", "odrive_v36_factory", "miapure"]
@@ -1046,12 +1047,16 @@ _Vec3 = Union[npt.ArrayLike, tuple[float, float, float], list[float]]
 
 @final
 class ContactParams:
-    """The compliant omniwheel-ball contact of the 3D world: normal and tangential (stick)
-    spring-dampers, kinetic over static friction while slipping; defaults are estimates."""
+    """The compliant omniwheel-ball contact of the 3D world: the normal law (``normal_law``
+    ``"linear"``, a spring-damper, or ``"coating"``, the ball coating's law over its whole
+    range), a tangential (stick) spring-damper, kinetic over static friction while slipping;
+    defaults are estimates."""
 
     def __new__(
         cls,
         *,
+        normal_law: _ContactNormalLaw = ...,
+        roller_radius_m: float = ...,
         normal_stiffness_n_per_m: float = ...,
         normal_damping_n_s_per_m: float = ...,
         traction_stiffness_n_per_m: float = ...,
@@ -1071,6 +1076,10 @@ class ContactParams:
     def save(self, path: _Path) -> None: ...
     @staticmethod
     def load(path: _Path) -> ContactParams: ...
+    @property
+    def normal_law(self) -> _ContactNormalLaw: ...
+    @property
+    def roller_radius_m(self) -> float: ...
     @property
     def normal_stiffness_n_per_m(self) -> float: ...
     @property

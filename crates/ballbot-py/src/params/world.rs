@@ -137,19 +137,23 @@ fn world_ideal_miapure_60kg() -> WorldParams {
 
 py_params! {
     /// The compliant omniwheel-ball contact of the 3D world
-    /// (`ballbot_sim::world::ContactParams`): normal spring-damper, tangential stick
-    /// spring-damper along the rolling direction, kinetic over static friction while slipping.
+    /// (`ballbot_sim::world::ContactParams`): the normal law (`normal_law` `"linear"`, a
+    /// spring-damper, or `"coating"`, the ball coating's law over its whole range), a
+    /// tangential stick spring-damper along the rolling direction, kinetic over static
+    /// friction while slipping.
     PyContactParams(ContactParams, "ContactParams", default = ContactParams::default) {
         floats {
-            normal_stiffness_n_per_m, normal_damping_n_s_per_m, traction_stiffness_n_per_m,
-            traction_damping_n_s_per_m, kinetic_friction_ratio,
+            roller_radius_m, normal_stiffness_n_per_m, normal_damping_n_s_per_m,
+            traction_stiffness_n_per_m, traction_damping_n_s_per_m, kinetic_friction_ratio,
         }
+        names { normal_law }
         arrays {}
         nested { rollers: PyRollerParams, axle_loss: PyAxleLossParams }
     }
     presets {
         "default" => ContactParams::default,
         "ideal" => ContactParams::ideal,
+        "coating" => ContactParams::coating,
         "rubber_coated_miapure_60kg" => contact_rubber_coated_miapure_60kg,
     }
 }

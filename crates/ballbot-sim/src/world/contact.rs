@@ -11,9 +11,12 @@
 //! `p = c + r n`. The wheel's axle `a_i = d_i x n_i` is body-fixed; the rolling direction is
 //! `d = n x a` (normalised), the direction a positive wheel speed moves the rim at `p`.
 //!
-//! * Normal force (Kelvin-Voigt, unilateral): `N = max(0, k delta + c_n delta_dot)` while
-//!   `delta > 0`, else 0 (lift-off). The normal forces are therefore outputs of the dynamics:
-//!   they follow acceleration and lean and can reach zero.
+//! * Normal force (unilateral, [`NormalLaw`]): while `delta > 0` either the linear
+//!   Kelvin-Voigt `N = max(0, k delta + c_n delta_dot)` (the ideal world's stiff contact) or
+//!   the ball coating's law over its whole range, `N = max(0, F(delta) + c(delta) delta_dot)`
+//!   with `F` the Hertz plus thin-layer law of [`CoatingLaw`] and `c = eta k(delta) / omega_0`
+//!   (the default world's); else 0 (lift-off). The normal forces are therefore outputs of the
+//!   dynamics: they follow acceleration and lean and can reach zero.
 //! * Traction along `d`: the slip velocity `s = d . (v_ball(p) - v_rim(p))` (ball surface minus wheel
 //!   rim, the rim moving with the body plus `r_W psi_dot d`) feeds an elasto-plastic
 //!   (bristle) friction law with deflection state `z` (`z_dot = s` while sticking):
@@ -49,15 +52,80 @@
 //! gap's centre the contact jumps between roller ends within one step, an energy error of at
 //! most `N d(dip)/d(psi) psi_dot dt` per passage (0.4 mJ at 3 rad/s).
 
+use super::rubber::CoatingLaw;
 use rapier3d_f64::glamx::DVec3;
+
+/// How the normal force follows the penetration `delta` and its rate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NormalLaw {
+    /// The linear spring-damper `N = max(0, k delta + c delta_dot)`.
+    Linear {
+        /// `k` (N/m).
+        stiffness_n_per_m: f64,
+        /// `c` (N s/m).
+        damping_n_s_per_m: f64,
+    },
+    /// The rubber coating's law ([`CoatingLaw`]) with the loss factor's damping:
+    /// `N = max(0, F(delta) + damping_secs k(delta) delta_dot)`, `k = dF/d delta`.
+    Coating {
+        /// The force-deflection law.
+        law: CoatingLaw,
+        /// `eta / omega_0` (s): damping per unit of tangent stiffness.
+        damping_secs: f64,
+    },
+}
+
+impl NormalLaw {
+    /// The normal force at penetration `penetration_m` > 0 and its rate (N, >= 0).
+    #[inline]
+    pub fn force_n(&self, penetration_m: f64, rate_m_per_s: f64) -> f64 {
+        match *self {
+            Self::Linear {
+                stiffness_n_per_m,
+                damping_n_s_per_m,
+            } => (stiffness_n_per_m * penetration_m + damping_n_s_per_m * rate_m_per_s).max(0.0),
+            Self::Coating { law, damping_secs } => law
+                .evaluate(penetration_m)
+                .damped_normal_n(rate_m_per_s, damping_secs),
+        }
+    }
+
+    /// The elastic energy stored at `penetration_m` (J; 0 when not pressed).
+    pub fn energy_j(&self, penetration_m: f64) -> f64 {
+        match *self {
+            Self::Linear {
+                stiffness_n_per_m, ..
+            } => 0.5 * stiffness_n_per_m * penetration_m.max(0.0).powi(2),
+            Self::Coating { law, .. } => law.energy_j(penetration_m),
+        }
+    }
+
+    /// The penetration that carries `load_n` at rest (m).
+    pub fn deflection_m(&self, load_n: f64) -> f64 {
+        match *self {
+            Self::Linear {
+                stiffness_n_per_m, ..
+            } => load_n.max(0.0) / stiffness_n_per_m,
+            Self::Coating { law, .. } => law.deflection_m(load_n),
+        }
+    }
+
+    /// The tangent stiffness `dN/d delta` at rest under `load_n` (N/m).
+    pub fn stiffness_n_per_m(&self, load_n: f64) -> f64 {
+        match *self {
+            Self::Linear {
+                stiffness_n_per_m, ..
+            } => stiffness_n_per_m,
+            Self::Coating { law, .. } => law.evaluate(law.deflection_m(load_n)).stiffness_n_per_m,
+        }
+    }
+}
 
 /// Per-wheel contact parameters resolved for fast evaluation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactLaw {
-    /// Normal stiffness (N/m).
-    pub normal_stiffness_n_per_m: f64,
-    /// Normal damping (N s/m).
-    pub normal_damping_n_s_per_m: f64,
+    /// The normal force's law.
+    pub normal: NormalLaw,
     /// Stick stiffness (N/m).
     pub traction_stiffness_n_per_m: f64,
     /// Stick damping (N s/m).
@@ -125,9 +193,9 @@ impl ContactLaw {
                 ..ContactOutput::default()
             };
         }
-        let normal_force_n = (self.normal_stiffness_n_per_m * kin.penetration_m
-            + self.normal_damping_n_s_per_m * kin.penetration_rate_m_per_s)
-            .max(0.0);
+        let normal_force_n = self
+            .normal
+            .force_n(kin.penetration_m, kin.penetration_rate_m_per_s);
         let demand = -(self.traction_stiffness_n_per_m * *bristle_m
             + self.traction_damping_n_s_per_m * kin.slip_speed_m_per_s);
         let axle_demand =
@@ -182,8 +250,10 @@ mod tests {
 
     fn law() -> ContactLaw {
         ContactLaw {
-            normal_stiffness_n_per_m: 1e6,
-            normal_damping_n_s_per_m: 0.0,
+            normal: NormalLaw::Linear {
+                stiffness_n_per_m: 1e6,
+                damping_n_s_per_m: 0.0,
+            },
             traction_stiffness_n_per_m: 1e5,
             traction_damping_n_s_per_m: 0.0,
             static_friction: 0.5,

@@ -275,6 +275,16 @@ impl Floor {
         self.terrain.height_m(x, y)
     }
 
+    /// The elastic energy the coating stores against every primitive under a ball centred at
+    /// `centre` (J): each patch's [`CoatingLaw::energy_j`] at its penetration (the tangential
+    /// bristles' energy is not counted).
+    pub(super) fn elastic_energy_j(&self, centre: DVec3) -> f64 {
+        (0..self.terrain.len())
+            .filter_map(|i| self.terrain.patch(i, centre, self.ball_radius_m))
+            .map(|p| p.law.energy_j(p.penetration_m))
+            .sum()
+    }
+
     /// Evaluates every primitive's contact with the ball and advances the bristles by
     /// `dt_secs`.
     pub(super) fn step(&mut self, ball: &BallState, dt_secs: f64) -> FloorOutput {
@@ -292,8 +302,7 @@ impl Floor {
             let Patch { normal: n, .. } = patch;
             let law = patch.law.evaluate(patch.penetration_m);
             let rate = -n.dot(ball.velocity);
-            let damping = self.normal_damping_secs * law.stiffness_n_per_m;
-            let normal_n = (law.force_n + damping * rate).max(0.0);
+            let normal_n = law.damped_normal_n(rate, self.normal_damping_secs);
             // The surface's slip at the contact point, in the tangent plane.
             let lever = -n * r;
             let slip = ball.velocity + ball.angvel.cross(lever);

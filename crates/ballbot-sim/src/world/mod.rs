@@ -53,8 +53,8 @@ pub use failure::{Failure, FailureKind, StopRules, wheel_name};
 pub use floor::{FloorBump, FloorParams, FloorStep};
 pub use imu::{ImuModel, ImuParams};
 pub use params::{
-    ContactParams, DEFAULT_RIGID_STEP_RATIO, FailureParams, MAX_BALL_CONTACT_PHASE_RAD,
-    MAX_RIGID_STEP_RATIO, SensorParams, WorldParams,
+    ContactNormalLaw, ContactParams, DEFAULT_RIGID_STEP_RATIO, FailureParams,
+    MAX_BALL_CONTACT_PHASE_RAD, MAX_RIGID_STEP_RATIO, SensorParams, WorldParams,
 };
 pub use rollers::{RollerParams, RollerProfile};
 pub use rubber::RubberLayer;

@@ -6,11 +6,12 @@
 use super::WorldError;
 use super::axle_loss::AxleLossParams;
 use super::check::{non_negative, positive};
+use super::contact::NormalLaw;
 use super::driver::DriverParams;
 use super::floor::FloorParams;
 use super::imu::ImuParams;
-use super::rollers::RollerParams;
-use super::rubber::RubberLayer;
+use super::rollers::{MIAPURE_ROLLER_RADIUS_M, RollerParams};
+use super::rubber::{CoatingLaw, RubberLayer};
 use super::transmission::{Drivetrain, TransmissionParams};
 use ballbot_core::BallbotParams;
 use ballbot_core::rates::INNER_LOOP_DT_SECS;
@@ -38,8 +39,40 @@ pub const MAX_BALL_CONTACT_PHASE_RAD: f64 = 1.2;
 /// an estimate from the bus's frame times, not a measurement).
 pub const MIAPURE_LINK_LATENCY_SECS: f64 = 1.0e-3;
 
+fn default_roller_radius_m() -> f64 {
+    MIAPURE_ROLLER_RADIUS_M
+}
+
 fn default_rigid_step_ratio() -> u32 {
     1
+}
+
+/// How the omniwheel contact's normal force follows its penetration
+/// ([`crate::world::contact::NormalLaw`]).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactNormalLaw {
+    /// The linear spring-damper of `normal_stiffness_n_per_m` and `normal_damping_n_s_per_m`
+    /// (the ideal world's; the default when missing from a file).
+    #[default]
+    Linear,
+    /// The ball coating's force-deflection law over its whole range
+    /// ([`crate::world::rubber::CoatingLaw`], Hertz plus the thin bonded layer) pressed by a
+    /// roller of the wheel's rim radius in the wheel plane and `roller_radius_m` across it,
+    /// with the loss factor's damping at the ball-against-body mode (the default world's).
+    /// The coating is the floor's ([`WorldParams::floor`]: one layer on one ball); the two
+    /// linear fields are not used.
+    Coating,
 }
 
 /// The compliant omniwheel-ball contact (see [`crate::world::contact`] for the model).
@@ -54,11 +87,19 @@ fn default_rigid_step_ratio() -> u32 {
 )]
 #[serde(deny_unknown_fields)]
 pub struct ContactParams {
-    /// Normal stiffness of one omniwheel contact (N/m). Default 2e6: the static 344 N load
-    /// compresses it by 0.17 mm.
+    /// The normal force's law: `linear` (default) or `coating`.
+    #[serde(default)]
+    pub normal_law: ContactNormalLaw,
+    /// Radius of the roller across the wheel plane at the contact (m), the coating law's
+    /// second curvature. Default 0.011 (estimate, [`MIAPURE_ROLLER_RADIUS_M`]).
+    #[serde(default = "default_roller_radius_m")]
+    #[schemars(extend("exclusiveMinimum" = 0))]
+    pub roller_radius_m: f64,
+    /// Normal stiffness of one omniwheel contact under the `linear` law (N/m). Default 2e6:
+    /// the static 344 N load compresses it by 0.17 mm.
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub normal_stiffness_n_per_m: f64,
-    /// Normal damping of one omniwheel contact (N s/m). Default 3.5e3 (damping ratio about
+    /// Normal damping of one omniwheel contact under the `linear` law (N s/m). Default 3.5e3 (damping ratio about
     /// 0.7 of the ball-against-body mode).
     #[schemars(range(min = 0))]
     pub normal_damping_n_s_per_m: f64,
@@ -84,6 +125,8 @@ pub struct ContactParams {
 impl Default for ContactParams {
     fn default() -> Self {
         Self {
+            normal_law: ContactNormalLaw::Linear,
+            roller_radius_m: MIAPURE_ROLLER_RADIUS_M,
             normal_stiffness_n_per_m: 2.0e6,
             normal_damping_n_s_per_m: 3.5e3,
             traction_stiffness_n_per_m: 5.0e5,
@@ -102,9 +145,22 @@ impl ContactParams {
         Self::default()
     }
 
-    /// The ideal contact with the normal stiffness and damping of `layer` on `robot`
-    /// (module documentation: 3.4e5 N/m and 88 N s/m for MiaPURE with 60 kg); gaps and axle
-    /// losses stay as in [`ContactParams::ideal`].
+    /// The ideal contact with the ball coating's whole-range law
+    /// ([`ContactNormalLaw::Coating`], the default world's normal law); gaps and axle losses
+    /// stay as in [`ContactParams::ideal`].
+    pub fn coating() -> Self {
+        Self {
+            normal_law: ContactNormalLaw::Coating,
+            ..Self::ideal()
+        }
+    }
+
+    /// The ideal contact with the `linear` law fitted to `layer`'s thin-layer law at the
+    /// static load on `robot` ([`crate::world::rubber`], items 4 and 5: 3.4e5 N/m and
+    /// 88 N s/m for MiaPURE with 60 kg); gaps and axle losses stay as in
+    /// [`ContactParams::ideal`]. The default world's contact before the whole-range law
+    /// ([`ContactParams::coating`]), kept as a named variant: it keeps the static force but
+    /// not the static deflection (1.0 mm against the law's 2.6 mm), so it lifts off early.
     pub fn rubber_coated(robot: &BallbotParams<f64>, layer: &RubberLayer) -> Self {
         let wip = &robot.sagittal;
         let dt = &robot.drivetrain;
@@ -347,7 +403,7 @@ impl WorldParams {
         p.contact = ContactParams {
             rollers: RollerParams::miapure(),
             axle_loss: AxleLossParams::miapure(),
-            ..ContactParams::rubber_coated(&robot, &RubberLayer::miapure())
+            ..ContactParams::coating()
         };
         p.rigid_step_ratio = DEFAULT_RIGID_STEP_RATIO.min(p.max_rigid_step_ratio());
         p
@@ -358,12 +414,64 @@ impl WorldParams {
         Self::realistic(robot)
     }
 
+    /// The static load of one omniwheel contact, `m_U g / (3 cos alpha)` (N).
+    pub fn static_wheel_load_n(&self) -> f64 {
+        let wip = &self.robot.sagittal;
+        wip.body_mass_kg * wip.gravity_m_per_s2
+            / (3.0 * self.robot.drivetrain.contact_angle_rad.cos())
+    }
+
+    /// The omniwheel contact's normal law as the world evaluates it: the `linear`
+    /// spring-damper, or the coating's law of [`Self::floor`]'s layer pressed by the roller
+    /// with the damping `eta / omega_0`, `omega_0` the ball-against-body mode
+    /// `sqrt(3 k_0 cos^2(alpha) / m_eff)` on the law's tangent `k_0` at the static load
+    /// (`m_eff = m_B m_U / (m_B + m_U)`; [`crate::world::rubber`], item 5).
+    pub fn wheel_normal_law(&self) -> NormalLaw {
+        let c = &self.contact;
+        match c.normal_law {
+            ContactNormalLaw::Linear => NormalLaw::Linear {
+                stiffness_n_per_m: c.normal_stiffness_n_per_m,
+                damping_n_s_per_m: c.normal_damping_n_s_per_m,
+            },
+            ContactNormalLaw::Coating => {
+                let layer = RubberLayer {
+                    roller_radius_m: c.roller_radius_m,
+                    ..self.floor.coating()
+                };
+                let r_e = layer.equivalent_radius_m(
+                    self.robot.drivetrain.wheel_radius_m,
+                    self.robot.ball_radius_m(),
+                );
+                let law = CoatingLaw::new(&layer, r_e);
+                let k_0 = law
+                    .evaluate(law.deflection_m(self.static_wheel_load_n()))
+                    .stiffness_n_per_m;
+                let wip = &self.robot.sagittal;
+                let m_eff =
+                    wip.ball_mass_kg * wip.body_mass_kg / (wip.ball_mass_kg + wip.body_mass_kg);
+                let cos_a = self.robot.drivetrain.contact_angle_rad.cos();
+                let omega = (3.0 * k_0 * cos_a * cos_a / m_eff).sqrt();
+                NormalLaw::Coating {
+                    law,
+                    damping_secs: if omega > 0.0 {
+                        layer.loss_factor / omega
+                    } else {
+                        0.0
+                    },
+                }
+            }
+        }
+    }
+
     /// The ball's vertical frequency on its three omniwheel contacts,
-    /// `sqrt(3 k cos^2(alpha) / m_B)` (rad/s), with `k` the contact's normal stiffness and
-    /// `alpha` the contact angle: about 910 rad/s in the ideal world, 375 in the default one.
+    /// `sqrt(3 k cos^2(alpha) / m_B)` (rad/s), with `k` the contact's normal stiffness (the
+    /// tangent at the static load, [`Self::static_wheel_load_n`]) and `alpha` the contact
+    /// angle: about 910 rad/s in the ideal world, 365 in the default one.
     pub fn ball_contact_frequency_rad_per_s(&self) -> f64 {
         let cos_a = self.robot.drivetrain.contact_angle_rad.cos();
-        let k = self.contact.normal_stiffness_n_per_m;
+        let k = self
+            .wheel_normal_law()
+            .stiffness_n_per_m(self.static_wheel_load_n());
         (3.0 * k * cos_a * cos_a / self.robot.sagittal.ball_mass_kg).sqrt()
     }
 
@@ -375,7 +483,7 @@ impl WorldParams {
     /// use ballbot_core::BallbotParams;
     /// use ballbot_sim::world::WorldParams;
     /// assert_eq!(WorldParams::ideal(BallbotParams::miapure_60kg()).max_rigid_step_ratio(), 10);
-    /// assert_eq!(WorldParams::miapure_60kg().max_rigid_step_ratio(), 25);
+    /// assert_eq!(WorldParams::miapure_60kg().max_rigid_step_ratio(), 26);
     /// ```
     pub fn max_rigid_step_ratio(&self) -> u32 {
         let phase_per_step = self.ball_contact_frequency_rad_per_s() * self.dt_secs;
@@ -423,6 +531,7 @@ impl WorldParams {
     pub fn validate(&self) -> Result<(), WorldError> {
         self.robot.validate()?;
         let c = &self.contact;
+        positive(c.roller_radius_m, "contact.roller_radius_m")?;
         positive(
             c.normal_stiffness_n_per_m,
             "contact.normal_stiffness_n_per_m",
@@ -534,5 +643,33 @@ mod tests {
             c.traction_stiffness_n_per_m,
             ContactParams::ideal().traction_stiffness_n_per_m
         );
+    }
+
+    #[test]
+    fn the_default_worlds_wheel_contact_is_the_coatings_whole_range_law() {
+        let p = WorldParams::miapure_60kg();
+        assert_eq!(p.contact.normal_law, ContactNormalLaw::Coating);
+        let NormalLaw::Coating { law, damping_secs } = p.wheel_normal_law() else {
+            panic!("{:?}", p.wheel_normal_law());
+        };
+        // 343.6 N per wheel; 2.64 mm under the roller (module rubber, item 6), against the
+        // linear fit's 1.0 mm.
+        let load = p.static_wheel_load_n();
+        assert!((load - 343.6).abs() < 0.1, "{load}");
+        let d = law.deflection_m(load);
+        assert!((d - 2.64e-3).abs() < 0.01e-3, "{d}");
+        assert!((law.evaluate(d).force_n - load).abs() < 1e-9);
+        let linear = ContactParams::rubber_coated(&p.robot, &RubberLayer::miapure());
+        assert!(load / linear.normal_stiffness_n_per_m < 1.05e-3);
+        // The damping is the loss factor's at the ball-against-body mode on the tangent:
+        // damping ratio eta / 2 there.
+        let k = law.evaluate(d).stiffness_n_per_m;
+        let m_eff = 3.6 * 74.3 / (3.6 + 74.3);
+        let (k_v, c_v) = (1.5 * k, 1.5 * damping_secs * k);
+        let zeta = c_v / (2.0 * (k_v * m_eff).sqrt());
+        assert!((zeta - 0.05).abs() < 1e-9, "{zeta}");
+        // The ideal world keeps its linear spring.
+        let ideal = WorldParams::ideal(p.robot);
+        assert!(matches!(ideal.wheel_normal_law(), NormalLaw::Linear { .. }));
     }
 }

@@ -21,34 +21,47 @@
 //!    indentation `w = delta - r^2 / (2 R_e)`. With `p = dp/dr = 0` at the contact radius
 //!    `a`: `delta = a^2 / (4 R_e)`, `p = 3 G (a^2 - r^2)^2 / (32 R_e t^3)` and
 //!    `F = 2 pi G R_e^2 delta^3 / t^3`.
-//! 4. **Linearised at the static load** `F_0 = m_U g / (3 cos alpha)` (343.6 N): `delta_0 =
-//!    (F_0 t^3 / (2 pi G R_e^2))^(1/3)` = 3.1 mm and `k = dF/d delta = 3 F_0 / delta_0` =
-//!    3.4e5 N/m. The contact radius `a = 2 sqrt(R_e delta_0)` = 15.7 mm is 2.5 layer
-//!    thicknesses, where the thin-layer limit is fair; Hertz's half-space value (`a << t`),
-//!    `(6 F_0 E*^2 R_e)^(1/3)` with `E* = 4E/3`, is 1.0e5 N/m, a lower bound. A roller that
-//!    grips the rubber (no slip at the top face) would be 4^(1/3) = 1.59 times stiffer.
+//! 4. **Linearised at the static load** (the named variant
+//!    [`ContactParams::rubber_coated`](crate::world::ContactParams::rubber_coated), the default
+//!    world's contact before the whole-range law of item 6): `F_0 = m_U g / (3 cos alpha)`
+//!    (343.6 N), `delta_0 = (F_0 t^3 / (2 pi G R_e^2))^(1/3)` = 3.1 mm and
+//!    `k = dF/d delta = 3 F_0 / delta_0` = 3.4e5 N/m. The contact radius
+//!    `a = 2 sqrt(R_e delta_0)` = 15.7 mm is 2.5 layer thicknesses, where the thin-layer limit
+//!    is fair; Hertz's half-space value (`a << t`), `(6 F_0 E*^2 R_e)^(1/3)` with `E* = 4E/3`,
+//!    is 1.0e5 N/m, a lower bound. A roller that grips the rubber (no slip at the top face)
+//!    would be 4^(1/3) = 1.59 times stiffer. The linear spring keeps the static force but not
+//!    the static deflection (1.0 mm instead of 3.1 mm): it lifts off early.
 //! 5. **Damping from the loss factor** `eta`: a hysteretic spring `k (1 + i eta)` dissipates
 //!    per cycle what a viscous `c = eta k / omega` does at the frequency `omega` of the mode it
 //!    carries. That mode is the ball against the body (effective mass `m_b m_U / (m_b + m_U)`,
 //!    3.4 kg) on the three contacts' vertical stiffness `3 k cos^2 alpha`: `omega` = 383 rad/s
-//!    (61 Hz), `c` = 88 N s/m, damping ratio `eta / 2` = 0.05.
+//!    (61 Hz) for the linearised law, `c` = 88 N s/m, damping ratio `eta / 2` = 0.05. With the
+//!    whole-range law `c = (eta / omega_0) k(delta)` follows the tangent, `omega_0` taken on
+//!    the tangent at the static load.
+//! 6. **The whole range** ([`CoatingLaw`], the default world's wheel contacts and the ball
+//!    on the floor): the thin-layer law holds once the patch is several layer thicknesses
+//!    wide, Hertz's half-space law `F = (4/3) E* sqrt(R_e) delta^1.5` (`E* = 4 G` for the
+//!    incompressible rubber on a rigid body; Johnson, section 4.2) while it is much narrower.
+//!    Their sum keeps each limit and is our interpolation between them.
+//!    - Under a roller (`R_e` 20.1 mm) the static 343.6 N compresses the layer by 2.64 mm
+//!      (the thin layer alone: 3.06 mm), the Hertz term carrying 36 %; the tangent there is
+//!      3.2e5 N/m, so `omega_0` = 374 rad/s. The wheel lifts off only after the whole 2.64 mm
+//!      of travel. That is 42 % of the layer's thickness, beyond the about 30 % where the
+//!      linear theory holds (below): the real layer is stiffer there and its deflection
+//!      smaller, so this law errs towards late lift-off and a soft contact. No law for a
+//!      thin bonded layer at finite strain under a curved indenter is in the sources we have.
+//!    - On the floor (`R_e` = the ball's 114.5 mm) the loaded robot's 764 N compresses the
+//!      layer by 1.20 mm (19 % of its thickness), with a patch `2 a = 4 sqrt(R_e delta)` =
+//!      47 mm wide, 7.4 layer thicknesses; the Hertz term carries 12 % of it.
 //!
-//! 6. **The whole range** ([`CoatingLaw`], the ball on the floor): the thin-layer law holds
-//!    once the patch is several layer thicknesses wide, Hertz's half-space law
-//!    `F = (4/3) E* sqrt(R_e) delta^1.5` (`E* = 4 G` for the incompressible rubber on a rigid
-//!    body; Johnson, section 4.2) while it is much narrower. Their sum keeps each limit and
-//!    is our interpolation between them. On the floor (`R_e` = the ball's 114.5 mm) the
-//!    loaded robot's 764 N compresses the layer by 1.20 mm (19 % of its thickness), with a
-//!    patch `2 a = 4 sqrt(R_e delta)` = 47 mm wide, 7.4 layer thicknesses; the Hertz term
-//!    carries 12 % of it. The linear theory under-predicts the stiffness of rubber compressed
-//!    beyond about 30 % (1.9 mm here): there the law is soft.
+//!    The linear theory under-predicts the stiffness of rubber compressed beyond about 30 %.
 //!    The patch's shear stiffness is the same kind of sum: the thin layer's `G pi a^2 / t`
-//!    plus Mindlin's `8 G a / (2 - nu)`.
+//!    plus Mindlin's `8 G a / (2 - nu)` (used on the floor; the wheel contact's traction keeps
+//!    its own stick stiffness, [`crate::world::ContactParams::traction_stiffness_n_per_m`]).
 //!    Damping from the loss factor as in 5 ([`crate::world::floor`]).
 //!
-//! The linear spring keeps the static force but not the static deflection (1.0 mm instead of
-//! 3.1 mm): lift-off comes earlier than with the cubic law. At 8 kHz the mode's `omega dt` is
-//! 0.05, well inside the explicit step's bound.
+//! At 8 kHz the wheel mode's `omega dt` is 0.05, well inside the explicit step's bound; the
+//! tangent grows with the load (twice the static load: 1.6 times the stiffness).
 
 use super::rollers::MIAPURE_ROLLER_RADIUS_M;
 
@@ -149,6 +162,16 @@ pub struct CoatingForce {
     pub shear_stiffness_n_per_m: f64,
 }
 
+impl CoatingForce {
+    /// The normal force with the loss factor's damping at the penetration rate
+    /// `rate_m_per_s`: `F(delta) + c delta_dot` with `c = damping_secs k(delta)`
+    /// (`damping_secs = eta / omega_0`, module documentation, item 5), never pulling (N).
+    #[inline]
+    pub fn damped_normal_n(&self, rate_m_per_s: f64, damping_secs: f64) -> f64 {
+        (self.force_n + damping_secs * self.stiffness_n_per_m * rate_m_per_s).max(0.0)
+    }
+}
+
 impl CoatingLaw {
     /// The law of `layer` pressed by a rigid body; `equivalent_radius_m` is `R_e` of the two
     /// surfaces (the ball's radius on a flat floor).
@@ -191,6 +214,16 @@ impl CoatingLaw {
         }
     }
 
+    /// The elastic energy stored at `deflection_m`, the law's integral
+    /// `K_H delta^2.5 / 2.5 + K_T delta^4 / 4` (J; 0 for `deflection_m <= 0`).
+    pub fn energy_j(&self, deflection_m: f64) -> f64 {
+        if deflection_m.is_nan() || deflection_m <= 0.0 {
+            return 0.0;
+        }
+        let d = deflection_m;
+        self.hertz_n_per_m1_5 * d * d * d.sqrt() / 2.5 + self.thin_layer_n_per_m3 * d.powi(4) / 4.0
+    }
+
     /// The deflection that carries `load_n` (m): Newton's method on the monotone law from the
     /// thin layer's value (0 for `load_n <= 0`).
     pub fn deflection_m(&self, load_n: f64) -> f64 {
@@ -213,6 +246,29 @@ impl CoatingLaw {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn coating_energy_is_the_integral_of_its_force() {
+        // dE/d delta = F by central differences, and E by the trapezoid rule over F.
+        let law = CoatingLaw::new(&RubberLayer::miapure(), 0.0201);
+        for d in [0.2e-3, 1.0e-3, 2.64e-3, 4.0e-3] {
+            let h = 1e-4 * d;
+            let de = (law.energy_j(d + h) - law.energy_j(d - h)) / (2.0 * h);
+            let f = law.evaluate(d).force_n;
+            assert!((de - f).abs() < 1e-6 * f, "{d}: {de} vs {f}");
+            let n = 20_000;
+            let trapezoid: f64 = (0..n)
+                .map(|i| {
+                    let (a, b) = (d * i as f64 / n as f64, d * (i + 1) as f64 / n as f64);
+                    0.5 * (law.evaluate(a).force_n + law.evaluate(b).force_n) * (b - a)
+                })
+                .sum();
+            let e = law.energy_j(d);
+            assert!((trapezoid - e).abs() < 1e-6 * e, "{d}: {trapezoid} vs {e}");
+        }
+        assert_eq!(law.energy_j(-1e-3), 0.0);
+        assert_eq!(law.energy_j(f64::NAN), 0.0);
+    }
 
     #[test]
     fn gent_gives_3_6_mpa_for_60a() {

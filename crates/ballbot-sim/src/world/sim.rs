@@ -2,7 +2,7 @@
 
 use super::WorldError;
 use super::check::non_negative;
-use super::contact::{ContactKinematics, ContactLaw, ContactOutput};
+use super::contact::{ContactKinematics, ContactLaw, ContactOutput, NormalLaw};
 use super::driver::{DriverFault, MotorDriver};
 use super::failure::{Failure, FailureMonitor, StopRules};
 use super::floor::{BallState, Floor};
@@ -20,6 +20,27 @@ use rapier3d_f64::prelude::{
 };
 
 mod energy;
+
+/// How far the body sits below its rigid-contact position on the ball at rest (m): the sink
+/// `s` at which the three contacts, their wheel centres at `l_m = r + r_W` along normals at
+/// `contact_angle_rad` from the vertical, carry `weight_n` together. Sinking turns the
+/// contact normals: the penetration is `l - sqrt(l^2 sin^2 a + (l cos a - s)^2)` and each
+/// contact carries `weight / (3 cos a')` with `cos a' = (l cos a - s) / (l - delta)`; a
+/// fixed point from `s = delta(weight / (3 cos a)) / cos a` (a few iterations: the angle
+/// moves by a few thousandths of a radian).
+fn static_sink_m(law: &NormalLaw, weight_n: f64, l_m: f64, contact_angle_rad: f64) -> f64 {
+    let (sin_a, cos_a) = contact_angle_rad.sin_cos();
+    let (horizontal, vertical) = (l_m * sin_a, l_m * cos_a);
+    let mut sink_m = law.deflection_m(weight_n / (3.0 * cos_a)) / cos_a;
+    for _ in 0..8 {
+        let reach = (horizontal * horizontal + (vertical - sink_m).powi(2)).sqrt();
+        let cos_now = (vertical - sink_m) / reach;
+        let delta = law.deflection_m(weight_n / (3.0 * cos_now));
+        let along = ((l_m - delta).powi(2) - horizontal * horizontal).max(0.0);
+        sink_m = vertical - along.sqrt();
+    }
+    sink_m
+}
 
 /// Solver iterations (substeps) of rapier's step. Rapier has no contact to solve: the floor is
 /// the world's own compliant contact ([`crate::world::floor`]), evaluated every world step
@@ -158,10 +179,10 @@ impl BallbotWorld {
                 robot.spin.inertia_kg_m2,
             ),
         );
-        // Start with the static penetration so the contacts carry m_U g / (3 cos a) each.
+        // Start with the static penetration so the contacts carry the body's weight.
         let a = dt.contact_angle_rad;
-        let static_n = m_u * g / (3.0 * a.cos());
-        let sink_m = static_n / params.contact.normal_stiffness_n_per_m / a.cos();
+        let normal_law = params.wheel_normal_law();
+        let sink_m = static_sink_m(&normal_law, m_u * g, r + dt.wheel_radius_m, a);
         let body = physics.insert_body(
             RigidBodyBuilder::dynamic()
                 .translation(ball_centre - DVec3::new(0.0, 0.0, sink_m))
@@ -180,8 +201,7 @@ impl BallbotWorld {
         });
         let c = &params.contact;
         let law = ContactLaw {
-            normal_stiffness_n_per_m: c.normal_stiffness_n_per_m,
-            normal_damping_n_s_per_m: c.normal_damping_n_s_per_m,
+            normal: normal_law,
             traction_stiffness_n_per_m: c.traction_stiffness_n_per_m,
             traction_damping_n_s_per_m: c.traction_damping_n_s_per_m,
             static_friction: dt.wheel_ball_friction,

@@ -3,8 +3,8 @@
 
 use crate::studies::max_speed::{self, MaxSpeedProtocol};
 use crate::world::{
-    AxleLossParams, ContactParams, DriverParams, RollerParams, RubberLayer, SensorParams,
-    TransmissionParams, WorldError, WorldParams,
+    AxleLossParams, ContactParams, DriverParams, RollerParams, SensorParams, TransmissionParams,
+    WorldError, WorldParams,
 };
 use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_core::command::AxisLimits;
@@ -23,8 +23,9 @@ pub enum Mechanism {
     /// ([`AxleLossParams::miapure`], 0.042 of the load), under one friction cone with the
     /// traction.
     AxleLosses,
-    /// The rubber coating's normal stiffness and damping ([`ContactParams::rubber_coated`] of
-    /// [`RubberLayer::miapure`]: 3.4e5 N/m, 88 N s/m).
+    /// The rubber coating's law over its whole range at the wheels
+    /// ([`ContactParams::coating`]: 2.64 mm under the static load, tangent 3.2e5 N/m, the
+    /// loss factor's damping).
     RubberCoating,
     /// The ODrive v3.6 at 45 V configured for the paper's 43.2 N m ([`DriverParams::miapure`]):
     /// current limit, back-EMF and modulation limit, overspeed trip.
@@ -75,7 +76,7 @@ impl Mechanism {
             Self::Ideal => "ideal contact and drive",
             Self::RollerGaps => "+ roller gaps",
             Self::AxleLosses => "+ roller losses along the axle",
-            Self::RubberCoating => "+ rubber-coating stiffness and damping",
+            Self::RubberCoating => "+ rubber coating's law at the wheels",
             Self::MotorDriver => "+ ODrive v3.6 driver limits",
             Self::Drivetrain => "+ gearbox stiction, coupling and backlash",
             Self::Sensing => "+ VN-100 attitude filter and link latency",
@@ -92,7 +93,7 @@ impl Mechanism {
             Self::RollerGaps => p.contact.rollers = RollerParams::miapure(),
             Self::AxleLosses => p.contact.axle_loss = AxleLossParams::miapure(),
             Self::RubberCoating => {
-                p.contact = ContactParams::rubber_coated(&robot, &RubberLayer::miapure());
+                p.contact = ContactParams::coating();
             }
             Self::MotorDriver => p.driver = DriverParams::miapure(),
             Self::Drivetrain => p.transmission = TransmissionParams::miapure(),

@@ -28,13 +28,15 @@ impl BallbotWorld {
         g * (ball.mass() * ball.center_of_mass().z + body.mass() * body.center_of_mass().z)
     }
 
-    /// Elastic energy stored in the three omniwheel contacts' normal springs (J).
+    /// Elastic energy stored in the contacts' normal compliance (J): the three omniwheel
+    /// contacts' and the ball coating's on the floor (the tangential bristles' is not counted).
     pub fn contact_energy_j(&self) -> f64 {
-        let k = self.law.normal_stiffness_n_per_m;
-        self.contact_geometry()
+        let wheels: f64 = self
+            .contact_geometry()
             .iter()
-            .map(|g| 0.5 * k * g.penetration_m.max(0.0).powi(2))
-            .sum()
+            .map(|g| self.law.normal.energy_j(g.penetration_m))
+            .sum();
+        wheels + self.floor.elastic_energy_j(self.rigid.now().ball_centre)
     }
 
     /// Elastic energy stored in the three drivetrains' couplings (J; 0 when rigid).
