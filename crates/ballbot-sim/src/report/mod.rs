@@ -7,14 +7,14 @@
 //! - [`reproduce`](mod@reproduce): `ballbot reproduce` as a library call: every study, its table, figures,
 //!   logs and `summary.json`.
 //! - [`piptb`], [`brake`], [`max_speed`], [`mechanisms`], [`world_suite`], [`traction`],
-//!   [`bump`], [`controllers_3d`]: one study's JSON and tables each;
+//!   [`crossing`], [`controllers_3d`]: one study's JSON and tables each;
 //!   the `*_figures` modules draw its figures.
 //! - [`robustness`](mod@robustness): `ballbot robustness` as a library call: the reliability
 //!   campaign (fuzzing, fault-injection matrix, Monte Carlo) and `robustness.json`.
 
 pub mod brake;
-pub mod bump;
 pub mod controllers_3d;
+pub mod crossing;
 mod error;
 pub mod max_speed;
 #[cfg(feature = "plot")]

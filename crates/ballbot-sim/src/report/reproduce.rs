@@ -24,9 +24,13 @@
 //!
 //! Traction-aware control (issue 14, [`crate::report::traction`]): summary key
 //! `traction_aware`; figures `traction_envelope_polar`, `traction_limited_ramp`.
+//!
+//! Bump and step tolerance (issue 28, [`crate::report::crossing`]): summary keys
+//! `bump_tolerance` and `step_tolerance`, one [`crate::studies::crossing`] study each.
 
 use super::ReportError;
 use crate::planar::ControllerKind;
+use crate::studies::crossing::{CrossingSettings, CrossingStudy, Obstacle};
 use crate::studies::driver::{JobRecord, Study, execute};
 use crate::studies::max_speed::{self, MaxSpeedStudySettings};
 use crate::studies::mechanisms::{self, MechanismStudySettings};
@@ -114,8 +118,10 @@ pub fn reproduce(
     // Traction-aware control against the same controller without it (issue 14).
     traction_section(options, observer, &mut summary)?;
 
-    // The highest floor bump crossed (issue 28), on the experiment driver.
-    bump_section(options, observer, &mut summary)?;
+    // The highest floor bump and step crossed (issue 28), on the experiment driver.
+    for obstacle in [Obstacle::BUMP, Obstacle::STEP] {
+        crossing_section(options, obstacle, observer, &mut summary)?;
+    }
 
     // The paper's three controllers in the 3D world (issue 28).
     controllers_3d_section(options, observer, &mut summary)?;
@@ -357,31 +363,32 @@ fn traction_section(
     Ok(())
 }
 
-fn bump_section(
+/// The crossing study of `obstacle`: summary key `bump_tolerance` or `step_tolerance`.
+fn crossing_section(
     options: &ReproduceOptions,
+    obstacle: Obstacle,
     observer: &dyn ReproduceObserver,
     summary: &mut Map<String, Value>,
 ) -> Result<(), ReportError> {
-    use crate::studies::bump::{BumpSettings, BumpStudy};
     let settings = if options.quick {
-        BumpSettings::quick()
+        CrossingSettings::quick(obstacle)
     } else {
-        BumpSettings::full()
+        CrossingSettings::full(obstacle)
     };
     settings.validate()?;
-    let study = BumpStudy {
+    let study = CrossingStudy {
         settings,
         world: WorldParams::miapure_60kg(),
     };
     let (table, json) = driver_section(
         &study,
-        "bump",
+        obstacle.name(),
         observer,
-        super::bump::table,
-        super::bump::summary_json,
+        super::crossing::table,
+        super::crossing::summary_json,
     )?;
     observer.text(table.strip_suffix('\n').unwrap_or(&table));
-    summary.insert("bump_tolerance".to_owned(), json);
+    summary.insert(format!("{}_tolerance", obstacle.name()), json);
     Ok(())
 }
 

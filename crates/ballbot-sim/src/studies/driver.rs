@@ -6,7 +6,7 @@
 //! does not choose settings or run anything.
 //!
 //! Adding a study is one type implementing [`Study`] plus one report function:
-//! [`crate::studies::bump`] is the example (`ARCHITECTURE.md`, "Adding a study").
+//! [`crate::studies::crossing`] is the example (`ARCHITECTURE.md`, "Adding a study").
 //!
 //! Every trial carries what happened in its run ([`crate::rig::Happened`]: how it ended, and
 //! its contact events), so a study reports falls and events whatever stop rules it runs with.

@@ -7,7 +7,8 @@
 //! - [`runner`]: the one job runner: independent jobs on every core, results in job order.
 //! - [`driver`]: the one experiment driver: a study is a type ([`driver::Study`]: jobs, a
 //!   trial or a bisection per job, what passes), run on the runner with progress and replay.
-//! - [`bump`]: the highest floor bump crossed per speed and heading (a [`driver::Study`]).
+//! - [`crossing`]: the highest floor bump and step crossed per speed and heading (a
+//!   [`driver::Study`]).
 //! - [`controllers_3d`]: the paper's LQR, PI-PD and LQR-PI compared in the 3D world (a
 //!   [`driver::Study`]).
 //! - [`piptb`]: the PIPTB controller comparison (paper Sec. IV-C) and [`planar_braking`], the
@@ -23,8 +24,8 @@
 //! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
 
-pub mod bump;
 pub mod controllers_3d;
+pub mod crossing;
 pub mod driver;
 pub mod max_speed;
 pub mod mechanisms;
