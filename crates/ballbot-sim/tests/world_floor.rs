@@ -49,7 +49,12 @@ fn a_drop_agrees_between_the_single_rate_and_the_default_world() {
         (peak_10 - peak_1).abs() < 0.01 * peak_1,
         "{peak_10} {peak_1}"
     );
-    assert!((low_10 - low_1).abs() < 1e-5, "{low_10} {low_1}");
+    // The ball's lowest point within 1 % of its deepest compression of the coating.
+    let radius = default.robot.ball_radius_m();
+    assert!(
+        (low_10 - low_1).abs() < 0.01 * (radius - low_1),
+        "{low_10} {low_1}"
+    );
     assert_eq!(left_10.is_some(), left_1.is_some());
     if let (Some(a), Some(b)) = (left_10, left_1) {
         assert!((a - b).abs() < 0.5e-3, "{a} {b}");

@@ -29,7 +29,7 @@ fn each_mechanism_changes_only_its_own_part_of_the_ideal_world() {
         let p = m.params(robot());
         let gaps = p.contact.rollers != ideal.contact.rollers;
         let axle = p.contact.axle_loss != ideal.contact.axle_loss;
-        let rubber = p.contact.normal_stiffness_n_per_m != ideal.contact.normal_stiffness_n_per_m;
+        let rubber = p.contact.normal_law != ideal.contact.normal_law;
         let driver = p.driver != ideal.driver;
         let drivetrain = p.transmission != ideal.transmission;
         let sensing = p.sensors != ideal.sensors;

@@ -173,11 +173,12 @@ fn rigid_step_ratios_beyond_the_bound_are_rejected_naming_the_field() {
         p.rigid_step_ratio = ratio;
         assert_eq!(field(p), "rigid_step_ratio");
     }
-    // The soft rubber-coated contact of the default world allows up to 25 (omega_B = 375 rad/s).
+    // The soft rubber-coated contact of the default world allows up to 26 (omega_B = 365 rad/s
+    // on the coating law's tangent at the static load).
     let mut p = WorldParams::miapure_60kg();
-    p.rigid_step_ratio = 25;
-    assert!(BallbotWorld::new(p).is_ok());
     p.rigid_step_ratio = 26;
+    assert!(BallbotWorld::new(p).is_ok());
+    p.rigid_step_ratio = 27;
     assert_eq!(field(p), "rigid_step_ratio");
     // Files without the field get the single-rate world.
     let mut json = serde_json::to_value(ideal).unwrap();
