@@ -387,4 +387,3 @@ fn invalid_parameters_are_errors() {
         .to_string();
     assert!(err.contains("resolution_ns"), "{err}");
 }
-

@@ -212,7 +212,8 @@ pub struct RobotModel {
     /// inverse of the world's ball contact frequency
     /// ([`WorldParams::ball_contact_frequency_rad_per_s`], 2.7 ms in the default world), at
     /// least two time steps (MuJoCo's stability bound). The body then rests 1.6 mm lower on the
-    /// ball, as in the default world (1.4 mm).
+    /// ball; the default world's whole-range coating law, which this linear contact matches in
+    /// its tangent at rest and not in its deflection, sinks it 3.8 mm.
     pub roller_contact_timeconst_secs: f64,
     /// Time constant of the ball-floor contact (s): two time steps, MuJoCo's stiffest stable
     /// setting (the ball settles 1.3 mm into the floor; 1.20 mm into the world's coating).

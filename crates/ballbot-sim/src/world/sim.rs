@@ -85,14 +85,14 @@ struct WheelState {
 /// }
 /// let n = world.telemetry().wheels[0].normal_force_n;
 /// assert!((n - 343.6).abs() < 1.0, "{n}");
-/// // In the default world the soft rubber coating lets the body sink 1.4 mm, which turns the
-/// // contact normals: 345.6 N.
+/// // In the default world the rubber coating's whole-range law lets the body sink 3.8 mm
+/// // (2.7 mm into each contact), which turns the contact normals: 349.0 N.
 /// let mut world = BallbotWorld::new(WorldParams::miapure_60kg())?;
 /// for _ in 0..8000 {
 ///     world.step([0.0; 3]);
 /// }
 /// let n = world.telemetry().wheels[0].normal_force_n;
-/// assert!((n - 345.6).abs() < 1.0, "{n}");
+/// assert!((n - 349.0).abs() < 1.0, "{n}");
 /// # Ok::<(), ballbot_sim::world::WorldError>(())
 /// ```
 pub struct BallbotWorld {
