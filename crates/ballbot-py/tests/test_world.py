@@ -83,8 +83,10 @@ def test_slip_starts_at_mu_times_normal_force() -> None:
 
 
 def test_free_flight_conserves_momentum() -> None:
+    # No contact damping: the linear law's and the coating's (its loss factor, floor and wheels).
     params = ballbot.WorldParams(
         contact={"normal_damping_n_s_per_m": 0.0},
+        floor={"coating_loss_factor": 0.0},
         wheel_damping_nm_s_per_rad=0.0,
         rolling_resistance=0.0,
         spin_friction_m=0.0,

@@ -10,16 +10,17 @@ import ballbot
 from ballbot import _core
 
 
-def test_failing_acceleration_towards_ow1_is_1_70() -> None:
-    # Ideal world: towards OW1 the ramp survives 1.70 m/s^2 and OW2/OW3 slip from 1.75 (1.75
-    # and 1.8 on rapier's floor, before the coating's compliant floor of issue 28).
+def test_failing_acceleration_towards_ow1_is_1_75() -> None:
+    # Ideal world: towards OW1 the ramp survives 1.75 m/s^2 and OW2/OW3 slip from 1.80 (as on
+    # rapier's floor; 1.70 and 1.75 on the coating's compliant floor of issue 28 until the robot
+    # started at its contacts' exact equilibrium, which moved this verdict: it sits on an edge).
     found = ballbot.failing_acceleration(
         ballbot.WorldParams.preset("ideal_miapure_60kg"),
         heading_deg=0.0, accel_bracket_m_per_s2=(1.5, 2.0), accel_resolution_m_per_s2=0.05
     )
-    assert found.largest_surviving_m_per_s2 == pytest.approx(1.70)
-    assert found.smallest_failing_m_per_s2 == pytest.approx(1.75)
-    assert found.text == "1.70" and not found.censored and found.runs >= 3
+    assert found.largest_surviving_m_per_s2 == pytest.approx(1.75)
+    assert found.smallest_failing_m_per_s2 == pytest.approx(1.80)
+    assert found.text == "1.75" and not found.censored and found.runs >= 3
     failing = found.failing
     assert failing is not None and failing.failure is not None
     assert failing.failure.kind is ballbot.FailureKind.SUSTAINED_SLIP
@@ -154,10 +155,22 @@ def test_braking_run_without_a_plan_and_is_deterministic() -> None:
 def test_braking_with_the_lift_off_rule_off_records_what_happened() -> None:
     # The Rust test a_braking_the_lift_off_rule_fails_comes_to_rest_without_it: at 180 deg in
     # 1.5 s OW1 lifts off at the onset; the rule ends the run, without it the robot comes to
-    # rest and the lift-off is an event.
-    ruled = ballbot.braking_run(heading_deg=180.0, duration_secs=1.5, settings=FAST_BRAKING)
+    # rest and the lift-off is an event. Pinned, as there, to the default world with the wheel
+    # contacts' linear fit of the coating (the whole-range law keeps OW1 on the ball here).
+    world = ballbot.WorldParams.preset("miapure_60kg")
+    fit = ballbot.ContactParams.preset("rubber_coated_miapure_60kg")
+    params = world.replace(
+        contact=world.contact.replace(
+            normal_law="linear",
+            normal_stiffness_n_per_m=fit.normal_stiffness_n_per_m,
+            normal_damping_n_s_per_m=fit.normal_damping_n_s_per_m,
+        )
+    )
+    ruled = ballbot.braking_run(params, heading_deg=180.0, duration_secs=1.5, settings=FAST_BRAKING)
     relaxed_settings = FAST_BRAKING.replace(stop_on="tilt,slip,driver-trip")
-    relaxed = ballbot.braking_run(heading_deg=180.0, duration_secs=1.5, settings=relaxed_settings)
+    relaxed = ballbot.braking_run(
+        params, heading_deg=180.0, duration_secs=1.5, settings=relaxed_settings
+    )
     assert ruled.happened is not None and relaxed.happened is not None
     assert ruled.outcome is ballbot.BrakingOutcome.FAILED
     assert ruled.happened["outcome"]["kind"] == "ended_by_stop_rule"
