@@ -14,12 +14,16 @@ import json
 import sys
 
 
-# Fault classes whose cells the shipped controller is known to lose, and why. A class leaves
-# this list when the reason is fixed; a cell of any other class that is not safe fails.
+# Fault classes (or a class under one condition) whose cells the shipped controller is known
+# to lose, and why. An entry leaves this list when the reason is fixed; a cell of anything else
+# that is not safe fails.
 KNOWN_UNSAFE = {
-    "floor_bump": "the world's rigid ball on rapier's soft floor contact is thrown over by any "
-    "bump of 1 mm or more (docs/robustness.md, 'Floor bump'); a limit of the world's vertical "
-    "contact dynamics, which the compliant contacts of the fidelity work replace",
+    "floor_bump": "the matrix's 15 mm bar is above every bump the robot crosses on the coating's "
+    "compliant floor (1.6-7.8 mm, docs/results.md, 'Bump tolerance'): it falls, undetected",
+    ("payload_shift", "braking"): "since the wheel contacts follow the coating's whole-range "
+    "law (issue 28), a 5 cm payload shift while braking from 1.4 m/s towards OW1 slips OW2 for "
+    "15 ms, the monitor raises WheelSlip 0.96 s later and the controlled stop is still at "
+    "0.68 m/s when the run ends (docs/robustness.md, 'Payload shift'); not analysed yet",
 }
 
 
@@ -75,7 +79,8 @@ def main(path):
         where = f"{cell['class']} {cell['condition']} {cell['heading_deg']:.0f} deg"
         if cell["class"] in ("motor_dead", "motor_stuck") and not cell["as_expected"]:
             fail(f"design: {where} ended {cell['observed']}, not in its {cell['expected']}")
-        if cell["observed"] in not_safe and cell["class"] not in KNOWN_UNSAFE:
+        known = cell["class"] in KNOWN_UNSAFE or (cell["class"], cell["condition"]) in KNOWN_UNSAFE
+        if cell["observed"] in not_safe and not known:
             fail(f"design: {where} ended {cell['observed']} (expected {cell['expected']})")
     classes = {c["class"] for c in cells}
     conditions = {c["condition"] for c in cells}
