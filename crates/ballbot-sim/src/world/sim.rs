@@ -16,7 +16,7 @@ use super::transmission::{Drivetrain, DrivetrainLoads, DrivetrainState};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use rapier3d_f64::glamx::{DQuat, DVec3};
 use rapier3d_f64::prelude::{
-    ColliderBuilder, MassProperties, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
+    MassProperties, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
 };
 
 mod energy;
@@ -160,14 +160,13 @@ impl BallbotWorld {
             robot.sagittal.ball_mass_kg,
             DVec3::splat(robot.sagittal.ball_inertia_kg_m2),
         );
-        // The collider only carries the ball's mass properties: it touches nothing.
-        let (ball, _) = physics.insert(
+        // No collider: nothing touches the ball in rapier (see RAPIER_SOLVER_ITERATIONS), so
+        // its mass properties are given directly, like the body's.
+        let ball = physics.insert_body(
             RigidBodyBuilder::dynamic()
                 .translation(ball_centre)
+                .additional_mass_properties(ball_props)
                 .can_sleep(false),
-            ColliderBuilder::ball(r)
-                .mass_properties(ball_props)
-                .sensor(true),
         );
 
         let body_props = MassProperties::new(
