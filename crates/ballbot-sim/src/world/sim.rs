@@ -45,7 +45,7 @@ fn static_sink_m(law: &NormalLaw, weight_n: f64, l_m: f64, contact_angle_rad: f6
 /// Solver iterations (substeps) of rapier's step. Rapier has no contact to solve: the floor is
 /// the world's own compliant contact ([`crate::world::floor`]), evaluated every world step
 /// like the omniwheels'; rapier integrates the two bodies under the forces applied to them.
-/// One substep does that, and CCD is off.
+/// One substep does that, without the passes over constraints (there are none), and CCD is off.
 pub const RAPIER_SOLVER_ITERATIONS: usize = 1;
 
 /// Body-fixed geometry of one omniwheel.
@@ -145,6 +145,12 @@ impl BallbotWorld {
         // No contact for rapier to solve: see RAPIER_SOLVER_ITERATIONS.
         physics.integration_parameters.num_solver_iterations = RAPIER_SOLVER_ITERATIONS;
         physics.integration_parameters.max_ccd_substeps = 0;
+        // Nor any constraint or joint: the solver's passes over constraints (warm start, the
+        // biased and the relaxation pass) have nothing to change, so they are skipped (the
+        // velocities and poses rapier integrates are the same bit for bit).
+        physics.integration_parameters.num_internal_pgs_iterations = 0;
+        physics.integration_parameters.num_internal_stabilization_iterations = 0;
+        physics.integration_parameters.warmstart_coefficient = 0.0;
 
         let m_u = robot.sagittal.body_mass_kg;
         let m_b = robot.sagittal.ball_mass_kg;
