@@ -114,6 +114,10 @@ pub struct BallbotWorld {
     monitor: FailureMonitor,
     sensors: Sensors,
     spin_friction_gain_nm_s: f64,
+    /// The chassis' clearance above the floor at the body's current pose (m), which the
+    /// failure monitor reads every world step: recomputed where the pose or the floor changes
+    /// (`refresh_poses`, floor bumps and steps), at most once per rigid step.
+    clearance_m: f64,
     /// Multi-rate bookkeeping between rapier steps ([`crate::world::rigid`]).
     rigid: RigidStepper,
 }
@@ -149,7 +153,9 @@ impl BallbotWorld {
         // biased and the relaxation pass) have nothing to change, so they are skipped (the
         // velocities and poses rapier integrates are the same bit for bit).
         physics.integration_parameters.num_internal_pgs_iterations = 0;
-        physics.integration_parameters.num_internal_stabilization_iterations = 0;
+        physics
+            .integration_parameters
+            .num_internal_stabilization_iterations = 0;
         physics.integration_parameters.warmstart_coefficient = 0.0;
 
         let m_u = robot.sagittal.body_mass_kg;
@@ -253,6 +259,8 @@ impl BallbotWorld {
             // Half the gain that would stop the ball's spin in one step: a stiff, stable
             // regularisation of the Coulomb spin friction.
             spin_friction_gain_nm_s: 0.5 * robot.sagittal.ball_inertia_kg_m2 / params.dt_secs,
+            // Set by refresh_poses below.
+            clearance_m: f64::INFINITY,
             rigid,
             params,
         };
@@ -459,6 +467,16 @@ impl BallbotWorld {
 
     /// Height of the chassis' lowest corner above the floor below it (m).
     pub fn chassis_clearance_m(&self) -> f64 {
+        self.clearance_m
+    }
+
+    /// Recomputes [`Self::chassis_clearance_m`] (after the floor changed).
+    pub(super) fn refresh_clearance(&mut self) {
+        self.clearance_m = self.clearance_at_pose();
+    }
+
+    /// The chassis' clearance at the body's pose in rapier.
+    fn clearance_at_pose(&self) -> f64 {
         // The corners (+-h, +-h, 0) of the body frame.
         let pose = self.physics.bodies[self.body].position();
         let h = self.params.chassis_half_width_m;
@@ -647,8 +665,7 @@ impl BallbotWorld {
             velocity_m_per_s: to_na(rigid.now().body_velocity),
             gravity_m_per_s2: to_na(gravity),
         });
-        let clearance = self.chassis_clearance_m();
-        self.monitor.update(&self.telemetry, clearance, dt);
+        self.monitor.update(&self.telemetry, self.clearance_m, dt);
         &self.telemetry
     }
 
@@ -711,6 +728,8 @@ impl BallbotWorld {
         )
     }
 
+    /// Reads the poses and velocities into the telemetry and the chassis' clearance: after
+    /// every change of the bodies' poses.
     fn refresh_poses(&mut self) {
         let ball = &self.physics.bodies[self.ball];
         let body = &self.physics.bodies[self.body];
@@ -737,5 +756,6 @@ impl BallbotWorld {
         let zx = c * z.x + s * z.y;
         let zy = -s * z.x + c * z.y;
         t.tilt_rad = [(-zy).atan2(z.z), zx.atan2(z.z)];
+        self.refresh_clearance();
     }
 }
