@@ -491,12 +491,13 @@ impl BallbotWorld {
     }
 
     fn contact_geometry(&self) -> [ContactKinematics; 3] {
-        self.contacts().map(|(k, _, _)| k)
+        core::array::from_fn(|i| self.contact(i).0)
     }
 
-    /// Contact kinematics per wheel, the contact point (world) and where on the rim it lies
-    /// (roller gaps: [`crate::world::rollers`]).
-    fn contacts(&self) -> [(ContactKinematics, DVec3, RimContact); 3] {
+    /// Wheel `i`'s contact kinematics, the contact point (world) and where on the rim it lies
+    /// (roller gaps: [`crate::world::rollers`]), at the state the contacts see now.
+    #[inline]
+    fn contact(&self, i: usize) -> (ContactKinematics, DVec3, RimContact) {
         let s = self.rigid.now();
         let c = s.ball_centre;
         let v_c = s.ball_velocity;
@@ -506,52 +507,36 @@ impl BallbotWorld {
         let w_body = s.body_angvel;
         let r = self.params.robot.ball_radius_m();
         let r_w = self.params.robot.drivetrain.wheel_radius_m;
-        let mut out = [(
+        let centre = s.wheel_centres[i];
+        let axle = s.axles[i];
+        let diff = centre - c;
+        let dist = diff.length();
+        let n = diff / dist;
+        let p = c + n * r;
+        let d = n.cross(axle).normalize();
+        let v_centre = v_com + w_body.cross(centre - com);
+        let v_body_p = v_com + w_body.cross(p - com);
+        let v_ball_p = v_c + w_ball.cross(p - c);
+        // The effective radius r_W - dip(psi) and its rate, the rim speed's lever arm.
+        let w = &self.wheels[i].drive;
+        let rim = self.rollers.at(w.wheel_angle_rad);
+        let v_rim = v_body_p + d * (rim.rim_radius_m * w.wheel_speed_rad_per_s);
+        let slip = v_ball_p - v_rim;
+        let axle_dir = d.cross(n);
+        (
             ContactKinematics {
-                normal: DVec3::Z,
-                rolling_dir: DVec3::X,
-                axle_dir: DVec3::NEG_Y,
-                penetration_m: 0.0,
-                penetration_rate_m_per_s: 0.0,
-                slip_speed_m_per_s: 0.0,
-                axle_slip_speed_m_per_s: 0.0,
+                normal: n,
+                rolling_dir: d,
+                axle_dir,
+                penetration_m: r + (r_w - rim.dip_m) - dist,
+                penetration_rate_m_per_s: -n.dot(v_centre - v_c)
+                    - rim.dip_slope_m_per_rad * w.wheel_speed_rad_per_s,
+                slip_speed_m_per_s: d.dot(slip),
+                axle_slip_speed_m_per_s: axle_dir.dot(slip),
             },
-            DVec3::ZERO,
-            self.rollers.at(0.0),
-        ); 3];
-        for (i, w) in self.wheels.iter().enumerate() {
-            let centre = s.wheel_centres[i];
-            let axle = s.axles[i];
-            let diff = centre - c;
-            let dist = diff.length();
-            let n = diff / dist;
-            let p = c + n * r;
-            let d = n.cross(axle).normalize();
-            let v_centre = v_com + w_body.cross(centre - com);
-            let v_body_p = v_com + w_body.cross(p - com);
-            let v_ball_p = v_c + w_ball.cross(p - c);
-            // The effective radius r_W - dip(psi) and its rate, the rim speed's lever arm.
-            let w = &w.drive;
-            let rim = self.rollers.at(w.wheel_angle_rad);
-            let v_rim = v_body_p + d * (rim.rim_radius_m * w.wheel_speed_rad_per_s);
-            let slip = v_ball_p - v_rim;
-            let axle_dir = d.cross(n);
-            out[i] = (
-                ContactKinematics {
-                    normal: n,
-                    rolling_dir: d,
-                    axle_dir,
-                    penetration_m: r + (r_w - rim.dip_m) - dist,
-                    penetration_rate_m_per_s: -n.dot(v_centre - v_c)
-                        - rim.dip_slope_m_per_rad * w.wheel_speed_rad_per_s,
-                    slip_speed_m_per_s: d.dot(slip),
-                    axle_slip_speed_m_per_s: axle_dir.dot(slip),
-                },
-                p,
-                rim,
-            );
-        }
-        out
+            p,
+            rim,
+        )
     }
 
     /// Advances the world by one step of `params.dt_secs` with the motor torque commands
@@ -561,17 +546,15 @@ impl BallbotWorld {
     pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
-        let contacts = self.contacts();
         let mut ball_force = DVec3::ZERO;
         let mut ball_torque = DVec3::ZERO;
         let mut body_force = DVec3::ZERO;
         let mut body_torque = DVec3::ZERO;
-        let state = *self.rigid.now();
-        let c = state.ball_centre;
-        let body_com = state.body_com;
-        let mut wheel_tel = [WheelTelemetry::default(); 3];
+        let c = self.rigid.now().ball_centre;
+        let body_com = self.rigid.now().body_com;
         for i in 0..3 {
-            let (kin, p, rim) = contacts[i];
+            // Each wheel's contact reads only its own wheel's state, updated below.
+            let (kin, p, rim) = self.contact(i);
             let wheel = &mut self.wheels[i];
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
             let drive = self.drivers[i].step(motor_torque_nm[i], wheel.drive.motor_speed_rad_per_s);
@@ -595,8 +578,8 @@ impl BallbotWorld {
             body_torque -= (p - body_com).cross(f);
             // The body takes the change of the spins' angular momentum, n I_r dw_m/dt +
             // I_w dw_w/dt, not the torque that accelerates the reflected inertia.
-            body_torque -= state.axles[i] * spin.spin_momentum_rate_nm;
-            wheel_tel[i] = WheelTelemetry {
+            body_torque -= self.rigid.now().axles[i] * spin.spin_momentum_rate_nm;
+            self.telemetry.wheels[i] = WheelTelemetry {
                 normal_force_n: out.normal_force_n,
                 traction_n: out.traction_n,
                 traction_demand_n: out.traction_demand_n,
@@ -617,6 +600,7 @@ impl BallbotWorld {
         }
         // The floor's compliant contact, then the ball's rolling resistance and spin
         // (torsional) friction, both bounded by its load.
+        let state = self.rigid.now();
         let floor = self.floor.step(
             &BallState {
                 centre: c,
@@ -650,10 +634,9 @@ impl BallbotWorld {
             torque: body_torque,
         };
         self.telemetry.time_secs += dt;
-        self.telemetry.wheels = wheel_tel;
         self.telemetry.floor_force_n = floor.wrench.force.z;
         self.sensors
-            .record_encoders(wheel_tel.map(|w| w.motor_angle_rad));
+            .record_encoders(self.telemetry.wheels.map(|w| w.motor_angle_rad));
         if self.rigid.add(ball, body, dt) {
             self.step_rigid();
         }
