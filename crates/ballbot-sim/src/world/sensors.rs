@@ -6,6 +6,7 @@
 //! ([`crate::world::transmission`]) lie between encoder and wheel.
 
 use super::imu::{AttitudeFilter, ImuModel, ImuTruth};
+use super::num::floor;
 use super::params::SensorParams;
 use super::telemetry::StepTelemetry;
 use rand_chacha::ChaCha8Rng;
@@ -91,7 +92,7 @@ impl Sensors {
 
     fn quantise(&self, angle_rad: f64) -> f64 {
         let q = self.wheel_rad_per_count;
-        (angle_rad / q).floor() * q
+        floor(angle_rad / q) * q
     }
 
     /// Records the true motor angles (at the gearbox output) of one physics step (the
