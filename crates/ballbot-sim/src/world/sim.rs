@@ -496,7 +496,7 @@ impl BallbotWorld {
 
     /// Wheel `i`'s contact kinematics, the contact point (world) and where on the rim it lies
     /// (roller gaps: [`crate::world::rollers`]), at the state the contacts see now.
-    #[inline]
+    #[inline(always)]
     fn contact(&self, i: usize) -> (ContactKinematics, DVec3, RimContact) {
         let s = self.rigid.now();
         let c = s.ball_centre;
