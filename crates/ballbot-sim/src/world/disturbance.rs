@@ -81,6 +81,7 @@ impl BallbotWorld {
     pub fn add_floor_bump(&mut self, bump: FloorBump) -> Result<(), WorldError> {
         bump.validate()?;
         self.floor.add_bump(&bump);
+        self.refresh_clearance();
         Ok(())
     }
 
@@ -101,6 +102,7 @@ impl BallbotWorld {
     pub fn add_floor_step(&mut self, step: FloorStep) -> Result<(), WorldError> {
         step.validate()?;
         self.floor.add_step(&step);
+        self.refresh_clearance();
         Ok(())
     }
 

@@ -56,6 +56,7 @@
 
 use super::WorldError;
 use super::check::non_negative;
+use super::num::floor;
 
 /// Roller radius at mid-roller of the MiaPURE omniwheel (m): 11 mm. Estimate (no datasheet):
 /// a 125 mm single-plate wheel with ten rollers has about 39 mm of rim per roller, and barrel
@@ -186,7 +187,7 @@ impl RollerProfile {
         // psi mod pitch, by floor rather than rem_euclid: libm's fmod was a tenth of the world
         // step's own instructions. The remainder can round to the pitch itself, which only
         // moves u to the other end of the same gap-free zone.
-        let turns = (psi_rad / self.pitch_rad).floor();
+        let turns = floor(psi_rad / self.pitch_rad);
         let u = (psi_rad - turns * self.pitch_rad) - 0.5 * self.pitch_rad;
         let theta_e = self.half_gap_rad - u.abs();
         if theta_e <= 0.0 {

@@ -6,6 +6,7 @@
 //! ([`crate::world::transmission`]) lie between encoder and wheel.
 
 use super::imu::{AttitudeFilter, ImuModel, ImuTruth};
+use super::num::floor;
 use super::params::SensorParams;
 use super::telemetry::StepTelemetry;
 use rand_chacha::ChaCha8Rng;
@@ -48,6 +49,10 @@ pub struct Sensors {
     history: [[f64; 3]; SPEED_WINDOW_STEPS],
     next: usize,
     filled: usize,
+    /// The speeds from the history as it is ([`Self::wheel_speeds`]), computed when an
+    /// encoder sample is recorded: the world and the robot loop read them several times
+    /// between two samples.
+    speeds: [f64; 3],
     dt_secs: f64,
     /// The attitude filter, with [`ImuModel::AttitudeFilter`].
     filter: Option<AttitudeFilter>,
@@ -66,6 +71,7 @@ impl Sensors {
             history: [[0.0; 3]; SPEED_WINDOW_STEPS],
             next: 0,
             filled: 0,
+            speeds: [0.0; 3],
             dt_secs,
             filter: (params.imu.model == ImuModel::AttitudeFilter)
                 .then(|| AttitudeFilter::new(params.imu, dt_secs, params.seed)),
@@ -91,7 +97,7 @@ impl Sensors {
 
     fn quantise(&self, angle_rad: f64) -> f64 {
         let q = self.wheel_rad_per_count;
-        (angle_rad / q).floor() * q
+        floor(angle_rad / q) * q
     }
 
     /// Records the true motor angles (at the gearbox output) of one physics step (the
@@ -100,11 +106,16 @@ impl Sensors {
         self.history[self.next] = wheel_angle_rad.map(|a| self.quantise(a));
         self.next = (self.next + 1) % SPEED_WINDOW_STEPS;
         self.filled = (self.filled + 1).min(SPEED_WINDOW_STEPS);
+        self.speeds = self.speeds_from_history();
     }
 
     /// The encoder speed estimate of the three wheels (rad/s): see
     /// [`Measurement::wheel_speed_rad_per_s`].
     pub fn wheel_speeds(&self) -> [f64; 3] {
+        self.speeds
+    }
+
+    fn speeds_from_history(&self) -> [f64; 3] {
         if self.filled < 2 {
             return [0.0; 3];
         }

@@ -16,7 +16,7 @@ use super::transmission::{Drivetrain, DrivetrainLoads, DrivetrainState};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use rapier3d_f64::glamx::{DQuat, DVec3};
 use rapier3d_f64::prelude::{
-    ColliderBuilder, MassProperties, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
+    MassProperties, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
 };
 
 mod energy;
@@ -45,7 +45,7 @@ fn static_sink_m(law: &NormalLaw, weight_n: f64, l_m: f64, contact_angle_rad: f6
 /// Solver iterations (substeps) of rapier's step. Rapier has no contact to solve: the floor is
 /// the world's own compliant contact ([`crate::world::floor`]), evaluated every world step
 /// like the omniwheels'; rapier integrates the two bodies under the forces applied to them.
-/// One substep does that, and CCD is off.
+/// One substep does that, without the passes over constraints (there are none), and CCD is off.
 pub const RAPIER_SOLVER_ITERATIONS: usize = 1;
 
 /// Body-fixed geometry of one omniwheel.
@@ -114,6 +114,10 @@ pub struct BallbotWorld {
     monitor: FailureMonitor,
     sensors: Sensors,
     spin_friction_gain_nm_s: f64,
+    /// The chassis' clearance above the floor at the body's current pose (m), which the
+    /// failure monitor reads every world step: recomputed where the pose or the floor changes
+    /// (`refresh_poses`, floor bumps and steps), at most once per rigid step.
+    clearance_m: f64,
     /// Multi-rate bookkeeping between rapier steps ([`crate::world::rigid`]).
     rigid: RigidStepper,
 }
@@ -145,6 +149,14 @@ impl BallbotWorld {
         // No contact for rapier to solve: see RAPIER_SOLVER_ITERATIONS.
         physics.integration_parameters.num_solver_iterations = RAPIER_SOLVER_ITERATIONS;
         physics.integration_parameters.max_ccd_substeps = 0;
+        // Nor any constraint or joint: the solver's passes over constraints (warm start, the
+        // biased and the relaxation pass) have nothing to change, so they are skipped (the
+        // velocities and poses rapier integrates are the same bit for bit).
+        physics.integration_parameters.num_internal_pgs_iterations = 0;
+        physics
+            .integration_parameters
+            .num_internal_stabilization_iterations = 0;
+        physics.integration_parameters.warmstart_coefficient = 0.0;
 
         let m_u = robot.sagittal.body_mass_kg;
         let m_b = robot.sagittal.ball_mass_kg;
@@ -160,14 +172,13 @@ impl BallbotWorld {
             robot.sagittal.ball_mass_kg,
             DVec3::splat(robot.sagittal.ball_inertia_kg_m2),
         );
-        // The collider only carries the ball's mass properties: it touches nothing.
-        let (ball, _) = physics.insert(
+        // No collider: nothing touches the ball in rapier (see RAPIER_SOLVER_ITERATIONS), so
+        // its mass properties are given directly, like the body's.
+        let ball = physics.insert_body(
             RigidBodyBuilder::dynamic()
                 .translation(ball_centre)
+                .additional_mass_properties(ball_props)
                 .can_sleep(false),
-            ColliderBuilder::ball(r)
-                .mass_properties(ball_props)
-                .sensor(true),
         );
 
         let body_props = MassProperties::new(
@@ -248,6 +259,8 @@ impl BallbotWorld {
             // Half the gain that would stop the ball's spin in one step: a stiff, stable
             // regularisation of the Coulomb spin friction.
             spin_friction_gain_nm_s: 0.5 * robot.sagittal.ball_inertia_kg_m2 / params.dt_secs,
+            // Set by refresh_poses below.
+            clearance_m: f64::INFINITY,
             rigid,
             params,
         };
@@ -454,6 +467,16 @@ impl BallbotWorld {
 
     /// Height of the chassis' lowest corner above the floor below it (m).
     pub fn chassis_clearance_m(&self) -> f64 {
+        self.clearance_m
+    }
+
+    /// Recomputes [`Self::chassis_clearance_m`] (after the floor changed).
+    pub(super) fn refresh_clearance(&mut self) {
+        self.clearance_m = self.clearance_at_pose();
+    }
+
+    /// The chassis' clearance at the body's pose in rapier.
+    fn clearance_at_pose(&self) -> f64 {
         // The corners (+-h, +-h, 0) of the body frame.
         let pose = self.physics.bodies[self.body].position();
         let h = self.params.chassis_half_width_m;
@@ -468,12 +491,13 @@ impl BallbotWorld {
     }
 
     fn contact_geometry(&self) -> [ContactKinematics; 3] {
-        self.contacts().map(|(k, _, _)| k)
+        core::array::from_fn(|i| self.contact(i).0)
     }
 
-    /// Contact kinematics per wheel, the contact point (world) and where on the rim it lies
-    /// (roller gaps: [`crate::world::rollers`]).
-    fn contacts(&self) -> [(ContactKinematics, DVec3, RimContact); 3] {
+    /// Wheel `i`'s contact kinematics, the contact point (world) and where on the rim it lies
+    /// (roller gaps: [`crate::world::rollers`]), at the state the contacts see now.
+    #[inline(always)]
+    fn contact(&self, i: usize) -> (ContactKinematics, DVec3, RimContact) {
         let s = self.rigid.now();
         let c = s.ball_centre;
         let v_c = s.ball_velocity;
@@ -483,52 +507,36 @@ impl BallbotWorld {
         let w_body = s.body_angvel;
         let r = self.params.robot.ball_radius_m();
         let r_w = self.params.robot.drivetrain.wheel_radius_m;
-        let mut out = [(
+        let centre = s.wheel_centres[i];
+        let axle = s.axles[i];
+        let diff = centre - c;
+        let dist = diff.length();
+        let n = diff / dist;
+        let p = c + n * r;
+        let d = n.cross(axle).normalize();
+        let v_centre = v_com + w_body.cross(centre - com);
+        let v_body_p = v_com + w_body.cross(p - com);
+        let v_ball_p = v_c + w_ball.cross(p - c);
+        // The effective radius r_W - dip(psi) and its rate, the rim speed's lever arm.
+        let w = &self.wheels[i].drive;
+        let rim = self.rollers.at(w.wheel_angle_rad);
+        let v_rim = v_body_p + d * (rim.rim_radius_m * w.wheel_speed_rad_per_s);
+        let slip = v_ball_p - v_rim;
+        let axle_dir = d.cross(n);
+        (
             ContactKinematics {
-                normal: DVec3::Z,
-                rolling_dir: DVec3::X,
-                axle_dir: DVec3::NEG_Y,
-                penetration_m: 0.0,
-                penetration_rate_m_per_s: 0.0,
-                slip_speed_m_per_s: 0.0,
-                axle_slip_speed_m_per_s: 0.0,
+                normal: n,
+                rolling_dir: d,
+                axle_dir,
+                penetration_m: r + (r_w - rim.dip_m) - dist,
+                penetration_rate_m_per_s: -n.dot(v_centre - v_c)
+                    - rim.dip_slope_m_per_rad * w.wheel_speed_rad_per_s,
+                slip_speed_m_per_s: d.dot(slip),
+                axle_slip_speed_m_per_s: axle_dir.dot(slip),
             },
-            DVec3::ZERO,
-            self.rollers.at(0.0),
-        ); 3];
-        for (i, w) in self.wheels.iter().enumerate() {
-            let centre = s.wheel_centres[i];
-            let axle = s.axles[i];
-            let diff = centre - c;
-            let dist = diff.length();
-            let n = diff / dist;
-            let p = c + n * r;
-            let d = n.cross(axle).normalize();
-            let v_centre = v_com + w_body.cross(centre - com);
-            let v_body_p = v_com + w_body.cross(p - com);
-            let v_ball_p = v_c + w_ball.cross(p - c);
-            // The effective radius r_W - dip(psi) and its rate, the rim speed's lever arm.
-            let w = &w.drive;
-            let rim = self.rollers.at(w.wheel_angle_rad);
-            let v_rim = v_body_p + d * (rim.rim_radius_m * w.wheel_speed_rad_per_s);
-            let slip = v_ball_p - v_rim;
-            let axle_dir = d.cross(n);
-            out[i] = (
-                ContactKinematics {
-                    normal: n,
-                    rolling_dir: d,
-                    axle_dir,
-                    penetration_m: r + (r_w - rim.dip_m) - dist,
-                    penetration_rate_m_per_s: -n.dot(v_centre - v_c)
-                        - rim.dip_slope_m_per_rad * w.wheel_speed_rad_per_s,
-                    slip_speed_m_per_s: d.dot(slip),
-                    axle_slip_speed_m_per_s: axle_dir.dot(slip),
-                },
-                p,
-                rim,
-            );
-        }
-        out
+            p,
+            rim,
+        )
     }
 
     /// Advances the world by one step of `params.dt_secs` with the motor torque commands
@@ -538,17 +546,15 @@ impl BallbotWorld {
     pub fn step(&mut self, motor_torque_nm: [f64; 3]) -> &StepTelemetry {
         self.motor_cmd_nm = motor_torque_nm;
         let dt = self.params.dt_secs;
-        let contacts = self.contacts();
         let mut ball_force = DVec3::ZERO;
         let mut ball_torque = DVec3::ZERO;
         let mut body_force = DVec3::ZERO;
         let mut body_torque = DVec3::ZERO;
-        let state = *self.rigid.now();
-        let c = state.ball_centre;
-        let body_com = state.body_com;
-        let mut wheel_tel = [WheelTelemetry::default(); 3];
+        let c = self.rigid.now().ball_centre;
+        let body_com = self.rigid.now().body_com;
         for i in 0..3 {
-            let (kin, p, rim) = contacts[i];
+            // Each wheel's contact reads only its own wheel's state, updated below.
+            let (kin, p, rim) = self.contact(i);
             let wheel = &mut self.wheels[i];
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
             let drive = self.drivers[i].step(motor_torque_nm[i], wheel.drive.motor_speed_rad_per_s);
@@ -572,8 +578,8 @@ impl BallbotWorld {
             body_torque -= (p - body_com).cross(f);
             // The body takes the change of the spins' angular momentum, n I_r dw_m/dt +
             // I_w dw_w/dt, not the torque that accelerates the reflected inertia.
-            body_torque -= state.axles[i] * spin.spin_momentum_rate_nm;
-            wheel_tel[i] = WheelTelemetry {
+            body_torque -= self.rigid.now().axles[i] * spin.spin_momentum_rate_nm;
+            self.telemetry.wheels[i] = WheelTelemetry {
                 normal_force_n: out.normal_force_n,
                 traction_n: out.traction_n,
                 traction_demand_n: out.traction_demand_n,
@@ -594,6 +600,7 @@ impl BallbotWorld {
         }
         // The floor's compliant contact, then the ball's rolling resistance and spin
         // (torsional) friction, both bounded by its load.
+        let state = self.rigid.now();
         let floor = self.floor.step(
             &BallState {
                 centre: c,
@@ -627,10 +634,9 @@ impl BallbotWorld {
             torque: body_torque,
         };
         self.telemetry.time_secs += dt;
-        self.telemetry.wheels = wheel_tel;
         self.telemetry.floor_force_n = floor.wrench.force.z;
         self.sensors
-            .record_encoders(wheel_tel.map(|w| w.motor_angle_rad));
+            .record_encoders(self.telemetry.wheels.map(|w| w.motor_angle_rad));
         if self.rigid.add(ball, body, dt) {
             self.step_rigid();
         }
@@ -642,8 +648,7 @@ impl BallbotWorld {
             velocity_m_per_s: to_na(rigid.now().body_velocity),
             gravity_m_per_s2: to_na(gravity),
         });
-        let clearance = self.chassis_clearance_m();
-        self.monitor.update(&self.telemetry, clearance, dt);
+        self.monitor.update(&self.telemetry, self.clearance_m, dt);
         &self.telemetry
     }
 
@@ -706,6 +711,8 @@ impl BallbotWorld {
         )
     }
 
+    /// Reads the poses and velocities into the telemetry and the chassis' clearance: after
+    /// every change of the bodies' poses.
     fn refresh_poses(&mut self) {
         let ball = &self.physics.bodies[self.ball];
         let body = &self.physics.bodies[self.body];
@@ -732,5 +739,6 @@ impl BallbotWorld {
         let zx = c * z.x + s * z.y;
         let zy = -s * z.x + c * z.y;
         t.tilt_rad = [(-zy).atan2(z.z), zx.atan2(z.z)];
+        self.refresh_clearance();
     }
 }
