@@ -552,12 +552,12 @@ impl BallbotWorld {
         let mut body_torque = DVec3::ZERO;
         let c = self.rigid.now().ball_centre;
         let body_com = self.rigid.now().body_com;
-        for i in 0..3 {
+        for (i, &command_nm) in motor_torque_nm.iter().enumerate() {
             // Each wheel's contact reads only its own wheel's state, updated below.
             let (kin, p, rim) = self.contact(i);
             let wheel = &mut self.wheels[i];
             let out: ContactOutput = self.law.evaluate(&kin, &mut wheel.bristle_m, dt);
-            let drive = self.drivers[i].step(motor_torque_nm[i], wheel.drive.motor_speed_rad_per_s);
+            let drive = self.drivers[i].step(command_nm, wheel.drive.motor_speed_rad_per_s);
             let tau = drive.torque_nm;
             // At a roller gap the normal force turns the wheel by N d(dip)/d(psi), the
             // generalised force of the normal spring (crate::world::rollers). The force itself
