@@ -419,21 +419,18 @@ impl<T: RealField + Copy> MotorHealthMonitor<T> {
     ) -> Option<MotorVerdict> {
         self.unanswered_steps = 0;
         let mut verdict: Option<MotorVerdict> = None;
-        for (wheel, ((state, fb), command)) in self
-            .wheels
-            .iter_mut()
-            .zip(feedback)
-            .zip(commanded_nm.iter())
-            .enumerate()
-        {
+        // Indexed rather than zipped iterators (nalgebra's column iterator among them): the
+        // iterators' bookkeeping was a fifth of this 8 kHz step.
+        for wheel in 0..3 {
+            let state = &mut self.wheels[wheel];
             let fault = check_wheel(
                 &self.params,
                 self.lag_gain,
                 self.persistence_steps,
                 state,
-                fb,
+                &feedback[wheel],
             );
-            state.last_command_nm = *command;
+            state.last_command_nm = commanded_nm[wheel];
             if let Some(fault) = fault {
                 let replace = match verdict {
                     None => true,

@@ -4,6 +4,7 @@ use super::devices::{WorldClock, WorldEncoders, WorldImu, WorldMotors};
 use super::events::EventLog;
 use super::inject::{Injector, NoFaults, Tick};
 use crate::world::driver::DriverFault;
+use crate::world::num::round_to_u64;
 use crate::world::{BallbotWorld, Measurement, StepTelemetry, WorldError, WorldParams};
 use ballbot_core::ballbot::{BallbotControllerConfig, OuterOutput};
 use ballbot_core::command::Command;
@@ -187,7 +188,7 @@ impl WorldRobot {
         }
         self.step_index += 1;
         let speeds = Vector3::from(self.world.encoder_speeds_rad_per_s());
-        let now_us = (self.world.time_secs() * 1e6).round() as u64;
+        let now_us = round_to_u64(self.world.time_secs() * 1e6);
         let fresh = EncoderSample {
             timestamp_us: now_us,
             wheel_speeds_rad_per_s: speeds,

@@ -180,6 +180,7 @@ pub struct ContactOutput {
 impl ContactLaw {
     /// Evaluates the law for one contact and advances its bristle deflection `z` (m) by
     /// `dt_secs`.
+    #[inline]
     pub fn evaluate(
         &self,
         kin: &ContactKinematics,

@@ -449,6 +449,7 @@ impl MotorDriver {
     /// One step: the wheel torque for the command `torque_nm` (N m at the wheel; non-finite
     /// gives 0) at wheel speed `speed_rad_per_s`. Checks the trips first (the ODrive model);
     /// a disarmed driver gives nothing.
+    #[inline]
     pub fn step(&mut self, torque_nm: f64, speed_rad_per_s: f64) -> DriverOutput {
         if self.params.model == DriverModel::Odrive
             && self.fault.is_none()
@@ -474,6 +475,7 @@ impl MotorDriver {
     }
 
     /// The torque an armed driver delivers for `torque_nm` at `speed_rad_per_s` (no trips).
+    #[inline]
     pub fn envelope(&self, torque_nm: f64, speed_rad_per_s: f64) -> DriverOutput {
         let n = self.actuator.gear_ratio;
         let kt = self.resolved.kt_nm_per_a;

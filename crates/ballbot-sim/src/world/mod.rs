@@ -38,7 +38,7 @@ pub mod driver;
 pub mod failure;
 pub mod floor;
 pub mod imu;
-mod num;
+pub(crate) mod num;
 pub mod params;
 mod rigid;
 pub mod rollers;
