@@ -23,7 +23,7 @@ KNOWN_UNSAFE = {
     ("payload_shift", "braking"): "since the wheel contacts follow the coating's whole-range "
     "law (issue 28), a 5 cm payload shift while braking from 1.4 m/s towards OW1 slips OW2 for "
     "15 ms, the monitor raises WheelSlip 0.96 s later and the controlled stop is still at "
-    "0.68 m/s when the run ends (docs/robustness.md, 'Payload shift'); not analysed yet",
+    "0.68 m/s when the quick run's cell ends (docs/robustness.md, 'Payload shift'); not analysed yet",
 }
 
 
