@@ -1,7 +1,7 @@
 //! `ballbot simulate <scenario.toml> [--out DIR]`: one planar run
 //! (`ballbot_sim::studies::scenario_run`).
 //!
-//! Writes `DIR/<scenario>.mcap` (every channel of `ballbot_sim::planar::McapRecorder`) and
+//! Writes `DIR/<scenario>.mcap` (every channel of `ballbot_sim::log::planar::McapRecorder`) and
 //! `DIR/<scenario>.json` (the run's summary), and prints the summary.
 
 use anyhow::Context;

@@ -5,8 +5,9 @@
 use crate::arrays::rows_out;
 use crate::errors::{Kind, error};
 use crate::log::json_to_py;
+use ballbot_sim::log::planar::McapRecorder;
 use ballbot_sim::log::{LoggerOptions, McapLogger};
-use ballbot_sim::planar::{ControllerKind, Fault, McapRecorder, Observer, OuterTick};
+use ballbot_sim::planar::{ControllerKind, Fault, Observer, OuterTick};
 use ballbot_sim::scenario::{Scenario, ScenarioError};
 use ballbot_sim::studies::piptb::{
     self, ControllerResult, ExperimentError, PiptbSettings, TrialSeries,

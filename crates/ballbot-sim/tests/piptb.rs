@@ -1,7 +1,8 @@
 //! The PIPTB experiment end to end (the CI variant), its determinism, and its MCAP logs.
 
+use ballbot_sim::log::planar::PLANAR_FRICTION;
 use ballbot_sim::log::{McapLog, topics};
-use ballbot_sim::planar::{ControllerKind, ControllerSettings, PLANAR_FRICTION};
+use ballbot_sim::planar::{ControllerKind, ControllerSettings};
 use ballbot_sim::studies::piptb::{self, PiptbProfile, PiptbSettings, run_trial};
 use ballbot_sim::studies::{BrakingSource, BrakingTrajectory};
 use std::hash::{DefaultHasher, Hasher};

@@ -29,6 +29,7 @@ mod error;
 pub mod foxglove;
 #[cfg(feature = "live")]
 mod live;
+pub mod planar;
 mod reader;
 mod schema;
 mod sink;

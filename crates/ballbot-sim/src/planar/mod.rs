@@ -1,8 +1,8 @@
 //! The multi-rate planar simulator: one WIP plane (or the PIPTB) with the things a real
 //! drivetrain has and the controller's model does not.
 //!
-//! Layer rule: this is physics (with its multi-rate scheduler); it imports the core and
-//! [`crate::log`], nothing from [`crate::studies`], [`crate::report`] or the command line.
+//! Layer rule: this is physics (with its multi-rate scheduler); it imports the core only, nothing from
+//! [`crate::log`] (which records it: [`crate::log::planar`]), [`crate::studies`], [`crate::report`] or the command line.
 //!
 //! - [`PlanarPlant`]: the core's nonlinear [`ballbot_core::Wip`], integrated with RK4 at a fixed
 //!   rate (default 8 kHz), with [`TransmissionFriction`] (stiction, Coulomb, viscous; Karnopp
@@ -17,7 +17,6 @@ mod controllers;
 mod error;
 mod friction;
 mod plant;
-mod record;
 mod rollout;
 mod sensors;
 mod sim;
@@ -30,10 +29,6 @@ pub use controllers::{ControllerKind, ControllerSettings, LqrPiCascade, LqrTorqu
 pub use error::PlanarError;
 pub use friction::{FrictionMode, TransmissionFriction};
 pub use plant::{PlanarPlant, PlantStep};
-pub use record::{
-    FaultMsg, FrictionMsg, McapRecorder, PLANAR_FRICTION, PlanarCommandMsg, PlanarControlMsg,
-    PlanarStateMsg,
-};
 pub use rollout::{Rollout, RolloutController, RolloutSettings, rollout};
 pub use sensors::{ImuSample, SensorParams, Sensors, SpeedEstimator};
 pub use sim::{Fault, FaultKind, Observer, OuterTick, PlanarSim, RunOutcome, SimConfig};

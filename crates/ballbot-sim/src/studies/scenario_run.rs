@@ -2,8 +2,9 @@
 //! (every channel of [`McapRecorder`]) and reduced to a [`RunSummary`]. What `ballbot
 //! simulate` runs.
 
+use crate::log::planar::McapRecorder;
 use crate::log::{LogError, LoggerOptions, McapLogger};
-use crate::planar::{McapRecorder, Observer, OuterTick, PlanarError, PlantStep};
+use crate::planar::{Observer, OuterTick, PlanarError, PlantStep};
 use crate::scenario::{Scenario, ScenarioError};
 use ballbot_core::WipState;
 use ballbot_core::wip::{BALL_RATE, TILT};

@@ -4,9 +4,9 @@
 use std::collections::BTreeSet;
 
 use ballbot_sim::{
+    log::planar::{PlanarCommandMsg, PlanarControlMsg, PlanarStateMsg},
     log::world::{WorldCommandMsg, WorldTelemetryMsg},
     log::{foxglove::BallbotScene, schema_for, topics},
-    planar::{PlanarCommandMsg, PlanarControlMsg, PlanarStateMsg},
 };
 use serde_json::Value;
 

@@ -2,10 +2,10 @@
 //! statistics of a controller's trials.
 
 use super::{ExperimentError, PAPER, PiptbProfile, PiptbSettings};
+use crate::log::planar::McapRecorder;
 use crate::log::{LoggerOptions, McapLogger};
 use crate::planar::{
-    ControllerKind, ControllerSettings, Fault, FaultKind, McapRecorder, Observer, OuterTick,
-    PlanarSim, PlantStep,
+    ControllerKind, ControllerSettings, Fault, FaultKind, Observer, OuterTick, PlanarSim, PlantStep,
 };
 use ballbot_core::WipState;
 use ballbot_core::wip::{BALL_RATE, TILT};

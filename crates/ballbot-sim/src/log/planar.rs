@@ -1,4 +1,4 @@
-//! Recording a planar run into an MCAP log ([`crate::log::McapLogger`]): one typed JSON
+//! Recording a planar run into an MCAP log ([`super::McapLogger`]): one typed JSON
 //! channel per concern, stamped with simulated time, written at every tick of the main
 //! controller.
 //!
@@ -10,8 +10,8 @@
 //! | `/planar/friction` | [`FrictionMsg`] | transmission friction torque and stick-slip branch |
 //! | `/faults` | [`FaultMsg`] | actuator saturation on/off, fall, non-finite state |
 
-use super::{Fault, FaultKind, Observer, OuterTick, PlantStep};
-use crate::log::{Channel, LogError, McapLogger, topics};
+use super::{Channel, LogError, McapLogger, topics};
+use crate::planar::{Fault, FaultKind, Observer, OuterTick, PlantStep};
 use ballbot_core::WipState;
 use ballbot_core::wip::{BALL_ANGLE, BALL_RATE, TILT, TILT_RATE};
 use std::collections::BTreeMap;
