@@ -3,7 +3,7 @@
 //! `ballbot_sim::report`).
 //!
 //! - `ballbot simulate <scenario.toml>`: one planar run described by a scenario file
-//!   (`ballbot_sim::scenario`); writes its MCAP log and a JSON summary.
+//!   (`ballbot_sim::studies::scenario`); writes its MCAP log and a JSON summary.
 //! - `ballbot reproduce --out DIR [--quick]`: every paper experiment that exists so far;
 //!   prints a comparison table and writes plots, MCAP logs and `DIR/summary.json`.
 //! - `ballbot robustness --out DIR [--quick]`: the reliability campaign (fuzzing, fault

@@ -5,7 +5,7 @@
 //! `DIR/<scenario>.json` (the run's summary), and prints the summary.
 
 use anyhow::Context;
-use ballbot_sim::scenario::Scenario;
+use ballbot_sim::studies::scenario::Scenario;
 pub use ballbot_sim::studies::scenario_run::RunSummary;
 use ballbot_sim::studies::scenario_run::run_scenario;
 use std::path::PathBuf;

@@ -1,4 +1,4 @@
-//! The planar simulator (`ballbot_sim::planar`, `ballbot_sim::scenario`) and the PIPTB
+//! The planar simulator (`ballbot_sim::planar`, `ballbot_sim::studies::scenario`) and the PIPTB
 //! controller comparison (`ballbot_sim::studies::piptb`, what `ballbot reproduce` runs).
 //! Runs release the GIL; results come back as dicts of numpy arrays plus the MCAP path.
 
@@ -8,10 +8,10 @@ use crate::log::json_to_py;
 use ballbot_sim::log::planar::McapRecorder;
 use ballbot_sim::log::{LoggerOptions, McapLogger};
 use ballbot_sim::planar::{ControllerKind, Fault, Observer, OuterTick};
-use ballbot_sim::scenario::{Scenario, ScenarioError};
 use ballbot_sim::studies::piptb::{
     self, ControllerResult, ExperimentError, PiptbSettings, TrialSeries,
 };
+use ballbot_sim::studies::scenario::{Scenario, ScenarioError};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -74,7 +74,7 @@ enum RunError {
     Log(String),
 }
 
-/// A planar simulation scenario (`ballbot_sim::scenario::Scenario`): robot, friction,
+/// A planar simulation scenario (`ballbot_sim::studies::scenario::Scenario`): robot, friction,
 /// sensors, rates, controller, command profile, seed and duration, as in a scenario TOML file.
 #[pyclass(name = "Scenario", module = "ballbot", frozen)]
 pub struct PyScenario {

@@ -6,7 +6,7 @@
 //!   [`planar`] (the multi-rate planar simulator); [`trajopt`] (braking trajectories, clarabel);
 //! - [`studies`]: the paper's experiments on that physics, with one shared job runner;
 //! - [`report`]: their JSON, tables and figures (figures behind the `plot` feature);
-//! - [`log`]: MCAP logging and reading; [`scenario`]: scenario files; [`params_file`]: every
+//! - [`log`]: MCAP logging and reading; [`studies::scenario`]: scenario files; [`params_file`]: every
 //!   parameter file's schema, checks, presets and differences (`ballbot params`);
 //!   [`export`]: the world's robot as MJCF and URDF (`ballbot export`).
 //!
@@ -19,7 +19,6 @@ pub mod params_file;
 pub mod planar;
 pub mod report;
 pub mod rig;
-pub mod scenario;
 pub mod studies;
 pub mod trajopt;
 pub mod world;

@@ -1,6 +1,6 @@
 //! Scenario files: every example parses, errors name the key.
 
-use ballbot_sim::scenario::{Scenario, ScenarioError};
+use ballbot_sim::studies::scenario::{Scenario, ScenarioError};
 use std::path::{Path, PathBuf};
 
 fn scenarios_dir() -> PathBuf {

@@ -2,7 +2,7 @@
 //! every error naming the dotted key.
 
 use super::{FileKind, ParamsFileError};
-use crate::scenario::{Scenario, ScenarioError};
+use crate::studies::scenario::{Scenario, ScenarioError};
 use crate::world::{WorldError, WorldParams};
 use ballbot_core::BallbotParams;
 use serde::de::DeserializeOwned;

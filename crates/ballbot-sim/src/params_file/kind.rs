@@ -9,7 +9,7 @@ use std::str::FromStr;
 pub enum FileKind {
     /// A robot: [`ballbot_core::BallbotParams`] (`examples/params/miapure_60kg.toml`).
     Robot,
-    /// A planar scenario for `ballbot simulate`: [`crate::scenario::Scenario`] (`scenarios/`).
+    /// A planar scenario for `ballbot simulate`: [`crate::studies::scenario::Scenario`] (`scenarios/`).
     Scenario,
     /// The 3D world with its robot: [`crate::world::WorldParams`] (`params = "world.toml"` of
     /// a sweep).

@@ -5,7 +5,7 @@ use super::{FileKind, ParamsFile, ParamsFileError};
 use crate::planar::{
     ControllerKind, ControllerSettings, SensorParams, SimConfig, TransmissionFriction,
 };
-use crate::scenario::{CommandSpec, InitialState, RobotSpec, Scenario};
+use crate::studies::scenario::{CommandSpec, InitialState, RobotSpec, Scenario};
 use crate::world::WorldParams;
 use ballbot_core::BallbotParams;
 

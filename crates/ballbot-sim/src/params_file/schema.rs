@@ -6,7 +6,7 @@
 //! on the fields (`#[schemars(range(min = 0))]`, `exclusiveMinimum`).
 
 use super::FileKind;
-use crate::scenario::Scenario;
+use crate::studies::scenario::Scenario;
 use crate::world::WorldParams;
 use ballbot_core::BallbotParams;
 use schemars::generate::SchemaSettings;

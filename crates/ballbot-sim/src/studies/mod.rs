@@ -20,7 +20,8 @@
 //! - [`world_suite`]: the world braking and push studies of `ballbot reproduce`, run together.
 //! - [`traction`]: traction-aware control against the same controller without it (issue 14).
 //! - [`robustness`]: the reliability campaign: fuzzing, fault injection, Monte Carlo (issue 15).
-//! - [`scenario_run`]: one planar run from a scenario file (`ballbot simulate`).
+//! - [`scenario`]: the TOML scenario files of `ballbot simulate`; [`scenario_run`]: one planar
+//!   run from such a file.
 //! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).
 //! - [`replay`]: a run replayed with an MCAP logger, checked against the study's run.
 
@@ -36,6 +37,7 @@ pub mod ramp;
 pub mod replay;
 pub mod robustness;
 pub mod runner;
+pub mod scenario;
 pub mod scenario_run;
 pub mod sweep;
 pub mod traction;

@@ -1,11 +1,11 @@
-//! One planar run described by a scenario file ([`crate::scenario`]), written to an MCAP log
+//! One planar run described by a scenario file ([`crate::studies::scenario`]), written to an MCAP log
 //! (every channel of [`McapRecorder`]) and reduced to a [`RunSummary`]. What `ballbot
 //! simulate` runs.
 
 use crate::log::planar::McapRecorder;
 use crate::log::{LogError, LoggerOptions, McapLogger};
 use crate::planar::{Observer, OuterTick, PlanarError, PlantStep};
-use crate::scenario::{Scenario, ScenarioError};
+use crate::studies::scenario::{Scenario, ScenarioError};
 use ballbot_core::WipState;
 use ballbot_core::wip::{BALL_RATE, TILT};
 use std::path::{Path, PathBuf};

@@ -6,7 +6,7 @@
 //! non-finite value under a key, the error must name the key.
 
 use super::hostile::{chance, index};
-use crate::scenario::Scenario;
+use crate::studies::scenario::Scenario;
 use crate::world::WorldParams;
 use ballbot_core::{BallbotParams, WipParams};
 use rand_chacha::ChaCha8Rng;

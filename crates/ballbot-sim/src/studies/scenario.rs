@@ -7,7 +7,7 @@
 //! every error names the key (TOML's own errors quote the offending line).
 //!
 //! ```
-//! use ballbot_sim::scenario::Scenario;
+//! use ballbot_sim::studies::scenario::Scenario;
 //! let scenario = Scenario::from_toml_str(r#"
 //!     seed = 7
 //!     duration_secs = 6.4
@@ -23,14 +23,14 @@
 //! let err = Scenario::from_toml_str("[controller]\nkind = \"lqr\"\n[friction]\nstiction_nm = 1.0")
 //!     .unwrap_err();
 //! assert!(err.to_string().contains("stiction_nm"));
-//! # Ok::<(), ballbot_sim::scenario::ScenarioError>(())
+//! # Ok::<(), ballbot_sim::studies::scenario::ScenarioError>(())
 //! ```
 
+use super::piptb::{PiptbProfile, PiptbSettings, braking_reference};
 use crate::planar::{
     CommandProfile, ControllerSettings, PlanarCommand, PlanarError, PlanarSim, SensorParams,
     SimConfig, TransmissionFriction,
 };
-use crate::studies::piptb::{PiptbProfile, PiptbSettings, braking_reference};
 use ballbot_core::{ActuatorParams, PlanarRobotParams, WipParams, WipState};
 use std::path::{Path, PathBuf};
 
