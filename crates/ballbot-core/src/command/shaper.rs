@@ -463,7 +463,9 @@ impl<T: RealField + Copy> CommandShaper<T> {
     }
 
     /// The step, monomorphised per limit type: with `None` for [`NoLimit`] the limit's code
-    /// is compiled out of [`Self::step`].
+    /// is compiled out of [`Self::step`]. Its phases: the targets the command asks for, the
+    /// traction envelope on them, the rate limiters, the reference filter, the wheel angles'
+    /// integration and the planar reference.
     fn step_inner<L: AccelLimit<T>>(
         &mut self,
         command: &Command<'_, T>,
@@ -476,15 +478,60 @@ impl<T: RealField + Copy> CommandShaper<T> {
         } else {
             Command::Stop
         };
-        let mut translation = self.params.translation;
-        let zero = T::zero();
-        // Targets (vx, vy, yaw rate) and, for a trajectory, its tilt and tilt rate along the
-        // heading with the heading's (sin, cos).
-        let mut trajectory_tilt: Option<(T, T, T, T, T)> = None;
         let is_trajectory = matches!(command, Command::Trajectory { .. });
+        let target = self.targets(&command);
+        let dt_ok = dt_is_valid(dt_secs);
+        let envelope = match limit {
+            Some(limit) => self.envelope(&target, limit),
+            None => Envelope::open(&target.translation),
+        };
+        let (vx, vy, wz) = if dt_ok {
+            self.advance_limiters(&target, &envelope, dt_secs)
+        } else {
+            (self.vx.value(), self.vy.value(), self.yaw_rate.value())
+        };
+        let limited = self.held_back(&target.translation, &envelope);
+        // Held back: the trajectory's own lean belongs to an acceleration it no longer has.
+        let trajectory_tilt = if limited {
+            None
+        } else {
+            target.trajectory_tilt
+        };
+        let reference = self.reference_filter(vx, vy, is_trajectory, dt_ok, dt_secs);
+        if dt_ok {
+            self.integrate(wz, reference.0, dt_secs);
+        }
+        let (planar, tilt_accel_rad_per_s2) =
+            self.planar_reference(trajectory_tilt, &reference, wz);
+        ShapedCommand {
+            velocity: BodyVelocity {
+                vx_m_per_s: vx,
+                vy_m_per_s: vy,
+                yaw_rate_rad_per_s: wz,
+            },
+            acceleration: BodyMotion {
+                x: (reference.1).0,
+                y: (reference.1).1,
+                yaw: self.yaw_rate.rate_per_s(),
+            },
+            planar,
+            tilt_accel_rad_per_s2,
+            command_finite,
+            accel_limit_m_per_s2: envelope.accel_limit_m_per_s2,
+            limited,
+        }
+    }
+
+    /// Phase 1: the targets (vx, vy, yaw rate) the command asks for, their own rates and, for a
+    /// trajectory, its tilt and tilt rate along the heading with the heading's (sin, cos).
+    #[inline(always)]
+    fn targets(&self, command: &Command<'_, T>) -> Targets<T> {
+        let zero = T::zero();
+        let mut translation = self.params.translation;
+        let mut trajectory_tilt = None;
         // Each target's own rate (nonzero only for a trajectory).
         let mut feed = (zero, zero);
-        let (target_x, target_y, target_yaw) = match command {
+        let (x, y, yaw) = match *command {
             Command::Stop => (zero, zero, zero),
             Command::Velocity(v) => {
                 let (vx, vy) = clamp_norm(v.vx_m_per_s, v.vy_m_per_s, translation.max_value);
@@ -514,67 +561,101 @@ impl<T: RealField + Copy> CommandShaper<T> {
                 (vx, vy, trajectory.yaw_rate_rad_per_s())
             }
         };
-        let dt_ok = dt_is_valid(dt_secs);
-        let (mut limits_x, mut limits_y) = (translation, translation);
-        let mut accel_limit_m_per_s2 = None;
-        let mut binding = false;
-        if let Some(limit) = limit {
-            let (vx0, vy0) = (self.vx.value(), self.vy.value());
-            // The direction the command accelerates in: a trajectory's own acceleration while
-            // it has one (its tracking error is rounding, and a direction taken from rounding
-            // starved the axis it drives: the shaped speed swung 0.12 m/s about a braking
-            // trajectory at 0.7 s), else the way to the target.
-            let (ex, ey) = if feed.0 != zero || feed.1 != zero {
-                feed
-            } else {
-                (target_x - vx0, target_y - vy0)
-            };
-            // On target (cruising, standing): nothing to limit, no square root. The direction
-            // is scaled before squaring: a huge error (components beyond sqrt(T::MAX)) still
-            // has one, and the envelope still applies.
-            let unit = if ex == zero && ey == zero {
-                None
-            } else {
-                direction(ex, ey)
-            };
-            if let Some(((dx, dy), _)) = unit {
-                let braking = dx * vx0 + dy * vy0 < zero;
-                let allowed = limit.accel_limit_m_per_s2(dx, dy, braking);
-                let allowed = if allowed >= zero { allowed } else { zero };
-                binding = allowed < translation.max_rate_per_s;
-                let rate = min(allowed, translation.max_rate_per_s);
-                limits_x.max_rate_per_s = rate * dx.abs();
-                limits_y.max_rate_per_s = rate * dy.abs();
-                accel_limit_m_per_s2 = Some(allowed);
-            }
+        Targets {
+            x,
+            y,
+            yaw,
+            feed,
+            trajectory_tilt,
+            translation,
         }
-        let (vx, vy, wz) = if dt_ok {
-            (
-                self.vx.advance(target_x, feed.0, &limits_x, dt_secs),
-                self.vy.advance(target_y, feed.1, &limits_y, dt_secs),
-                self.yaw_rate
-                    .advance(target_yaw, zero, &self.params.yaw, dt_secs),
-            )
+    }
+
+    /// Phase 2: the traction envelope's acceleration bound along the direction the command
+    /// accelerates in, split over the two axes' rate limits.
+    #[inline(always)]
+    fn envelope<L: AccelLimit<T>>(&self, target: &Targets<T>, limit: &L) -> Envelope<T> {
+        let zero = T::zero();
+        let translation = &target.translation;
+        let mut envelope = Envelope::open(translation);
+        let (vx0, vy0) = (self.vx.value(), self.vy.value());
+        // The direction the command accelerates in: a trajectory's own acceleration while
+        // it has one (its tracking error is rounding, and a direction taken from rounding
+        // starved the axis it drives: the shaped speed swung 0.12 m/s about a braking
+        // trajectory at 0.7 s), else the way to the target.
+        let (ex, ey) = if target.feed.0 != zero || target.feed.1 != zero {
+            target.feed
         } else {
-            (self.vx.value(), self.vy.value(), self.yaw_rate.value())
+            (target.x - vx0, target.y - vy0)
         };
-        let limited = binding && {
+        // On target (cruising, standing): nothing to limit, no square root. The direction
+        // is scaled before squaring: a huge error (components beyond sqrt(T::MAX)) still
+        // has one, and the envelope still applies.
+        let unit = if ex == zero && ey == zero {
+            None
+        } else {
+            direction(ex, ey)
+        };
+        if let Some(((dx, dy), _)) = unit {
+            let braking = dx * vx0 + dy * vy0 < zero;
+            let allowed = limit.accel_limit_m_per_s2(dx, dy, braking);
+            let allowed = if allowed >= zero { allowed } else { zero };
+            envelope.binding = allowed < translation.max_rate_per_s;
+            let rate = min(allowed, translation.max_rate_per_s);
+            envelope.x.max_rate_per_s = rate * dx.abs();
+            envelope.y.max_rate_per_s = rate * dy.abs();
+            envelope.accel_limit_m_per_s2 = Some(allowed);
+        }
+        envelope
+    }
+
+    /// Phase 3: the three rate limiters one step towards their targets.
+    #[inline(always)]
+    fn advance_limiters(
+        &mut self,
+        target: &Targets<T>,
+        envelope: &Envelope<T>,
+        dt_secs: T,
+    ) -> (T, T, T) {
+        (
+            self.vx
+                .advance(target.x, target.feed.0, &envelope.x, dt_secs),
+            self.vy
+                .advance(target.y, target.feed.1, &envelope.y, dt_secs),
+            self.yaw_rate
+                .advance(target.yaw, T::zero(), &self.params.yaw, dt_secs),
+        )
+    }
+
+    /// Whether the envelope bound the step: it was below the command's own limit and the
+    /// shaped acceleration reached it.
+    #[inline(always)]
+    fn held_back(&self, translation: &AxisLimits<T>, envelope: &Envelope<T>) -> bool {
+        envelope.binding && {
             let (ax, ay) = (self.vx.rate_per_s(), self.vy.rate_per_s());
             let rate = min(
-                accel_limit_m_per_s2.unwrap_or(zero),
+                envelope.accel_limit_m_per_s2.unwrap_or(T::zero()),
                 translation.max_rate_per_s,
             );
             hypot(ax, ay) >= rate * lit(0.999)
-        };
-        if limited {
-            // Held back: the trajectory's own lean belongs to an acceleration it no longer has.
-            trajectory_tilt = None;
         }
-        // The reference filter (see `CommandShaperParams::reference_filter_secs`): the speeds,
-        // accelerations and jerks the planar reference is built from.
+    }
+
+    /// Phase 4, the reference filter (see `CommandShaperParams::reference_filter_secs`): the
+    /// speeds, accelerations and jerks the planar reference is built from.
+    #[inline(always)]
+    fn reference_filter(
+        &mut self,
+        vx: T,
+        vy: T,
+        is_trajectory: bool,
+        dt_ok: bool,
+        dt_secs: T,
+    ) -> Reference<T> {
+        let zero = T::zero();
         let tau = self.params.reference_filter_secs;
         let (ax, ay) = (self.vx.rate_per_s(), self.vy.rate_per_s());
-        let ((rvx, rvy), (rax, ray), (rjx, rjy)) = if tau > zero && !is_trajectory {
+        if tau > zero && !is_trajectory {
             let (fx, fy) = self.filtered_m_per_s;
             let (afx, afy) = ((vx - fx) / tau, (vy - fy) / tau);
             if dt_ok {
@@ -595,12 +676,26 @@ impl<T: RealField + Copy> CommandShaper<T> {
         } else {
             self.filtered_m_per_s = (vx, vy);
             ((vx, vy), (ax, ay), (zero, zero))
-        };
-        if dt_ok {
-            self.heading_rad += wz * dt_secs;
-            self.phi_y_rad += rvx * self.sagittal.inv_radius_per_m * dt_secs;
-            self.phi_x_rad -= rvy * self.frontal.inv_radius_per_m * dt_secs;
         }
+    }
+
+    /// Phase 5: the heading and the reference's wheel angles, one step on.
+    #[inline(always)]
+    fn integrate(&mut self, wz: T, (rvx, rvy): (T, T), dt_secs: T) {
+        self.heading_rad += wz * dt_secs;
+        self.phi_y_rad += rvx * self.sagittal.inv_radius_per_m * dt_secs;
+        self.phi_x_rad -= rvy * self.frontal.inv_radius_per_m * dt_secs;
+    }
+
+    /// Phase 6: the planar reference states and the tilt accelerations `[x, y]` they imply.
+    #[inline(always)]
+    fn planar_reference(
+        &self,
+        trajectory_tilt: Option<(T, T, T, T, T)>,
+        &((rvx, rvy), (rax, ray), (rjx, rjy)): &Reference<T>,
+        wz: T,
+    ) -> (PlanarCommands<T>, [T; 2]) {
+        let zero = T::zero();
         let ky = self.sagittal.lean_rad_per_m_per_s2;
         let kx = self.frontal.lean_rad_per_m_per_s2;
         // Velocity and lean commands: the equilibrium lean of the shaped acceleration, and no
@@ -639,25 +734,52 @@ impl<T: RealField + Copy> CommandShaper<T> {
             ),
             spin: SpinState::new(self.heading_rad, wz),
         };
-        ShapedCommand {
-            velocity: BodyVelocity {
-                vx_m_per_s: vx,
-                vy_m_per_s: vy,
-                yaw_rate_rad_per_s: wz,
-            },
-            acceleration: BodyMotion {
-                x: rax,
-                y: ray,
-                yaw: self.yaw_rate.rate_per_s(),
-            },
-            planar,
-            tilt_accel_rad_per_s2: [accel_x, accel_y],
-            command_finite,
-            accel_limit_m_per_s2,
-            limited,
+        (planar, [accel_x, accel_y])
+    }
+}
+
+/// What a command asks the shaper for (phase 1 of [`CommandShaper::step`]).
+struct Targets<T> {
+    /// The speed targets in m/s and the yaw-rate target in rad/s.
+    x: T,
+    y: T,
+    yaw: T,
+    /// The speed targets' own rates in m/s^2 (nonzero only for a trajectory).
+    feed: (T, T),
+    /// A trajectory's tilt, tilt rate and tilt acceleration along its heading, with the
+    /// heading's (sin, cos).
+    trajectory_tilt: Option<(T, T, T, T, T)>,
+    /// The translation limits this command is shaped with (a lean command lowers the rate).
+    translation: AxisLimits<T>,
+}
+
+/// The traction envelope on one step (phase 2 of [`CommandShaper::step`]).
+struct Envelope<T> {
+    /// The two speed limiters' limits, their rates split along the acceleration's direction.
+    x: AxisLimits<T>,
+    y: AxisLimits<T>,
+    /// The envelope's acceleration bound in m/s^2 along that direction, if one applied.
+    accel_limit_m_per_s2: Option<T>,
+    /// Whether that bound is below the command's own rate limit.
+    binding: bool,
+}
+
+impl<T: Copy> Envelope<T> {
+    /// No envelope: both axes keep the command's limits.
+    #[inline(always)]
+    fn open(translation: &AxisLimits<T>) -> Self {
+        Self {
+            x: *translation,
+            y: *translation,
+            accel_limit_m_per_s2: None,
+            binding: false,
         }
     }
 }
+
+/// The reference filter's output: speeds (m/s), accelerations (m/s^2) and jerks (m/s^3), each
+/// as (x, y).
+type Reference<T> = ((T, T), (T, T), (T, T));
 
 /// Scales `(x, y)` down to length `max` if longer, keeping its direction for every finite
 /// input (the direction is taken from the scaled components, [`direction`]: the plain `x^2 +
