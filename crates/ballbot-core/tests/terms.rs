@@ -88,6 +88,7 @@ fn lqr_pi_outer_output_terms_are_its_fields() {
         reference_torque_nm: 1.0,
         reference_ball_rate_rad_per_s: 2.0,
         reference_ball_accel_rad_per_s2: 3.0,
+        reference_tilt_accel_rad_per_s2: 3.5,
         tilt_term_nm: 4.0,
         tilt_rate_term_nm: 5.0,
         ball_rate_term_nm: 6.0,

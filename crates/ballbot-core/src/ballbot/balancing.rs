@@ -8,7 +8,7 @@ use nalgebra::RealField;
 
 /// One plane's PI-PD step in the LQR-PI outer loop's output form: its torque as the reference
 /// torque, the measured ball rate as the motors' reference (no reference model), no reference
-/// acceleration.
+/// accelerations.
 pub(super) fn pi_pd_plane<T: RealField + Copy>(
     controller: &mut PiPdController<T>,
     measured: &WipState<T>,
@@ -20,6 +20,7 @@ pub(super) fn pi_pd_plane<T: RealField + Copy>(
         reference_torque_nm: out.torque_nm,
         reference_ball_rate_rad_per_s: measured[BALL_RATE],
         reference_ball_accel_rad_per_s2: T::zero(),
+        reference_tilt_accel_rad_per_s2: T::zero(),
         tilt_term_nm: out.tilt_p_term_nm,
         tilt_rate_term_nm: out.tilt_d_term_nm,
         ball_rate_term_nm: T::zero(),

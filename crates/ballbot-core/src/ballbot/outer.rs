@@ -9,9 +9,12 @@ use super::{
     WheelMapping,
 };
 use crate::check::{lit, positive};
-use crate::command::{Command, CommandShaper, PlanarCommands, Trajectory, TrajectoryLimits};
+use crate::command::{
+    Command, CommandShaper, PlanarCommands, ShapedCommand, Trajectory, TrajectoryLimits,
+};
 use crate::control::{LqrPiOuter, PiPdController, StepStatus};
 use crate::estimation::{Estimator, PlanarStates, ball_body_z_rate_per_ball_rate_sin_cos};
+use crate::kinematics::TorqueSaturation;
 use crate::num::clamp_sym;
 use crate::safety::{Fault, Mode, SafetyInput, SafetyStatus, SafetySupervisor};
 use crate::spin::SpinState;
@@ -355,7 +358,9 @@ impl<T: RealField + Copy> BallbotController<T> {
     }
 
     /// One outer step (see the module docs). Never panics; every output is finite and within
-    /// the actuator's limits.
+    /// the actuator's limits. Its phases: the supervisor's step, the estimate, the slip monitor,
+    /// the command's shaping and feedforward, the three planes, the contacts' prediction, the
+    /// motors' references and the output; with the motors off, only the first two.
     ///
     /// ```
     /// use ballbot_core::BallbotParams;
@@ -388,129 +393,33 @@ impl<T: RealField + Copy> BallbotController<T> {
     /// ```
     pub fn step(&mut self, input: &OuterInput<'_, T>) -> OuterOutput<T> {
         let dt = self.config.outer_dt_secs;
-        let safety = self.supervisor.step(&SafetyInput {
-            now_us: input.now_us,
-            imu: input.imu,
-            encoders: input.encoders,
-            command_timestamp_us: input.command_timestamp_us,
-            command_finite: input.command.is_finite(),
-            request: input.request,
-        });
-        let mut states = self.estimator.update(
-            safety.imu_valid.then_some(&input.imu),
-            safety.encoders_valid.then_some(&input.encoders),
-            dt,
-        );
-        if let Some(lean) = &self.imu_lean {
-            let [roll, pitch] = lean.correction_rad();
-            states.frontal[TILT] += roll;
-            states.sagittal[TILT] += pitch;
-        }
+        let mut safety = self.supervise(input);
+        let mut states = self.estimate(input, &safety, dt);
         if !safety.mode.motors_enabled() {
-            // At rest on its support: the filter's lean decays.
-            if let Some(lean) = &mut self.imu_lean {
-                lean.follow(T::zero(), T::zero());
-            }
-            return self.disabled(safety, states);
+            return self.at_rest(safety, states);
         }
-        let mut safety = safety;
-        // One sin_cos of each tilt serves the slip monitor, the plane's reference model and
-        // the wheel mapping.
-        let roll_sin_cos = states.frontal[TILT].sin_cos();
-        let pitch_sin_cos = states.sagittal[TILT].sin_cos();
-        // The ball's body-z rate per ball rate when it does not spin about the vertical (see
-        // `ball_body_z_rate_per_ball_rate`): for the slip monitor and the wheel mapping.
-        let terms = TiltTerms {
-            frontal_sin_cos: roll_sin_cos,
-            sagittal_sin_cos: pitch_sin_cos,
-            k: ball_body_z_rate_per_ball_rate_sin_cos(roll_sin_cos, pitch_sin_cos),
-        };
-        let mut wheel_speeds = input.encoders.wheel_speeds_rad_per_s;
-        if let Some(traction) = &mut self.traction {
-            let (speeds, stop) = traction.before_shaping(
-                &self.kinematics,
-                &states,
-                &safety,
-                wheel_speeds,
-                &terms,
-                dt,
-            );
-            wheel_speeds = speeds;
-            if stop {
-                safety.mode = self.supervisor.report(Fault::WheelSlip);
-                safety.faults.insert(Fault::WheelSlip);
-            }
-            // A slipping wheel reports a ball that is not there: take its error off.
-            let [dx, dy] = traction.monitor().ball_rate_correction_rad_per_s();
-            states.frontal[BALL_RATE] -= dx;
-            states.sagittal[BALL_RATE] -= dy;
-        }
-        // By reference: the command is a large enum (a trajectory borrows its samples).
-        let stop = Command::Stop;
-        let command = if safety.mode == Mode::Balancing {
-            &input.command
-        } else {
-            &stop
-        };
-        let shaped = match &self.traction {
-            Some(traction) => {
-                if traction.monitor().status().any_slipping() {
-                    // The reference filter's pending acceleration too, not only what comes.
-                    let limit = traction.step_limit(wheel_speeds);
-                    self.shaper.bound_pending_acceleration(&limit);
-                }
-                self.shaper
-                    .step_within(command, dt, &traction.step_limit(wheel_speeds))
-            }
-            None => self.shaper.step(command, dt),
-        };
-        // Equilibrium-input feedforward through the command states (see the type's docs).
-        let mut c = shaped.planar;
-        let ff = &self.feedforward;
+        let terms = tilt_terms(&states);
+        let wheel_speeds = self.watch_traction(input, &mut safety, &mut states, &terms, dt);
+        let shaped = self.shape(&input.command, safety.mode, wheel_speeds, dt);
+        let c = self.feedforward_commands(&shaped);
         let a = &shaped.acceleration;
-        if let Some(lean) = &mut self.imu_lean {
-            lean.follow(a.x, a.y);
-        }
-        let [tilt_accel_x, tilt_accel_y] = shaped.tilt_accel_rad_per_s2;
-        let tilt_shift_x = ff.frontal_tilt.shift(c.frontal[TILT], tilt_accel_x);
-        let tilt_shift_y = ff.sagittal_tilt.shift(c.sagittal[TILT], tilt_accel_y);
-        c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y + tilt_shift_x;
-        c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x + tilt_shift_y;
         // The planes see the tilt from the learnt balance point (see `BalancePoint`): there
         // the body's centre of mass is above the ball, and the reference models' upright.
         let shifted = self
             .balance_point
             .as_mut()
             .map(|bp| shift_to_balance_point(bp, &states, &c, a.x.hypot(a.y), dt));
-        let (fro_state, sag_state, fro_sin_cos, sag_sin_cos) = match &shifted {
-            Some((f, s, fsc, ssc)) => (f, s, *fsc, *ssc),
-            None => (
-                &states.frontal,
-                &states.sagittal,
-                roll_sin_cos,
-                pitch_sin_cos,
-            ),
-        };
-        let yaw_rate_c = c.spin[1];
-        c.spin[0] +=
-            ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_secs * yaw_rate_c;
-        let (mut fro_tilt_accel, mut sag_tilt_accel) = (T::zero(), T::zero());
+        let (fro_state, sag_state, fro_sin_cos, sag_sin_cos) =
+            plane_states(shifted.as_ref(), &states, &terms);
+        // The planes step here rather than in a phase function: returning their outputs from one
+        // costs about 40 instructions a step (callgrind, `scripts/icount.sh`), as they are then
+        // written out whole.
         let (fro, sag) = match &mut self.pi_pd {
             None => (
-                self.frontal.step_with_tilt_sin_cos(
-                    fro_state,
-                    &c.frontal,
-                    dt,
-                    fro_sin_cos,
-                    &mut fro_tilt_accel,
-                ),
-                self.sagittal.step_with_tilt_sin_cos(
-                    sag_state,
-                    &c.sagittal,
-                    dt,
-                    sag_sin_cos,
-                    &mut sag_tilt_accel,
-                ),
+                self.frontal
+                    .step_with_tilt_sin_cos(fro_state, &c.frontal, dt, fro_sin_cos),
+                self.sagittal
+                    .step_with_tilt_sin_cos(sag_state, &c.sagittal, dt, sag_sin_cos),
             ),
             Some([frontal, sagittal]) => (
                 pi_pd_plane(frontal, fro_state, &c.frontal, dt),
@@ -524,25 +433,193 @@ impl<T: RealField + Copy> BallbotController<T> {
             spin.reference_torque_nm,
         );
         let saturation = self.kinematics.saturate_planar_torque(&planar_torque);
-        if let Some(traction) = &mut self.traction {
-            // The contacts under this step's torque, from the planes' model accelerations.
-            let accelerations = [
-                Vector2::new(fro_tilt_accel, fro.reference_ball_accel_rad_per_s2),
-                Vector2::new(sag_tilt_accel, sag.reference_ball_accel_rad_per_s2),
-            ];
-            traction.after_planes(
-                &self.kinematics,
-                &states,
-                &terms,
-                accelerations,
-                &planar_torque,
-            );
-        }
-        let reference_rate = Vector3::new(
+        let rate = Vector3::new(
             fro.reference_ball_rate_rad_per_s,
             sag.reference_ball_rate_rad_per_s,
             spin.reference_rate_rad_per_s,
         );
+        let accel = Vector3::new(
+            fro.reference_ball_accel_rad_per_s2,
+            sag.reference_ball_accel_rad_per_s2,
+            spin.reference_accel_rad_per_s2,
+        );
+        let tilt_accel = [
+            fro.reference_tilt_accel_rad_per_s2,
+            sag.reference_tilt_accel_rad_per_s2,
+        ];
+        self.predict_contacts(&states, &terms, tilt_accel, &accel, &planar_torque);
+        let motors = self.motor_references(&rate, &accel, &terms, &states, &saturation);
+        let rejected = |s: StepStatus| s == StepStatus::InvalidInput;
+        let all_finite = motors_finite(&motors) && rate.iter().all(|x| x.is_finite());
+        if rejected(fro.status) || rejected(sag.status) || rejected(spin.status) || !all_finite {
+            let safety = SafetyStatus {
+                mode: self.supervisor.report(Fault::StateNonFinite),
+                ..safety
+            };
+            return self.disabled(safety, states);
+        }
+        self.output(motors, safety, states, &shaped, rate, &saturation)
+    }
+
+    /// The supervisor's step: the mode, the faults, and which sensor samples are valid.
+    #[inline(always)]
+    fn supervise(&mut self, input: &OuterInput<'_, T>) -> SafetyStatus {
+        self.supervisor.step(&SafetyInput {
+            now_us: input.now_us,
+            imu: input.imu,
+            encoders: input.encoders,
+            command_timestamp_us: input.command_timestamp_us,
+            command_finite: input.command.is_finite(),
+            request: input.request,
+        })
+    }
+
+    /// The planar states from the valid samples (an invalid one holds the estimate), with the
+    /// IMU's lean correction when that filter is on.
+    #[inline(always)]
+    fn estimate(
+        &mut self,
+        input: &OuterInput<'_, T>,
+        safety: &SafetyStatus,
+        dt: T,
+    ) -> PlanarStates<T> {
+        let mut states = self.estimator.update(
+            safety.imu_valid.then_some(&input.imu),
+            safety.encoders_valid.then_some(&input.encoders),
+            dt,
+        );
+        if let Some(lean) = &self.imu_lean {
+            let [roll, pitch] = lean.correction_rad();
+            states.frontal[TILT] += roll;
+            states.sagittal[TILT] += pitch;
+        }
+        states
+    }
+
+    /// Motors off by the mode: at rest on its support, the lean filter decays, and every
+    /// controller state clears.
+    #[inline(always)]
+    fn at_rest(&mut self, safety: SafetyStatus, states: PlanarStates<T>) -> OuterOutput<T> {
+        if let Some(lean) = &mut self.imu_lean {
+            lean.follow(T::zero(), T::zero());
+        }
+        self.disabled(safety, states)
+    }
+
+    /// The slip monitor on this step's encoders (with traction control on): a slip that
+    /// lasts raises [`Fault::WheelSlip`], and a slipping wheel's false ball rate is taken off
+    /// the states. Returns the wheel speeds the traction limit works from.
+    #[inline(always)]
+    fn watch_traction(
+        &mut self,
+        input: &OuterInput<'_, T>,
+        safety: &mut SafetyStatus,
+        states: &mut PlanarStates<T>,
+        terms: &TiltTerms<T>,
+        dt: T,
+    ) -> Vector3<T> {
+        let measured = input.encoders.wheel_speeds_rad_per_s;
+        let Some(traction) = &mut self.traction else {
+            return measured;
+        };
+        let kinematics = &self.kinematics;
+        let (speeds, stop) =
+            traction.before_shaping(kinematics, states, safety, measured, terms, dt);
+        if stop {
+            safety.mode = self.supervisor.report(Fault::WheelSlip);
+            safety.faults.insert(Fault::WheelSlip);
+        }
+        let [dx, dy] = traction.monitor().ball_rate_correction_rad_per_s();
+        states.frontal[BALL_RATE] -= dx;
+        states.sagittal[BALL_RATE] -= dy;
+        speeds
+    }
+
+    /// The shaped command: the application's while balancing, "come to rest" in every other
+    /// mode; within the traction envelope when traction control is on (a flagged slip also
+    /// bounds the reference filter's pending acceleration, not only what comes).
+    #[inline(always)]
+    fn shape(
+        &mut self,
+        command: &Command<'_, T>,
+        mode: Mode,
+        wheel_speeds_rad_per_s: Vector3<T>,
+        dt: T,
+    ) -> ShapedCommand<T> {
+        // By reference: the command is a large enum (a trajectory borrows its samples).
+        let stop = Command::Stop;
+        let command = if mode == Mode::Balancing {
+            command
+        } else {
+            &stop
+        };
+        let Some(traction) = &self.traction else {
+            return self.shaper.step(command, dt);
+        };
+        let limit = traction.step_limit(wheel_speeds_rad_per_s);
+        if traction.monitor().status().any_slipping() {
+            self.shaper.bound_pending_acceleration(&limit);
+        }
+        self.shaper.step_within(command, dt, &limit)
+    }
+
+    /// The command states with the equilibrium-input feedforward (see the type's docs): the
+    /// tilt commands shifted for the commanded acceleration (and a trajectory's tilt
+    /// acceleration), the heading command for the yaw motion. The IMU lean filter follows the
+    /// commanded acceleration.
+    #[inline(always)]
+    fn feedforward_commands(&mut self, shaped: &ShapedCommand<T>) -> PlanarCommands<T> {
+        let mut c = shaped.planar;
+        let ff = &self.feedforward;
+        let a = &shaped.acceleration;
+        if let Some(lean) = &mut self.imu_lean {
+            lean.follow(a.x, a.y);
+        }
+        let [tilt_accel_x, tilt_accel_y] = shaped.tilt_accel_rad_per_s2;
+        let tilt_shift_x = ff.frontal_tilt.shift(c.frontal[TILT], tilt_accel_x);
+        let tilt_shift_y = ff.sagittal_tilt.shift(c.sagittal[TILT], tilt_accel_y);
+        c.frontal[TILT] += ff.frontal_rad_per_m_per_s2 * a.y + tilt_shift_x;
+        c.sagittal[TILT] += ff.sagittal_rad_per_m_per_s2 * a.x + tilt_shift_y;
+        let yaw_rate_c = c.spin[1];
+        c.spin[0] +=
+            ff.heading_per_yaw_accel_s2 * a.yaw + ff.heading_per_yaw_rate_secs * yaw_rate_c;
+        c
+    }
+
+    /// The slip monitor's prediction of the contacts under this step's planar torque, from
+    /// the frontal and sagittal reference models' tilt and ball accelerations (with traction
+    /// control on).
+    #[inline(always)]
+    fn predict_contacts(
+        &mut self,
+        states: &PlanarStates<T>,
+        terms: &TiltTerms<T>,
+        [tilt_x, tilt_y]: [T; 2],
+        ball_accel: &Vector3<T>,
+        planar_torque_nm: &Vector3<T>,
+    ) {
+        if let Some(traction) = &mut self.traction {
+            let accelerations = [
+                Vector2::new(tilt_x, ball_accel.x),
+                Vector2::new(tilt_y, ball_accel.y),
+            ];
+            let kinematics = &self.kinematics;
+            traction.after_planes(kinematics, states, terms, accelerations, planar_torque_nm);
+        }
+    }
+
+    /// The motor drivers' references from the planes' reference rates and accelerations
+    /// (frontal and sagittal ball, yaw): relative to the body, mapped to wheel speeds at the
+    /// start of the period and a ramp over it, each within the actuator's speed range.
+    #[inline(always)]
+    fn motor_references(
+        &self,
+        reference_rate: &Vector3<T>,
+        reference_accel: &Vector3<T>,
+        terms: &TiltTerms<T>,
+        states: &PlanarStates<T>,
+        saturation: &TorqueSaturation<T>,
+    ) -> MotorReferences<T> {
         // The reference ball motion does not spin about the vertical: leaning, its rolling has
         // a component about the body's z axis that the wheels see like a yaw rate (see
         // `ball_body_z_rate_per_ball_rate`). The upright mapping (an ablation) drops it.
@@ -550,19 +627,16 @@ impl<T: RealField + Copy> BallbotController<T> {
             WheelMapping::RollingBall => terms.k,
             WheelMapping::Upright => [T::zero(); 2],
         };
+        let (rate, acc) = (reference_rate, reference_accel);
         let relative = Vector3::new(
-            reference_rate[0] - states.frontal[TILT_RATE],
-            reference_rate[1] - states.sagittal[TILT_RATE],
-            k[0] * reference_rate[0] + k[1] * reference_rate[1] - reference_rate[2],
+            rate[0] - states.frontal[TILT_RATE],
+            rate[1] - states.sagittal[TILT_RATE],
+            k[0] * rate[0] + k[1] * rate[1] - rate[2],
         );
         // The planes report the mean reference rate over the period; the drivers ramp from the
         // start value with the reference models' accelerations (tilt rate held).
-        let relative_accel = Vector3::new(
-            fro.reference_ball_accel_rad_per_s2,
-            sag.reference_ball_accel_rad_per_s2,
-            k[0] * fro.reference_ball_accel_rad_per_s2 + k[1] * sag.reference_ball_accel_rad_per_s2
-                - spin.reference_accel_rad_per_s2,
-        );
+        let relative_accel = Vector3::new(acc[0], acc[1], k[0] * acc[0] + k[1] * acc[1] - acc[2]);
+        let dt = self.config.outer_dt_secs;
         let accel = self.kinematics.wheel_speeds_rad_per_s(&relative_accel);
         let limit = self
             .config
@@ -575,35 +649,36 @@ impl<T: RealField + Copy> BallbotController<T> {
             .map(|w| clamp_sym(w, limit));
         // A ramp may not leave the speed range within the period either.
         let accel_limit = limit / dt;
-        let accel = accel.map(|a| clamp_sym(a, accel_limit));
-        let rejected = |s: StepStatus| s == StepStatus::InvalidInput;
-        let all_finite = speed.iter().all(|x| x.is_finite())
-            && accel.iter().all(|x| x.is_finite())
-            && saturation.wheel_torques_nm.iter().all(|x| x.is_finite())
-            && reference_rate.iter().all(|x| x.is_finite());
-        if rejected(fro.status) || rejected(sag.status) || rejected(spin.status) || !all_finite {
-            let safety = SafetyStatus {
-                mode: self.supervisor.report(Fault::StateNonFinite),
-                ..safety
-            };
-            return self.disabled(safety, states);
+        MotorReferences {
+            enabled: true,
+            speed_rad_per_s: speed,
+            accel_rad_per_s2: accel.map(|a| clamp_sym(a, accel_limit)),
+            feedforward_torque_nm: saturation.wheel_torques_nm,
         }
+    }
+
+    /// The step's output, with the traction status counted.
+    #[inline(always)]
+    fn output(
+        &mut self,
+        motors: MotorReferences<T>,
+        safety: SafetyStatus,
+        states: PlanarStates<T>,
+        shaped: &ShapedCommand<T>,
+        reference_rate_rad_per_s: Vector3<T>,
+        saturation: &TorqueSaturation<T>,
+    ) -> OuterOutput<T> {
         let traction = self
             .traction
             .as_mut()
             .map(|t| t.finish_step(shaped.accel_limit_m_per_s2, shaped.limited));
         OuterOutput {
-            motors: MotorReferences {
-                enabled: true,
-                speed_rad_per_s: speed,
-                accel_rad_per_s2: accel,
-                feedforward_torque_nm: saturation.wheel_torques_nm,
-            },
+            motors,
             safety,
             states,
             commands: shaped.planar,
             reference_torque_nm: saturation.planar_torque_nm,
-            reference_rate_rad_per_s: reference_rate,
+            reference_rate_rad_per_s,
             // Not while a slip is flagged: its correction may hold the estimate at rest while
             // the ball moves (the monitor bounds how long, `TractionParams::max_coast_secs`).
             stopped: safety.mode == Mode::ControlledStop
@@ -650,6 +725,47 @@ impl<T: RealField + Copy> BallbotController<T> {
             stopped: false,
             traction,
         }
+    }
+}
+
+/// The tilts' sines and cosines, computed once for the slip monitor, the planes' reference
+/// models and the wheel mapping, and the ball's body-z rate per ball rate when it does not spin
+/// about the vertical (see `ball_body_z_rate_per_ball_rate`).
+#[inline(always)]
+fn tilt_terms<T: RealField + Copy>(states: &PlanarStates<T>) -> TiltTerms<T> {
+    let frontal_sin_cos = states.frontal[TILT].sin_cos();
+    let sagittal_sin_cos = states.sagittal[TILT].sin_cos();
+    TiltTerms {
+        frontal_sin_cos,
+        sagittal_sin_cos,
+        k: ball_body_z_rate_per_ball_rate_sin_cos(frontal_sin_cos, sagittal_sin_cos),
+    }
+}
+
+/// Every motor reference is finite.
+#[inline(always)]
+fn motors_finite<T: RealField + Copy>(m: &MotorReferences<T>) -> bool {
+    let finite = |v: &Vector3<T>| v.iter().all(|x| x.is_finite());
+    finite(&m.speed_rad_per_s) && finite(&m.accel_rad_per_s2) && finite(&m.feedforward_torque_nm)
+}
+
+/// The states and tilts' `(sin, cos)` the frontal and sagittal planes see: from the balance
+/// point when that estimator is on (`shifted`), else the estimate's.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn plane_states<'a, T: RealField + Copy>(
+    shifted: Option<&'a (WipState<T>, WipState<T>, (T, T), (T, T))>,
+    states: &'a PlanarStates<T>,
+    terms: &TiltTerms<T>,
+) -> (&'a WipState<T>, &'a WipState<T>, (T, T), (T, T)) {
+    match shifted {
+        Some((f, s, fsc, ssc)) => (f, s, *fsc, *ssc),
+        None => (
+            &states.frontal,
+            &states.sagittal,
+            terms.frontal_sin_cos,
+            terms.sagittal_sin_cos,
+        ),
     }
 }
 

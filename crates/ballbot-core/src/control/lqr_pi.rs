@@ -155,6 +155,10 @@ pub struct LqrPiOuterOutput<T> {
     pub reference_ball_rate_rad_per_s: T,
     /// Reference ball acceleration `phi_ddot_r` of the reference model (rad/s^2).
     pub reference_ball_accel_rad_per_s2: T,
+    /// The reference model's tilt acceleration `theta_ddot_r` under the reference torque
+    /// (rad/s^2): with the ball's, what the 3D controller's slip monitor predicts the
+    /// contacts from.
+    pub reference_tilt_accel_rad_per_s2: T,
     /// LQR term `k1 (theta_c - theta)` (N m).
     pub tilt_term_nm: T,
     /// LQR term `k2 (theta_dot_c - theta_dot)` (N m).
@@ -174,6 +178,7 @@ impl_terms!(LqrPiOuterOutput {
     reference_torque_nm,
     reference_ball_rate_rad_per_s,
     reference_ball_accel_rad_per_s2,
+    reference_tilt_accel_rad_per_s2,
     tilt_term_nm,
     tilt_rate_term_nm,
     ball_rate_term_nm,
@@ -375,13 +380,11 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
         command: &WipState<T>,
         dt_secs: T,
     ) -> LqrPiOuterOutput<T> {
-        self.step_with(measured, command, dt_secs, None, None)
+        self.step_with(measured, command, dt_secs, None)
     }
 
     /// [`Self::step`] with `(sin, cos)` of the measured tilt already computed (the 3D
-    /// controller needs them for its wheel mapping too): the same result, one `sin_cos` less,
-    /// and the reference model's tilt acceleration written to `tilt_accel_rad_per_s2` (rad/s^2;
-    /// left alone when the step is rejected).
+    /// controller needs them for its wheel mapping too): the same result, one `sin_cos` less.
     #[inline(always)]
     pub(crate) fn step_with_tilt_sin_cos(
         &mut self,
@@ -389,15 +392,8 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
         command: &WipState<T>,
         dt_secs: T,
         tilt_sin_cos: (T, T),
-        tilt_accel_rad_per_s2: &mut T,
     ) -> LqrPiOuterOutput<T> {
-        self.step_with(
-            measured,
-            command,
-            dt_secs,
-            Some(tilt_sin_cos),
-            Some(tilt_accel_rad_per_s2),
-        )
+        self.step_with(measured, command, dt_secs, Some(tilt_sin_cos))
     }
 
     #[inline(always)]
@@ -407,7 +403,6 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
         command: &WipState<T>,
         dt_secs: T,
         tilt_sin_cos: Option<(T, T)>,
-        tilt_accel_rad_per_s2: Option<&mut T>,
     ) -> LqrPiOuterOutput<T> {
         let [tilt, tilt_rate, ball_rate] = self.config.lqr.terms(measured, command);
         let requested = tilt + tilt_rate + ball_rate;
@@ -444,13 +439,11 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
             return self.rejected();
         }
         self.reference_ball_rate_rad_per_s = Some(next);
-        if let Some(out) = tilt_accel_rad_per_s2 {
-            *out = accelerations[0];
-        }
         LqrPiOuterOutput {
             reference_torque_nm: torque,
             reference_ball_rate_rad_per_s: output_rate,
             reference_ball_accel_rad_per_s2: accel,
+            reference_tilt_accel_rad_per_s2: accelerations[0],
             tilt_term_nm: tilt,
             tilt_rate_term_nm: tilt_rate,
             ball_rate_term_nm: ball_rate,
@@ -466,6 +459,7 @@ impl<T: RealField + Copy> LqrPiOuter<T> {
             reference_torque_nm: z,
             reference_ball_rate_rad_per_s: self.reference_ball_rate_rad_per_s.unwrap_or(z),
             reference_ball_accel_rad_per_s2: z,
+            reference_tilt_accel_rad_per_s2: z,
             tilt_term_nm: z,
             tilt_rate_term_nm: z,
             ball_rate_term_nm: z,

@@ -117,8 +117,8 @@ py_output! {
     /// One LQR-PI outer step's result: what goes to the inner speed PI, and each term.
     PyLqrPiOuterOutput(ballbot_core::control::LqrPiOuterOutput<f64>, "LqrPiOuterOutput") {
         reference_torque_nm, reference_ball_rate_rad_per_s, reference_ball_accel_rad_per_s2,
-        tilt_term_nm, tilt_rate_term_nm, ball_rate_term_nm, saturation_nm,
-        anchor_correction_rad_per_s,
+        reference_tilt_accel_rad_per_s2, tilt_term_nm, tilt_rate_term_nm, ball_rate_term_nm,
+        saturation_nm, anchor_correction_rad_per_s,
     }
 }
 
