@@ -28,6 +28,9 @@ fi
 step "no import cycles"
 python3 scripts/check-cycles.py --self-test && python3 scripts/check-cycles.py
 
+step "the shipped path (core, runtime) in functions of at most 80 lines"
+python3 scripts/check-function-length.py --self-test && python3 scripts/check-function-length.py
+
 step "docs (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 

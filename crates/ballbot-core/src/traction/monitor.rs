@@ -418,97 +418,184 @@ impl<T: RealField + Copy> SlipMonitor<T> {
         terms: &TiltTerms<T>,
         dt_secs: T,
     ) -> bool {
-        let p = &self.params;
-        let fro = &states.frontal;
-        let sag = &states.sagittal;
-        let (sin_cos_x, sin_cos_y, k) = (terms.frontal_sin_cos, terms.sagittal_sin_cos, terms.k);
-        let measured = [
-            self.frontal.momentum(fro, sin_cos_x.1),
-            self.sagittal.momentum(sag, sin_cos_y.1),
-        ];
-        let estimate = self.momentum_estimate.unwrap_or(measured);
-        let residual = [measured[0] - estimate[0], measured[1] - estimate[1]];
-        let rates = [
-            self.frontal.momentum_rate(fro, sin_cos_x.0),
-            self.sagittal.momentum_rate(sag, sin_cos_y.0),
-        ];
-        let expected_z = k[0] * fro[BALL_RATE] + k[1] * sag[BALL_RATE] - states.spin[1];
-        let rate_error = Vector3::new(
-            residual[0] / self.frontal.momentum_per_ball_rate(sin_cos_x.1),
-            residual[1] / self.sagittal.momentum_per_ball_rate(sin_cos_y.1),
-            relative_z_rate_rad_per_s - expected_z,
+        let momentum = self.momentum(states, terms);
+        let slip = self.slip_m_per_s(
+            kinematics,
+            states,
+            relative_z_rate_rad_per_s,
+            terms,
+            &momentum,
         );
-        let rim_m = kinematics.drivetrain().wheel_radius_m;
-        let slip = kinematics.wheel_speeds_rad_per_s(&rate_error) * rim_m;
-        let threshold = p.slip_speed_threshold_m_per_s;
-        let evidence: [bool; WHEEL_COUNT] = core::array::from_fn(|i| slip[i].abs() > threshold);
-        let any_evidence = evidence.iter().any(|&e| e);
-        // Without evidence nothing is flagged and the observers follow (the quiet path).
-        let mut slipping = [false; WHEEL_COUNT];
-        let mut support = [false; WHEEL_COUNT];
-        let mut hard_before = self.hard_before;
-        let mut hold = false;
-        if any_evidence {
-            if !self.previous_evidence {
-                hard_before = self.worked_hard(kinematics, &slip);
-            }
-            support = support_of(&slip, threshold, hard_before);
-            // A flag needs supported evidence in two updates running (one sample proves
-            // nothing), and stays while the wheel's evidence lasts.
-            let was = self.status.slipping;
-            let previous = self.previous_support;
-            slipping =
-                core::array::from_fn(|i| evidence[i] && (was[i] || (support[i] && previous[i])));
-            // The observers coast while a wheel slips (the residual keeps the slip), while the
-            // evidence is supported and waits for its confirmation, and on the first update of
-            // any evidence (an outlier must not be learnt); unsupported evidence that lasts is
-            // an external force, which they follow.
-            hold = slipping.iter().any(|&s| s)
-                || !self.previous_evidence
-                || support.iter().any(|&s| s);
-        }
-        let mut any = slipping.iter().any(|&s| s);
-        let gain = if hold {
-            T::zero()
-        } else {
-            p.observer_gain_per_s
-        };
-        let mut next = [
-            estimate[0] + (rates[0] + gain * residual[0]) * dt_secs,
-            estimate[1] + (rates[1] + gain * residual[1]) * dt_secs,
-        ];
+        let flags = self.flag(kinematics, &slip);
+        let next = self.observe(&momentum, flags.hold, dt_secs);
         // Non-finite inputs (or a non-positive period) change nothing: NaN anywhere reaches
         // the slip or the next estimate (and a NaN slip is no evidence).
         let finite = slip.iter().chain(next.iter()).all(|x| x.is_finite());
         if !(finite && dt_secs > T::zero()) {
             return false;
         }
-        if any {
-            self.coast_secs += dt_secs;
-            if self.coast_secs > p.max_coast_secs {
-                // Coasted for as long as a slip may be held: whatever the residual holds now,
-                // the observers take the measured momentum again and the flags fall.
-                next = [
-                    measured[0] + rates[0] * dt_secs,
-                    measured[1] + rates[1] * dt_secs,
-                ];
-                slipping = [false; WHEEL_COUNT];
-                any = false;
-                self.coast_secs = T::zero();
-            }
-        } else {
-            self.coast_secs = T::zero();
-        }
+        let (next, slipping) = self.coast(&momentum, next, flags.slipping, dt_secs);
         self.momentum_estimate = Some(next);
-        self.previous_support = support;
-        self.previous_evidence = any_evidence;
-        self.hard_before = hard_before;
+        self.previous_support = flags.support;
+        self.previous_evidence = flags.any_evidence;
+        self.hard_before = flags.hard_before;
+        let any = slipping.iter().any(|&s| s);
+        self.learn_friction(kinematics, &slipping, dt_secs);
+        self.slip_secs = if any {
+            self.slip_secs + dt_secs
+        } else {
+            T::zero()
+        };
+        self.ball_rate_correction_rad_per_s = ball_rate_correction(kinematics, &slip, &slipping);
+        self.adapt_accel_scale(any, dt_secs);
+        self.status.slip_speed_m_per_s = slip;
+        self.status.slipping = slipping;
+        self.slip_secs > self.params.slip_fault_secs
+    }
+
+    /// The planes' momenta from the measured states, the observers' estimate of them (the
+    /// measured value before the first update) and the model's rates of change.
+    #[inline(always)]
+    fn momentum(&self, states: &PlanarStates<T>, terms: &TiltTerms<T>) -> Momentum<T> {
+        let (fro, sag) = (&states.frontal, &states.sagittal);
+        let (sin_cos_x, sin_cos_y) = (terms.frontal_sin_cos, terms.sagittal_sin_cos);
+        let measured = [
+            self.frontal.momentum(fro, sin_cos_x.1),
+            self.sagittal.momentum(sag, sin_cos_y.1),
+        ];
+        Momentum {
+            measured,
+            estimate: self.momentum_estimate.unwrap_or(measured),
+            rates: [
+                self.frontal.momentum_rate(fro, sin_cos_x.0),
+                self.sagittal.momentum_rate(sag, sin_cos_y.0),
+            ],
+        }
+    }
+
+    /// Each wheel's slip speed at the rim (m/s): the momentum residuals as ball-rate errors,
+    /// and the measured z rate against the rolling ball's, through the wheel mapping.
+    #[inline(always)]
+    fn slip_m_per_s(
+        &self,
+        kinematics: &OmniKinematics<T>,
+        states: &PlanarStates<T>,
+        relative_z_rate_rad_per_s: T,
+        terms: &TiltTerms<T>,
+        momentum: &Momentum<T>,
+    ) -> Vector3<T> {
+        let (fro, sag, k) = (&states.frontal, &states.sagittal, terms.k);
+        let residual = momentum.residual();
+        let expected_z = k[0] * fro[BALL_RATE] + k[1] * sag[BALL_RATE] - states.spin[1];
+        let rate_error = Vector3::new(
+            residual[0] / self.frontal.momentum_per_ball_rate(terms.frontal_sin_cos.1),
+            residual[1]
+                / self
+                    .sagittal
+                    .momentum_per_ball_rate(terms.sagittal_sin_cos.1),
+            relative_z_rate_rad_per_s - expected_z,
+        );
+        kinematics.wheel_speeds_rad_per_s(&rate_error) * kinematics.drivetrain().wheel_radius_m
+    }
+
+    /// Which wheels the slip speeds flag. Without evidence nothing is flagged and the observers
+    /// follow (the quiet path).
+    #[inline(always)]
+    fn flag(&self, kinematics: &OmniKinematics<T>, slip: &Vector3<T>) -> Flags {
+        let threshold = self.params.slip_speed_threshold_m_per_s;
+        let evidence: [bool; WHEEL_COUNT] = core::array::from_fn(|i| slip[i].abs() > threshold);
+        let any_evidence = evidence.iter().any(|&e| e);
+        let mut flags = Flags {
+            any_evidence,
+            slipping: [false; WHEEL_COUNT],
+            support: [false; WHEEL_COUNT],
+            hard_before: self.hard_before,
+            hold: false,
+        };
+        if !any_evidence {
+            return flags;
+        }
+        if !self.previous_evidence {
+            flags.hard_before = self.worked_hard(kinematics, slip);
+        }
+        let support = support_of(slip, threshold, flags.hard_before);
+        // A flag needs supported evidence in two updates running (one sample proves nothing),
+        // and stays while the wheel's evidence lasts.
+        let (was, previous) = (self.status.slipping, self.previous_support);
+        flags.slipping =
+            core::array::from_fn(|i| evidence[i] && (was[i] || (support[i] && previous[i])));
+        // The observers coast while a wheel slips (the residual keeps the slip), while the
+        // evidence is supported and waits for its confirmation, and on the first update of any
+        // evidence (an outlier must not be learnt); unsupported evidence that lasts is an
+        // external force, which they follow.
+        flags.hold = flags.slipping.iter().any(|&s| s)
+            || !self.previous_evidence
+            || support.iter().any(|&s| s);
+        flags.support = support;
+        flags
+    }
+
+    /// The observers' next momentum estimate: the model's rate, plus the residual's
+    /// correction unless they hold.
+    #[inline(always)]
+    fn observe(&self, momentum: &Momentum<T>, hold: bool, dt_secs: T) -> [T; 2] {
+        let gain = if hold {
+            T::zero()
+        } else {
+            self.params.observer_gain_per_s
+        };
+        let (estimate, rates, residual) = (momentum.estimate, momentum.rates, momentum.residual());
+        [
+            estimate[0] + (rates[0] + gain * residual[0]) * dt_secs,
+            estimate[1] + (rates[1] + gain * residual[1]) * dt_secs,
+        ]
+    }
+
+    /// Counts how long the flags have held the observers; past
+    /// [`TractionParams::max_coast_secs`], whatever the residual holds now, the observers take
+    /// the measured momentum again and the flags fall. Returns the estimate and the flags.
+    #[inline(always)]
+    fn coast(
+        &mut self,
+        momentum: &Momentum<T>,
+        next: [T; 2],
+        slipping: [bool; WHEEL_COUNT],
+        dt_secs: T,
+    ) -> ([T; 2], [bool; WHEEL_COUNT]) {
+        if !slipping.iter().any(|&s| s) {
+            self.coast_secs = T::zero();
+            return (next, slipping);
+        }
+        self.coast_secs += dt_secs;
+        if self.coast_secs > self.params.max_coast_secs {
+            self.coast_secs = T::zero();
+            let (measured, rates) = (momentum.measured, momentum.rates);
+            let taken = [
+                measured[0] + rates[0] * dt_secs,
+                measured[1] + rates[1] * dt_secs,
+            ];
+            return (taken, [false; WHEEL_COUNT]);
+        }
+        (next, slipping)
+    }
+
+    /// The friction estimate: at a slip's onset, lowered to what the slipping wheel had as far
+    /// as the model knows (only where the model says it was working hard: a slip at low
+    /// predicted use has another cause, a bump, a glitch, a model error); without a slip, back
+    /// towards the nominal over [`TractionParams::friction_recovery_secs`].
+    #[inline(always)]
+    fn learn_friction(
+        &mut self,
+        kinematics: &OmniKinematics<T>,
+        slipping: &[bool; WHEEL_COUNT],
+        dt_secs: T,
+    ) {
+        let any = slipping.iter().any(|&s| s);
         let onset = any && !self.status.any_slipping();
-        let mu = self.mu;
+        let (p, mu) = (&self.params, self.mu);
         let status = &mut self.status;
         if onset {
             status.slip_events = status.slip_events.saturating_add(1);
-            // The friction the slipping wheel had, as far as the model knows.
             let normal = &status.predicted_normal_force_n;
             let wheel_torques = &self.predicted_wheel_torques_nm;
             let worst = (0..WHEEL_COUNT)
@@ -518,8 +605,6 @@ impl<T: RealField + Copy> SlipMonitor<T> {
                     max(acc, contact.friction_utilisation)
                 });
             let lifted_off = normal.iter().any(|&n| n <= T::zero());
-            // Sound only where the model says the wheel was working hard: a slip at low
-            // predicted use has another cause (a bump, a glitch, a model error).
             let sound = worst.is_finite() && worst >= lit(MIN_USE_FOR_ESTIMATE);
             if p.estimate_friction && !lifted_off && sound {
                 let seen = max(mu * worst, p.min_friction);
@@ -529,29 +614,20 @@ impl<T: RealField + Copy> SlipMonitor<T> {
             let climb = mu * dt_secs / p.friction_recovery_secs;
             status.friction_estimate = min(status.friction_estimate + climb, mu);
         }
-        self.slip_secs = if any {
-            self.slip_secs + dt_secs
-        } else {
-            T::zero()
-        };
-        self.ball_rate_correction_rad_per_s = if any {
-            // Only the flagged wheels' slip: what the residual holds besides (an external
-            // force's momentum, the other wheels' ripple) is real ball motion.
-            let flagged = Vector3::from_fn(|i, _| if slipping[i] { slip[i] } else { T::zero() });
-            let error = kinematics.relative_rate_rad_per_s(&(flagged / rim_m));
-            [error.x, error.y]
-        } else {
-            [T::zero(); 2]
-        };
-        if any || status.lift_off_imminent {
+    }
+
+    /// The acceleration scale: [`TractionParams::slip_accel_scale`] while a wheel slips or a
+    /// lift-off is imminent, then back to 1 over [`TractionParams::recovery_secs`].
+    #[inline(always)]
+    fn adapt_accel_scale(&mut self, any_slipping: bool, dt_secs: T) {
+        let p = &self.params;
+        let status = &mut self.status;
+        if any_slipping || status.lift_off_imminent {
             status.accel_scale = p.slip_accel_scale;
         } else if status.accel_scale < T::one() {
             let back = (T::one() - p.slip_accel_scale) * dt_secs / p.recovery_secs;
             status.accel_scale = min(status.accel_scale + back, T::one());
         }
-        status.slip_speed_m_per_s = slip;
-        status.slipping = slipping;
-        self.slip_secs > p.slip_fault_secs
     }
 
     /// At the first update of an episode of evidence, which wheels were working hard before it
@@ -599,6 +675,60 @@ impl<T: RealField + Copy> SlipMonitor<T> {
     pub(crate) fn min_braking_decel_m_per_s2(&self) -> T {
         self.params.min_braking_decel_m_per_s2
     }
+}
+
+/// The planes' momenta in one update (frontal, sagittal; see
+/// [`SlipMonitor::update_with_sin_cos`]).
+struct Momentum<T> {
+    /// From the measured states.
+    measured: [T; 2],
+    /// The observers' estimate (the measured value before the first update).
+    estimate: [T; 2],
+    /// The model's rates of change.
+    rates: [T; 2],
+}
+
+impl<T: RealField + Copy> Momentum<T> {
+    /// Measured minus estimated: what the observers have not explained.
+    #[inline(always)]
+    fn residual(&self) -> [T; 2] {
+        [
+            self.measured[0] - self.estimate[0],
+            self.measured[1] - self.estimate[1],
+        ]
+    }
+}
+
+/// What the slip speeds say in one update.
+struct Flags {
+    /// Some wheel's slip speed is over the threshold.
+    any_evidence: bool,
+    /// The wheels flagged as slipping.
+    slipping: [bool; WHEEL_COUNT],
+    /// The wheels whose evidence the model supports (see `support_of`).
+    support: [bool; WHEEL_COUNT],
+    /// The wheels that worked hard before this episode of evidence.
+    hard_before: [bool; WHEEL_COUNT],
+    /// Whether the observers hold (coast) in this update.
+    hold: bool,
+}
+
+/// While a wheel is flagged: the ball-rate error (`[frontal, sagittal]`, rad/s) that the
+/// flagged wheels' slip reports, to take off the estimate (what the residual holds besides, an
+/// external force's momentum or the other wheels' ripple, is real ball motion); 0 otherwise.
+#[inline(always)]
+fn ball_rate_correction<T: RealField + Copy>(
+    kinematics: &OmniKinematics<T>,
+    slip: &Vector3<T>,
+    slipping: &[bool; WHEEL_COUNT],
+) -> [T; 2] {
+    if !slipping.iter().any(|&s| s) {
+        return [T::zero(); 2];
+    }
+    let rim_m = kinematics.drivetrain().wheel_radius_m;
+    let flagged = Vector3::from_fn(|i, _| if slipping[i] { slip[i] } else { T::zero() });
+    let error = kinematics.relative_rate_rad_per_s(&(flagged / rim_m));
+    [error.x, error.y]
 }
 
 /// Which wheels' slip evidence `slip` (m/s at the rim) a slip can explain and an external force
