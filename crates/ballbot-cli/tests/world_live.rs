@@ -114,7 +114,7 @@ fn a_websocket_client_on_loopback_reads_the_live_channels_and_messages() {
                     got.statuses.push(value.to_string());
                     // The SDK can refuse a subscription sent in the instant between a
                     // channel's advertisement and its registration for this client
-                    // (docs/world.md): subscribe again, as a robust client does.
+                    // (docs/world-logs.md): subscribe again, as a robust client does.
                     let refused = value["message"]
                         .as_str()
                         .and_then(|m| m.strip_prefix("Unknown channel ID: "))

@@ -326,7 +326,7 @@ def test_miapures_sensors_read_a_filtered_delayed_imu() -> None:
     sensors = ballbot.SensorParams.preset("miapure")
     assert sensors.imu == ballbot.ImuParams.preset("vn100")
     assert sensors.imu.model == "attitude_filter" and sensors.link_latency_secs > 0.0
-    # Not yet in the default world (docs/world.md, "Sensing"); a world takes them as a part.
+    # Not yet in the default world (docs/world-sensing.md); a world takes them as a part.
     default = ballbot.WorldParams.preset("miapure_60kg").sensors
     assert default.imu.model == "truth" and default.link_latency_secs == 0.0
     world = ballbot.WorldParams.preset("miapure_60kg").replace(sensors=sensors)

@@ -1,5 +1,5 @@
 """The 3D world's experiments from Python: the maximum-speed study's entry points (the numbers
-of docs/world.md) and the MCAP log of a world run (what `ballbot world` writes)."""
+of docs/world-reproduce.md) and the MCAP log of a world run (what `ballbot world` writes)."""
 
 from pathlib import Path
 

@@ -1,7 +1,7 @@
 //! A slow velocity ramp in the 3D world with the core's controller in the loop (command
 //! shaper caps lifted), traced every `EVERY` seconds: the body's yaw and yaw rate against the
 //! lean and the rolling ball's rate about the body's z axis, which the omniwheels measure like
-//! a yaw rate (docs/world.md, "yaw at speed").
+//! a yaw rate (docs/world-reproduce.md, "Yaw at speed").
 //!
 //! ```text
 //! HEAD=0 ACC=0.25 TOP=3 TEND=14 EVERY=0.2 \

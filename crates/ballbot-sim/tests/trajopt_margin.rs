@@ -24,7 +24,7 @@ fn min_normal_n(sol: &BrakingSolution) -> f64 {
 #[test]
 fn planner_with_a_margin_keeps_every_normal_force_above_it_and_costs_more() {
     // MiaPURE with 60 kg, 1.4 m/s to rest in 1.0 s at 180 deg (the world study's problem):
-    // without a margin the onset unloads OW1 to nearly 0 N (docs/world.md).
+    // without a margin the onset unloads OW1 to nearly 0 N (docs/world-reproduce.md).
     let robot = BallbotParams::miapure_60kg();
     let mu = robot.drivetrain.wheel_ball_friction;
     let margin_n = 100.0;

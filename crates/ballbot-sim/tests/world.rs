@@ -10,7 +10,7 @@ use ballbot_sim::world::{BallbotWorld, WorldParams};
 use nalgebra::Vector3;
 
 /// The ideal world (stiff continuous-rim contacts, straight torque-speed line): the numbers
-/// these tests and docs/world.md quote are its.
+/// these tests and docs/world-reproduce.md quote are its.
 fn miapure() -> WorldParams {
     WorldParams::ideal(BallbotParams::miapure_60kg())
 }
@@ -18,7 +18,7 @@ fn miapure() -> WorldParams {
 /// Runs the world under the shipped controller for `duration_secs` with a body-frame velocity
 /// command; calls `each` after every step. Returns false if a failure was detected. (The
 /// planar balancer these tests once used, a torque-mode state feedback, rang up the ball's shear
-/// mode on the compliant floor and falls: docs/world.md, "Floor".)
+/// mode on the compliant floor and falls: docs/world-contacts.md, "Floor".)
 fn run_balanced(
     sim: &mut WorldRobot,
     duration_secs: f64,
@@ -438,8 +438,9 @@ fn accelerating_towards_ow1_slips_at_a_lower_acceleration_than_away_from_it() {
     // The paper's failure happens while accelerating: the lean unloads the driving wheels
     // OW2/OW3 towards OW1 (0 deg) and loads them away from it (180 deg). The core's command
     // shaper caps speed at 2 m/s and acceleration at 1 m/s^2, below any traction limit, so the
-    // caps are lifted here; its jerk limit (2 m/s^3) stays. Measured (docs/world.md): 0 deg
-    // survives 1.7 m/s^2 and slips from 1.8; 180 deg survives 1.9 with cone utilisation 0.58.
+    // caps are lifted here; its jerk limit (2 m/s^3) stays. Measured (docs/world-reproduce.md):
+    // 0 deg survives 1.7 m/s^2 and slips from 1.8; 180 deg survives 1.9 with cone utilisation
+    // 0.58.
     use ballbot_core::ballbot::BallbotControllerConfig;
     use ballbot_sim::studies::ramp::{RampParams, RampResult, max_speed_ramp_with_config};
     use ballbot_sim::world::FailureKind;

@@ -12,8 +12,8 @@ use ballbot_sim::world::{
 
 /// Runs `sim` for `duration_secs` under the shipped controller with a constant body-frame
 /// velocity command (m/s). (The planar balancer these tests once used, a torque-mode state
-/// feedback, rings up the ball's shear mode on the compliant floor and falls: docs/world.md,
-/// "Floor".)
+/// feedback, rings up the ball's shear mode on the compliant floor and falls:
+/// docs/world-contacts.md, "Floor".)
 fn cruise(sim: &mut WorldRobot, duration_secs: f64, command_m_per_s: [f64; 2]) {
     let steps = (duration_secs / sim.world().params().dt_secs).round() as usize;
     for _ in 0..steps {
@@ -380,8 +380,8 @@ fn rubber_coated_contact_carries_the_load_at_rest() {
     let k = params.contact.normal_stiffness_n_per_m;
     let mut world = BallbotWorld::new(params).unwrap();
     // The body's bounce on the soft contacts (about 9 Hz with the floor in series) is lightly
-    // damped (the damping is matched to the 61 Hz ball mode, docs/world.md): average over the
-    // second second.
+    // damped (the damping is matched to the 61 Hz ball mode, docs/world-contacts.md): average over
+    // the second second.
     for _ in 0..8000 {
         world.step([0.0; 3]);
     }

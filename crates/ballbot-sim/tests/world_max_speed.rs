@@ -37,7 +37,7 @@ fn tiny_settings(protocol: MaxSpeedProtocol, heading_deg: f64) -> MaxSpeedStudyS
 #[test]
 fn failing_acceleration_is_lower_towards_ow1_than_away_from_it() {
     // Grid 0.3 m/s^2 in [1.2, 2.4]: towards OW1 the driving wheels slip from about
-    // 1.8 m/s^2 (docs/world.md), away from OW1 2.4 m/s^2 still runs.
+    // 1.8 m/s^2 (docs/world-reproduce.md), away from OW1 2.4 m/s^2 still runs.
     let protocol = MaxSpeedProtocol {
         accel_bracket_m_per_s2: [1.2, 2.4],
         accel_resolution_m_per_s2: 0.3,

@@ -72,7 +72,7 @@ fn max_differences(a: &[[f64; 8]], b: &[[f64; 8]]) -> [f64; 8] {
 #[test]
 fn multi_rate_drive_agrees_with_the_single_rate_world() {
     // The ideal world (stiff, continuous rims: no roller-gap ripple, whose phase is sensitive)
-    // at its largest ratio, 10. Measured over 10 s of the bench's cycle (docs/world.md): ball
+    // at its largest ratio, 10. Measured over 10 s of the bench's cycle (docs/world-speed.md): ball
     // position within 0.5 mm, tilts within 1e-4 rad, normal forces within 1.3 N, OW1's speed
     // within 0.02 rad/s; a changed sensor-noise seed moves them 1.5 mm, 8e-4 rad, 14 N.
     let ideal = WorldParams::ideal(BallbotParams::miapure_60kg());

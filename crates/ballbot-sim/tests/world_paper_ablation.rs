@@ -2,7 +2,7 @@
 //! (`BallbotControllerConfig::with_paper_ablation`: the upright wheel mapping of MODEL.md
 //! section 4 and no jerk limit): on the maximum-speed study's slow ramp it loses its heading at
 //! about 2.9 m/s whatever the heading, as the world's controller did before the yaw fix
-//! (docs/world.md, "Yaw at speed").
+//! (docs/world-reproduce.md, "Yaw at speed").
 
 use ballbot_core::BallbotParams;
 use ballbot_core::ballbot::BallbotControllerConfig;

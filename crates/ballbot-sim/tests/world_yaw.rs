@@ -1,6 +1,6 @@
 //! The 3D closed loop holds its heading at speed: the rolling ball, seen from a leaning body,
 //! turns about the body's z axis, and the controller's wheel references must account for it
-//! (`ballbot_core::estimation::ball_body_z_rate_per_ball_rate`; docs/world.md).
+//! (`ballbot_core::estimation::ball_body_z_rate_per_ball_rate`; docs/world-reproduce.md).
 
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_core::command::{Command, VelocityCommand};

@@ -8,7 +8,7 @@
 //! about along the apparent vertical, so after a few `tau` it reads upright. When the
 //! acceleration ends, the error decays with `tau`, and the LQR holds the wrong lean and the
 //! speed error that goes with it: in the 3D world with the VN-100 model, 0.2 m/s is left 2 s
-//! after a stop from 1.4 m/s at `tau` = 2.3 s (docs/world.md, "Sensing").
+//! after a stop from 1.4 m/s at `tau` = 2.3 s (docs/world-sensing.md).
 //!
 //! [`ImuLean`] runs the same first-order lag on the acceleration the controller commands
 //! (the shaped command's, one outer period late) and adds it back to the measured tilt:

@@ -19,7 +19,7 @@ use core::str::FromStr;
 /// - [`Upright`](Self::Upright): `-theta_dot_rz`, the mapping of MODEL.md section 4 (the
 ///   paper's robot), exact only when the body is upright. **An ablation**, kept to reproduce
 ///   the paper's controller in the world, not a recommendation: in the world it loses yaw
-///   control at speed (see `docs/world.md`, "Yaw at speed").
+///   control at speed (see `docs/world-reproduce.md`, "Yaw at speed").
 ///
 /// The same choice applies to the reference speeds and to the reference accelerations sent to
 /// the motor drivers. One canonical name per value (`as_str`, `Display`, `FromStr`, serde).

@@ -144,7 +144,7 @@ fn wheel_references_do_not_spin_the_ball_about_the_vertical() {
     // must describe a ball rolling at the reference rates with no spin about the world's
     // vertical, and the body yawing at the spin plane's reference rate. (The upright
     // mapping `omega_rel_z = -theta_dot_rz` made the body yaw by `-tan(roll) phi_dot_y`
-    // instead: the high-speed yaw divergence of docs/world.md.)
+    // instead: the high-speed yaw divergence of docs/world-reproduce.md.)
     let c = config();
     assert_eq!(c.wheel_mapping, WheelMapping::RollingBall, "the default");
     let [implied, reference, vertical] = implied_ball_rate(c);

@@ -1491,7 +1491,7 @@ class WorldParams:
         """World steps per rapier step: the rigid bodies' orientations step at
         ``rigid_step_ratio * dt_secs``; the wheel and floor contacts, wheels, drivers and
         sensors at ``dt_secs``
-        (10 in the default world, 1 in the ideal one; docs/world.md, "Multi-rate world")."""
+        (10 in the default world, 1 in the ideal one; docs/world-speed.md, "Multi-rate world")."""
     def max_rigid_step_ratio(self) -> int:
         """The largest ``rigid_step_ratio`` these parameters allow (the rigid step's phase on
         the ball's contact mode at most 1.2 rad, and at most 40)."""

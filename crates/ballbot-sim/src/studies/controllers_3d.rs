@@ -5,9 +5,9 @@
 //! The paper compared the three on its testbed (PIPTB) and reports that LQR and PI-PD "were
 //! not formally tested due to their poor performance in the balancing task for the MiaPURE
 //! drivetrain during the pilot studies". Here each runs in the default world (its drivetrain's
-//! stiction, coupling and backlash, docs/world.md) and, to tell what the drivetrain does, in
-//! the same world with a rigid drivetrain. Every gain comes from its controller's own design
-//! rule, nothing is tuned for the comparison:
+//! stiction, coupling and backlash, docs/world-drivetrain.md) and, to tell what the drivetrain
+//! does, in the same world with a rigid drivetrain. Every gain comes from its controller's own
+//! design rule, nothing is tuned for the comparison:
 //!
 //! - `lqr_pi`: [`BallbotControllerConfig::paper`] (discrete LQR per plane at 400 Hz, the
 //!   reference model, motor speed PIs at 8 kHz with a 30 rad/s bandwidth);

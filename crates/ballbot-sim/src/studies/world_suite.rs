@@ -97,7 +97,7 @@ pub struct WorldSuiteSettings {
 }
 
 /// Normal-force margins of the full suite's sweep (N). The world unloads OW1 at the onset
-/// of braking by 65-170 N more than the planar model predicts (docs/world.md); a wheel's
+/// of braking by 65-170 N more than the planar model predicts (docs/world-reproduce.md); a wheel's
 /// static load is `m_U g / (3 cos alpha)` = 74.3 kg * 9.81 m/s^2 / (3 cos 45 deg) = 344 N
 /// (MiaPURE with 60 kg). 100 N lies inside that discrepancy, 200 N above its top, 250 N is
 /// 73 % of the static load (the planar minimum braking time still exists there). 50 and

@@ -67,7 +67,7 @@ pub enum ImuModel {
     AttitudeFilter,
 }
 
-/// The IMU's configuration. Values and sources: docs/world.md, "Sensing".
+/// The IMU's configuration. Values and sources: docs/world-sensing.md.
 #[derive(
     Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
 )]
@@ -119,7 +119,7 @@ impl ImuParams {
         }
     }
 
-    /// A VectorNav VN-100 as MiaPURE carries it (docs/world.md, "Sensing", gives each value's
+    /// A VectorNav VN-100 as MiaPURE carries it (docs/world-sensing.md gives each value's
     /// source). VectorNav publishes no time constant for its filter: this one is the
     /// steady-state Kalman filter's for the datasheet's noise densities
     /// ([`Self::steady_kalman_time_constant_secs`], 2.3 s).

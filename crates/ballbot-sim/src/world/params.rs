@@ -21,21 +21,21 @@ pub const MAX_RIGID_STEP_RATIO: u32 = 40;
 
 /// The default world's [`WorldParams::rigid_step_ratio`] ([`WorldParams::realistic`]): the
 /// rigid bodies at 800 Hz, twice per 400 Hz control period, while contacts, wheels and drivers
-/// run at 8 kHz (docs/world.md, "Multi-rate world": within the trajectory spread of a changed
+/// run at 8 kHz (docs/world-speed.md, "Multi-rate world": within the trajectory spread of a changed
 /// sensor-noise seed, five times faster). Capped by [`WorldParams::max_rigid_step_ratio`].
 pub const DEFAULT_RIGID_STEP_RATIO: u32 = 10;
 
 /// The largest `omega_B T` allowed for the rigid step `T`, with `omega_B` the ball's vertical
 /// frequency on its three omniwheel contacts ([`WorldParams::ball_contact_frequency_rad_per_s`]).
-/// Measured on the 10 s drive cycle of `benches/world_step` (docs/world.md, "Multi-rate
-/// world") when the floor's force on the ball was held at the last rigid step's average, a lag
-/// of one rigid step on that mode: stable at 1.14 (ideal world, 1.25 ms) and 0.94 (default
-/// world, 2.5 ms), diverging at 1.83 (ideal, 2 ms) and 1.87 (default, 5 ms). The floor is on
-/// the 8 kHz path since issue 28; the bound is kept, not re-measured.
+/// Measured on the 10 s drive cycle of `benches/world_step` (docs/world-speed.md,
+/// "Multi-rate world") when the floor's force on the ball was held at the last rigid step's
+/// average, a lag of one rigid step on that mode: stable at 1.14 (ideal world, 1.25 ms) and 0.94
+/// (default world, 2.5 ms), diverging at 1.83 (ideal, 2 ms) and 1.87 (default, 5 ms). The floor is
+/// on the 8 kHz path since issue 28; the bound is kept, not re-measured.
 pub const MAX_BALL_CONTACT_PHASE_RAD: f64 = 1.2;
 
 /// MiaPURE's link latency from the 400 Hz loop's sample to the drivers acting on its output
-/// (s): the CAN frames between the roboRIO and the two ODrives (docs/world.md, "Sensing";
+/// (s): the CAN frames between the roboRIO and the two ODrives (docs/world-sensing.md;
 /// an estimate from the bus's frame times, not a measurement).
 pub const MIAPURE_LINK_LATENCY_SECS: f64 = 1.0e-3;
 
@@ -81,7 +81,7 @@ pub enum ContactNormalLaw {
 /// continuous rim and free rollers. The realistic mechanisms switch on one at a time:
 /// [`RollerParams::miapure`] (roller gaps), [`AxleLossParams::miapure`] (roller losses along
 /// the axle) and [`ContactParams::rubber_coated`] (stiffness and damping of the rubber
-/// coating); docs/world.md, "Contact realism: parameters and sources".
+/// coating); docs/world-contacts.md, "Contact realism: parameters and sources".
 #[derive(
     Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
 )]
@@ -208,7 +208,7 @@ pub struct SensorParams {
     /// speed and torque references down) and the computation. Below one control period;
     /// rounded to whole world steps; applied by the rig that runs the shipped loop
     /// ([`WorldRobot`](crate::rig::WorldRobot)). 0 in the ideal and the default world and when missing
-    /// from a file; docs/world.md, "Sensing".
+    /// from a file; docs/world-sensing.md.
     #[serde(default)]
     #[schemars(range(min = 0))]
     pub link_latency_secs: f64,
@@ -334,8 +334,8 @@ pub struct WorldParams {
     /// rigid bodies' orientations step at `rigid_step_ratio * dt_secs`; the omniwheel and floor
     /// contacts, wheels, motor drivers and sensors at `dt_secs`, with the ball's and body's
     /// motion predicted in between (module `world::rigid`). Default 1 (one rate, when missing
-    /// from a file too); docs/world.md, "Multi-rate world", measures the accuracy and speed of
-    /// larger ratios.
+    /// from a file too); docs/world-speed.md, "Multi-rate world", measures the accuracy and speed
+    /// of larger ratios.
     #[serde(default = "default_rigid_step_ratio")]
     #[schemars(range(min = 1, max = 40))]
     pub rigid_step_ratio: u32,
@@ -351,8 +351,8 @@ pub struct WorldParams {
     /// The drivetrain between each motor and its omniwheel: gearbox stiction, elastomeric
     /// coupling, backlash ([`crate::world::transmission`]). [`TransmissionParams::miapure`] in
     /// the default world, [`TransmissionParams::rigid`] (one inertia, no gearbox friction) in
-    /// the ideal one and when missing from a file. Values and their sources: docs/world.md,
-    /// "Drivetrain".
+    /// the ideal one and when missing from a file. Values and their sources:
+    /// docs/world-drivetrain.md, "Drivetrain".
     #[serde(default)]
     pub transmission: TransmissionParams,
 }
@@ -392,10 +392,10 @@ impl WorldParams {
     /// and the rubber coating's stiffness and damping ([`ContactParams::rubber_coated`] of
     /// [`RubberLayer::miapure`]), the ODrive v3.6 motor driver at 45 V
     /// ([`DriverParams::miapure`]) and the drivetrain with gearbox stiction, an elastomeric
-    /// coupling and backlash ([`TransmissionParams::miapure`]); docs/world.md, "Contact
-    /// realism: parameters and sources", "Motor driver" and "Drivetrain". Its sensors are the
+    /// coupling and backlash ([`TransmissionParams::miapure`]); docs/world-contacts.md and
+    /// docs/world-drivetrain.md. Its sensors are the
     /// ideal world's; [`SensorParams::miapure`] (the VN-100's attitude filter and the link
-    /// latency) is not in it yet: docs/world.md, "Sensing", says why.
+    /// latency) is not in it yet: docs/world-sensing.md says why.
     pub fn realistic(robot: BallbotParams<f64>) -> Self {
         let mut p = Self::ideal(robot);
         p.driver = DriverParams::miapure();

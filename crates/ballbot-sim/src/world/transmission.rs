@@ -103,7 +103,7 @@ impl TransmissionParams {
     }
 
     /// MiaPURE's drivetrain as we estimate it from a comparable actuator and coupling
-    /// (docs/world.md, "Drivetrain: parameters and sources"): a single-stage planetary
+    /// (docs/world-drivetrain.md, "Drivetrain"): a single-stage planetary
     /// quasi-direct-drive actuator with the breakaway torque and backlash measured on the
     /// PULSE115-60 (0.37 N m, +-0.11 deg), a Coulomb torque of 0.7 times the breakaway
     /// (estimate), and a jaw coupling of the size rated for the 43.2 N m peak (KTR ROTEX GS 24,

@@ -10,7 +10,7 @@ use ballbot_core::rates::OUTER_LOOP_DT_SECS;
 /// Rates are set on a grid of simulated time (a message at the first step at or after each
 /// multiple of the interval), so they do not depend on how often `record` is called beyond
 /// rounding to the next step. Sizes with the defaults, for the MiaPURE with the core's
-/// controller (zstd chunks): see `docs/world.md`, section "Logs and Foxglove".
+/// controller (zstd chunks): see `docs/world-logs.md`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WorldLogOptions {
     /// Write the telemetry at every n-th call of `record` (1: every physics step). Default 1.

@@ -36,7 +36,7 @@ pub enum Mechanism {
     Drivetrain,
     /// The sensors as the robot has them ([`SensorParams::miapure`]): the VN-100's
     /// accelerometer-aided attitude filter with its bias and delay, and the 1 ms link to the
-    /// drivers. Not (yet) part of [`Self::All`], the default world (docs/world.md, "Sensing").
+    /// drivers. Not (yet) part of [`Self::All`], the default world (docs/world-sensing.md).
     Sensing,
     /// Every mechanism of the default world, [`WorldParams::realistic`] (all but
     /// [`Self::Sensing`]).
