@@ -40,7 +40,7 @@ def main(path):
         fail(f"the fuzzer ran {fuzz['outer_steps']} outer steps, fewer than 10^5")
     invariants = fuzz.get("invariants") or fail("fuzz: no invariants")
     for inv in invariants:
-        for key in ("key", "issue_26_item", "class", "what", "breaks"):
+        for key in ("key", "item", "class", "what", "breaks"):
             if key not in inv:
                 fail(f"fuzz: an invariant has no {key}: {inv}")
     if abs(2 * fuzz["traction_on_episodes"] - fuzz["episodes"]) > 1:

@@ -24,7 +24,7 @@ fn run_logged(
     let protocol = CellProtocol {
         moving_inject_secs: 3.0,
         observe_secs: 4.0,
-        ..CellProtocol::issue15()
+        ..CellProtocol::fault_matrix()
     };
     let cell = Cell {
         controller,
@@ -36,7 +36,7 @@ fn run_logged(
     run_cell(
         &WorldParams::miapure_60kg(),
         &protocol,
-        &FaultMagnitudes::issue15(),
+        &FaultMagnitudes::fault_matrix(),
         cell,
         log,
     )
@@ -115,7 +115,7 @@ fn a_fault_cell_replays_through_the_driver() {
         protocol: CellProtocol {
             moving_inject_secs: 3.0,
             observe_secs: 4.0,
-            ..CellProtocol::issue15()
+            ..CellProtocol::fault_matrix()
         },
         log_dir: None,
         ..FaultMatrixSettings::quick()

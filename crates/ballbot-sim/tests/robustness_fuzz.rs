@@ -71,7 +71,7 @@ fn a_small_campaign_has_no_panic_breaks_no_issue_15_invariant_and_repeats_from_i
             "{:>6} {} ({})",
             c.breaks, c.invariant.key, c.invariant.class
         );
-        if c.invariant.issue_26_item == 0 && c.invariant.class == invariants::BAD {
+        if c.invariant.item == 0 && c.invariant.class == invariants::BAD {
             assert_eq!(c.breaks, 0, "{}: {:?}", c.invariant.key, a.violations);
         }
     }

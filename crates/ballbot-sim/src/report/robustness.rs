@@ -336,13 +336,13 @@ pub fn fuzz_table(f: &FuzzResult) -> String {
         "  panics {}, bad commands {}, findings {}, single corrupted samples compared with a clean twin {}",
         f.panics, f.bad_commands, f.findings, f.single_sample_checks
     );
-    let _ = writeln!(t, "  breaks by invariant (issue 26 item, class):");
+    let _ = writeln!(t, "  breaks by invariant (hardening item, class):");
     for c in &f.invariants {
         let i = &c.invariant;
         let _ = writeln!(
             t,
             "    {:>8}  {:<22} item {} {:<11} {}",
-            c.breaks, i.key, i.issue_26_item, i.class, i.what
+            c.breaks, i.key, i.item, i.class, i.what
         );
     }
     for (what, n) in &f.findings_by_what {

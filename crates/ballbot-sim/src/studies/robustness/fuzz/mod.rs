@@ -140,7 +140,7 @@ impl FuzzSettings {
 /// One invariant's count in a campaign.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct InvariantCount {
-    /// The invariant (key, item of issue 26, class, what it checks).
+    /// The invariant (key, hardening item, class, what it checks).
     #[serde(flatten)]
     pub invariant: Invariant,
     /// Breaks counted (events: once when a break starts).
