@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Our world against a MuJoCo roller-omniwheel ballbot, simulated seconds per wall second, in one
-# run (issue 17; docs/world.md, "Speed against MuJoCo"). Optional: not part of the test command.
+# run (docs/world.md, "Speed against MuJoCo"). Optional: not part of the test command.
 # Makes its own venv (BENCH_VENV, default target/bench-mujoco-venv) with MuJoCo from PyPI.
 # Usage: bash benches/mujoco/run.sh [--seconds S] [--repeats N] [--json FILE]
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What a decimated log costs `ballbot world` (issue 28; docs/world.md, "What a decimated log
+# What a decimated log costs `ballbot world` (docs/world.md, "What a decimated log
 # costs"): the same run with its log decimated to 1 Hz (`--decimate 8000`) and without a log
 # (`--no-log`), alternating, each REPEATS times; prints each one's wall and CPU (user + sys)
 # times, their medians in simulated seconds per second, and the ratio of the medians.

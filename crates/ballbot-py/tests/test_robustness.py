@@ -1,4 +1,4 @@
-"""The reliability campaign from Python (issue 15): typed results from the same record as
+"""The reliability campaign from Python: typed results from the same record as
 ``ballbot robustness``'s robustness.json, run without the GIL."""
 
 import json

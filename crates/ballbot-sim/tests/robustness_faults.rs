@@ -1,4 +1,4 @@
-//! The fault-injection matrix (issue 15, section 2): cells whose outcome the supervisor's
+//! The fault-injection matrix: cells whose outcome the supervisor's
 //! documented timeouts predict, the balance-point estimator against the payload shift, logs,
 //! determinism.
 

@@ -1,4 +1,5 @@
-//! `ballbot robustness` as a library call: the reliability campaign of issue 15.
+//! `ballbot robustness` as a library call: the reliability campaign (fuzzing, fault
+//! injection, Monte Carlo).
 //!
 //! Writes `OUT/robustness.json` (keys `fuzz`, `fault_matrix`, `monte_carlo`), the figures
 //! (`OUT/fault_matrix_<controller>.{svg,png}` and the Monte Carlo figures, with the `plot`
