@@ -21,7 +21,7 @@ KNOWN_UNSAFE = {
     "floor_bump": "the matrix's 15 mm bar is above every bump the robot crosses on the coating's "
     "compliant floor (1.6-7.8 mm, docs/results.md, 'Bump tolerance'): it falls, undetected",
     ("payload_shift", "braking"): "since the wheel contacts follow the coating's whole-range "
-    "law (issue 28), a 5 cm payload shift while braking from 1.4 m/s towards OW1 slips OW2 for "
+    "law, a 5 cm payload shift while braking from 1.4 m/s towards OW1 slips OW2 for "
     "15 ms, the monitor raises WheelSlip 0.96 s later and the controlled stop is still at "
     "0.68 m/s when the quick run's cell ends (docs/robustness.md, 'Payload shift'); not analysed yet",
 }
@@ -40,7 +40,7 @@ def main(path):
         fail(f"the fuzzer ran {fuzz['outer_steps']} outer steps, fewer than 10^5")
     invariants = fuzz.get("invariants") or fail("fuzz: no invariants")
     for inv in invariants:
-        for key in ("key", "issue_26_item", "class", "what", "breaks"):
+        for key in ("key", "item", "class", "what", "breaks"):
             if key not in inv:
                 fail(f"fuzz: an invariant has no {key}: {inv}")
     if abs(2 * fuzz["traction_on_episodes"] - fuzz["episodes"]) > 1:

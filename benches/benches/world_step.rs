@@ -32,8 +32,8 @@ fn world_step(c: &mut Criterion) {
     });
     assert_eq!(drive.restarts, 0, "the robot failed during the bench");
     assert!(drive.sim().world().failure().is_none());
-    // The default world at a single rate (rapier at every step, the default before issue 17):
-    // the baseline of the multi-rate step, measured in the same run.
+    // The default world at a single rate (rapier at every step, the default before the
+    // multi-rate world): the baseline of the multi-rate step, measured in the same run.
     let mut single = WorldParams::miapure_60kg();
     single.rigid_step_ratio = 1;
     let mut drive = WorldDrive::with_params(single).unwrap();
@@ -41,8 +41,8 @@ fn world_step(c: &mut Criterion) {
         drive.step().unwrap().time_secs
     });
     assert_eq!(drive.restarts, 0, "the robot failed during the bench");
-    // The same drive in the ideal world (the default before issue 13): the baseline measured in
-    // the same run.
+    // The same drive in the ideal world (the default before the realistic world): the baseline
+    // measured in the same run.
     let ideal = WorldParams::ideal(BallbotParams::miapure_60kg());
     let mut drive = WorldDrive::with_params(ideal).unwrap();
     bench_both(c, "world_step_8khz_ideal_world", || {

@@ -23,7 +23,7 @@ fn world_step_with_controller(n: u64) -> Result<(), String> {
 }
 
 /// [`world_step_with_controller`] in the single-rate default world (`rigid_step_ratio` 1: rapier
-/// at every step), the default before issue 17.
+/// at every step), the default before the multi-rate world.
 fn world_step_single_rate(n: u64) -> Result<(), String> {
     let mut params = WorldParams::miapure_60kg();
     params.rigid_step_ratio = 1;
@@ -31,7 +31,7 @@ fn world_step_single_rate(n: u64) -> Result<(), String> {
 }
 
 /// [`world_step_with_controller`] in the ideal world (stiff continuous-rim contacts, no axle
-/// forces, the straight torque-speed line): the world before issue 13.
+/// forces, the straight torque-speed line): the default world before the realistic one.
 fn world_step_ideal(n: u64) -> Result<(), String> {
     run_drive(
         WorldDrive::with_params(WorldParams::ideal(BallbotParams::miapure_60kg())),

@@ -1,5 +1,6 @@
 """Simulated seconds per wall second: our rapier3d world against a MuJoCo roller-omniwheel
-ballbot, in one run (issue 17). Run it through ``benches/mujoco/run.sh``, which makes the venv.
+ballbot, in one run (docs/world.md, "Speed against MuJoCo"). Run it through
+``benches/mujoco/run.sh``, which makes the venv.
 
 Both simulate the same robot (MiaPURE with 60 kg, the default world's parameters from
 ``world_speed params``) balancing under a controller at 400 Hz while driving a cycle of velocity

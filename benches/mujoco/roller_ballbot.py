@@ -33,7 +33,8 @@ ROLLER_RADIUS_M = 0.005
 #: Mass of one roller (kg) and of one hub (kg) (estimates, taken out of the body's mass).
 ROLLER_MASS_KG = 0.01
 HUB_MASS_KG = 0.3
-#: MuJoCo's step (s): 1 ms, as in the measurement that issue 17 quotes.
+#: MuJoCo's step (s): 1 ms, as in the earlier MuJoCo roller-model measurement that docs/world.md
+#: cites ("Speed against MuJoCo").
 TIMESTEP_S = 0.001
 
 

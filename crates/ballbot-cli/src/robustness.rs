@@ -1,5 +1,5 @@
 //! `ballbot robustness --out DIR [--quick] [--seed N] [--threads N]`: the reliability
-//! campaign of issue 15 (`ballbot_sim::report::robustness`), with progress bars.
+//! campaign (`ballbot_sim::report::robustness`), with progress bars.
 //!
 //! Writes `DIR/robustness.json` (keys `fuzz`, `fault_matrix`, `monte_carlo`), figures
 //! (`DIR/*.svg`, `DIR/*.png`) and the MCAP log of every faulted run

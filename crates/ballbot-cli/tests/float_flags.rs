@@ -1,5 +1,5 @@
 //! Every floating-point flag of every subcommand rejects `nan`, `inf` and `-inf` at parse time,
-//! naming the flag, with a nonzero exit code (issue 26: `ballbot brake --heading-deg nan` used
+//! naming the flag, with a nonzero exit code (a regression: `ballbot brake --heading-deg nan` used
 //! to exit 0 because the flag was only read with actuator limits on). The flags are found by
 //! clap's introspection of the command, so a new flag is covered without editing this test.
 

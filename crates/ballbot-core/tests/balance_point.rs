@@ -76,7 +76,7 @@ fn rearm(rig: &mut Rig) {
     rig.arm();
 }
 
-/// Issue 26: the learnt balance point belongs to the payload on the ball, and is forgotten
+/// The learnt balance point belongs to the payload on the ball, and is forgotten
 /// whenever the motors go off (disarm, unrecoverable fault; a reset follows a fault). A robot
 /// that learnt a payload off centre, was disarmed and re-armed without it (the rider stepped
 /// off), stands still on a stop command; a controlled stop keeps the estimate (checked by
@@ -118,7 +118,7 @@ fn the_balance_point_is_forgotten_when_the_motors_go_off() {
     assert!(offset(&rig).amax() < 1e-3, "{}", offset(&rig));
 }
 
-/// Issue 26: after a push the controller brakes the ball for seconds on a slowly decaying
+/// After a push the controller brakes the ball for seconds on a slowly decaying
 /// lean, with small tilt rates and a still command. That lean accelerates the ball; it is not
 /// a balance point. Measured: a peak offset of 0.007 rad and 0.024 m/s three seconds after the
 /// push; checked by mutation: without the acceleration's lean taken off the learnt departure,

@@ -1,4 +1,4 @@
-//! The hot paths trimmed for instruction count (issue 3 follow-up) against the checked
+//! The hot paths trimmed for instruction count against the checked
 //! formulations they replace: the same outputs, bit for bit, and the same rejections.
 //!
 //! - `MotorSpeedPi::step` prepares its torque-speed bounds against the PI's limit and runs the

@@ -352,8 +352,8 @@ fn follows_a_trajectory_command_to_rest() {
 
 #[test]
 fn the_shipped_default_follows_a_trajectory_command_to_rest() {
-    // Issue 26. The envelope of traction-aware control took its direction from the tracking
-    // error, which on a trajectory is rounding: the axis the trajectory drives was starved
+    // A regression test. The envelope of traction-aware control took its direction from the
+    // tracking error, which on a trajectory is rounding: the axis the trajectory drives was starved
     // and the speed swung by 0.12 m/s at a period of 0.7 s (0.136 m/s peak error; checked
     // by mutation). It now takes the trajectory's own acceleration. The balance point used
     // to learn the lean that brakes the cruise's overshoot as an offset (0.101 m/s alone);

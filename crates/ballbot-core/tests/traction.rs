@@ -172,7 +172,7 @@ fn push_plant(rig: &mut Rig, heading_rad: f64, impulse_ns: f64) {
     }
 }
 
-/// Issue 26: a push is an external force, not a slip. On the decoupled plant (which cannot
+/// A push is an external force, not a slip. On the decoupled plant (which cannot
 /// slip) pushes at the centre of mass of 10 and 40 N s standing and 20 N s driving at 0.8 m/s,
 /// every 60 deg, raise no slip flag and no `Fault::WheelSlip`, and the robot keeps balancing
 /// (checked by mutation: with every wheel's evidence taken as supported, as before the fix,
@@ -202,7 +202,7 @@ fn a_push_on_a_plant_that_cannot_slip_is_not_a_slip() {
     }
 }
 
-/// Issue 26: one in-range outlier in one gyro axis or one encoder, while driving, sets no
+/// One in-range outlier in one gyro axis or one encoder, while driving, sets no
 /// slip flag, then or afterwards (checked by mutation: confirming on a single update's
 /// evidence flags the encoder outlier; learning the outlier into the observers flags the
 /// gyro outliers afterwards).
@@ -241,7 +241,7 @@ fn a_single_outlier_sample_sets_no_slip_flag() {
     }
 }
 
-/// Issue 26: a false slip clears, the stop it caused can be resumed, and a stop never reports
+/// A false slip clears, the stop it caused can be resumed, and a stop never reports
 /// rest while the robot moves. A wheel's encoder runs ahead of the ball for 0.35 s (the
 /// monitor flags it, rightly as far as it can tell, and after 0.3 s asks for a controlled
 /// stop), and meanwhile a 20 N s push hits the plant: the observers, coasting, hold the push's
@@ -316,7 +316,7 @@ fn a_false_slip_clears_and_the_stop_comes_to_rest() {
     assert!(vx.hypot(vy) < 0.05, "{vx} {vy}");
 }
 
-/// Issue 26: the observers do not learn an outlier. One gyro sample of 30 rad/s (within the
+/// The observers do not learn an outlier. One gyro sample of 30 rad/s (within the
 /// gyro's range; the estimator puts it into the tilt rate and the ball rate) leaves the
 /// monitor's slip estimate where it was at the next sample (checked by mutation: learning the
 /// first update of evidence leaves 2.5 % of the spike in the momentum estimate, a slip

@@ -1,4 +1,4 @@
-"""The reliability campaign from Python (issue 15): typed results from the same record as
+"""The reliability campaign from Python: typed results from the same record as
 ``ballbot robustness``'s robustness.json, run without the GIL."""
 
 import json
@@ -51,6 +51,14 @@ def test_quick_campaign_returns_typed_results_matching_the_json(tmp_path: Path) 
     assert result.fuzz.bad_commands == sum(
         i["breaks"] for i in result.fuzz.invariants if i["class"] == "bad_command"
     )
+    # Each invariant names the hardening item it checks (0: the campaign's first invariants).
+    assert all(
+        {"key", "item", "class", "what", "breaks"} <= set(i) for i in result.fuzz.invariants
+    )
+    assert {i["item"] for i in result.fuzz.invariants} == set(range(10))
+    assert [i["item"] for i in result.fuzz.invariants] == [
+        i["item"] for i in written["fuzz"]["invariants"]
+    ]
     assert 0 < result.fuzz.traction_on_episodes < result.fuzz.episodes
     assert result.fuzz.parsers["panics"] == 0
 

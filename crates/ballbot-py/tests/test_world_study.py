@@ -12,7 +12,7 @@ from ballbot import _core
 
 def test_failing_acceleration_towards_ow1_is_1_75() -> None:
     # Ideal world: towards OW1 the ramp survives 1.75 m/s^2 and OW2/OW3 slip from 1.80 (as on
-    # rapier's floor; 1.70 and 1.75 on the coating's compliant floor of issue 28 until the robot
+    # rapier's floor; 1.70 and 1.75 on the coating's compliant floor until the robot
     # started at its contacts' exact equilibrium, which moved this verdict: it sits on an edge).
     found = ballbot.failing_acceleration(
         ballbot.WorldParams.preset("ideal_miapure_60kg"),

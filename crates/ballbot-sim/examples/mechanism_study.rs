@@ -1,4 +1,4 @@
-//! The mechanism study of `ballbot reproduce` on its own (issue 13): slow ramps per world
+//! The mechanism study of `ballbot reproduce` on its own: slow ramps per world
 //! mechanism, controller and heading, the ramp-acceleration sweep and the contact-load ripple.
 //! Prints the tables and writes the three summary records to `OUT` (default
 //! `mechanisms.json`).

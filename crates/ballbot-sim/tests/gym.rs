@@ -228,7 +228,7 @@ fn a_full_residual_changes_what_the_drivers_apply() {
     let peak = config.world.robot.drivetrain.actuator.peak_torque_nm;
     // The controller reacts within the step too, so only the sign and the order are checked:
     // at least a quarter of the residual is left at the end of the step. (Before the
-    // drivetrain of issue 28 more than half was left; the motor side the encoder reads is
+    // world modelled the drivetrain more than half was left; the motor side the encoder reads is
     // lighter than wheel and rotor together, so the inner PI sees the residual sooner.)
     assert!(
         pushed[0] - base[0] > 0.25 * 0.1 * peak,

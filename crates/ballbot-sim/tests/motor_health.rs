@@ -50,7 +50,7 @@ fn faulted_run(class: FaultClass, inject_us: u64) -> Faulted {
     let steps = (inject_us + 1_500_000) / 125;
     let mut injector = FaultInjector::new(
         class,
-        FaultMagnitudes::issue15(),
+        FaultMagnitudes::fault_matrix(),
         inject_us,
         params.robot.drivetrain.actuator,
     );

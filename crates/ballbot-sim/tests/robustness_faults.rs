@@ -1,4 +1,4 @@
-//! The fault-injection matrix (issue 15, section 2): cells whose outcome the supervisor's
+//! The fault-injection matrix: cells whose outcome the supervisor's
 //! documented timeouts predict, the balance-point estimator against the payload shift, logs,
 //! determinism.
 
@@ -24,7 +24,7 @@ fn run_logged(
     let protocol = CellProtocol {
         moving_inject_secs: 3.0,
         observe_secs: 4.0,
-        ..CellProtocol::issue15()
+        ..CellProtocol::fault_matrix()
     };
     let cell = Cell {
         controller,
@@ -36,7 +36,7 @@ fn run_logged(
     run_cell(
         &WorldParams::miapure_60kg(),
         &protocol,
-        &FaultMagnitudes::issue15(),
+        &FaultMagnitudes::fault_matrix(),
         cell,
         log,
     )
@@ -115,7 +115,7 @@ fn a_fault_cell_replays_through_the_driver() {
         protocol: CellProtocol {
             moving_inject_secs: 3.0,
             observe_secs: 4.0,
-            ..CellProtocol::issue15()
+            ..CellProtocol::fault_matrix()
         },
         log_dir: None,
         ..FaultMatrixSettings::quick()

@@ -1,6 +1,7 @@
-//! Fuzzing the core (issue 15, section 1; issue 26, item 7): a small campaign has no panic and
-//! breaks none of issue 15's invariants, is deterministic in its seed, runs traction-aware
-//! control in half its episodes; and the invariants of issue 26 can fail: each is shown to
+//! Fuzzing the core: a small campaign has no panic and breaks none of the reliability
+//! campaign's first invariants (item 0), is deterministic in its seed, runs traction-aware
+//! control in half its episodes; and the invariants of the safe-by-default hardening (items 1
+//! to 9) can fail: each is shown to
 //! fire on a controller deliberately built to break it (so that they stay live whatever the
 //! core's fixes do to the shipped controller).
 
@@ -62,7 +63,7 @@ fn breaks(rig: FuzzRig, kind: EpisodeKind, seeds: u64, steps: u64, key: &str) ->
 }
 
 #[test]
-fn a_small_campaign_has_no_panic_breaks_no_issue_15_invariant_and_repeats_from_its_seed() {
+fn a_small_campaign_has_no_panic_breaks_no_first_invariant_and_repeats_from_its_seed() {
     let robot = BallbotParams::miapure_60kg();
     let a = run_fuzz(&robot, &small(5), 2, &|_, _| {}).unwrap();
     assert_eq!(a.panics, 0, "{:?}", a.violations);
@@ -71,7 +72,7 @@ fn a_small_campaign_has_no_panic_breaks_no_issue_15_invariant_and_repeats_from_i
             "{:>6} {} ({})",
             c.breaks, c.invariant.key, c.invariant.class
         );
-        if c.invariant.issue_26_item == 0 && c.invariant.class == invariants::BAD {
+        if c.invariant.item == 0 && c.invariant.class == invariants::BAD {
             assert_eq!(c.breaks, 0, "{}: {:?}", c.invariant.key, a.violations);
         }
     }
@@ -237,7 +238,7 @@ fn valid_trajectories_on_the_designed_controller_end_in_no_fault() {
 
 #[test]
 fn stalled_and_backward_clocks_are_exercised_and_the_supervisor_leaves_balancing() {
-    // The clock invariant (issue 26 item 6) is judged on every tick of the hostile episodes:
+    // The clock invariant (`invariants::CLOCK`) is judged on every tick of the hostile episodes:
     // the supervisor must raise `ClockStalled` / `ClockFault` and leave balancing. The
     // supervisor's own tests check each by mutation (`a_stalled_clock_is_a_fault_and_its_
     // samples_go_stale`); here: the episodes do stall and step the clock back, and the shipped

@@ -1,4 +1,4 @@
-//! Monte Carlo robustness (issue 15, section 3): the sampler's ranges, determinism and
+//! Monte Carlo robustness: the sampler's ranges, determinism and
 //! independence of the thread count, and that a sampled robot differs from the nominal one.
 
 use ballbot_core::ballbot::BallbotControllerConfig;

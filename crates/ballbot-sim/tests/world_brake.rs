@@ -177,7 +177,7 @@ fn a_braking_job_estimates_its_runs_from_the_scan_and_the_widest_step() {
     assert_eq!(experiment.runs_estimate(&180.0), 10);
 }
 
-/// Issue 27: braking's limit at 180 deg was a lift-off of OW1 a few tens of ms into the stop,
+/// Braking's limit at 180 deg was a lift-off of OW1 a few tens of ms into the stop,
 /// and the lift-off stop rule called it a failure. With the rule off the same run goes on: OW1
 /// comes back down and the robot is at rest in the window, the lift-off kept as an event.
 /// Both runs record what happened; only the verdict and the outcome differ. Pinned to the

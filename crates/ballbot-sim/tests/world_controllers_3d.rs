@@ -1,6 +1,5 @@
-//! The paper's controller comparison in the 3D world (issue 28 item 4,
-//! `studies::controllers_3d`): LQR-PI balances where the torque-only LQR and PI-PD do not, and
-//! why.
+//! The paper's controller comparison in the 3D world (`studies::controllers_3d`): LQR-PI
+//! balances where the torque-only LQR and PI-PD do not, and why.
 
 use ballbot_core::BallbotParams;
 use ballbot_sim::rig::Outcome;

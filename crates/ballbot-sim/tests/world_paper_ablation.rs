@@ -15,7 +15,7 @@ use ballbot_sim::world::WorldParams;
 /// 1, the ramp's top lowered to 3.6 m/s (it fails well before; the run ends 1 s after the top).
 /// Returns the maximum speed (m/s), whether it lost its balance (the world's failure, or the
 /// supervisor's stop that comes first since the tilt limit looks at the tilt from the
-/// vertical, issue 26), and the largest |yaw| (deg) before that.
+/// vertical), and the largest |yaw| (deg) before that.
 fn paper_slow_ramp(heading_deg: f64) -> (f64, bool, f64) {
     let mut params = WorldParams::ideal(BallbotParams::miapure_60kg());
     params.sensors.seed = 1;

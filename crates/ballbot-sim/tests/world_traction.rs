@@ -1,4 +1,4 @@
-//! Traction-aware control in the 3D world (issue 14): a ramp towards OW1 that fails without it
+//! Traction-aware control in the 3D world: a ramp towards OW1 that fails without it
 //! survives with it; a slip on a wet patch is found within a stated latency; slow ramps raise
 //! no alarm.
 
@@ -53,7 +53,7 @@ fn a_ramp_towards_ow1_that_slips_without_traction_control_survives_with_it() {
 
 /// A wet patch (wheel-ball friction 0.3) crossed while accelerating at the envelope towards
 /// OW1: the wheels slip, and the monitor flags it within 20 ms of the world's first slip
-/// (measured 15.4 ms; 12.9 ms before issue 26 confirmed a flag on a second update), counts one
+/// (measured 15.4 ms; 12.9 ms before the monitor confirmed a flag on a second update), counts one
 /// event and lowers its friction estimate.
 #[test]
 fn slip_on_a_wet_patch_is_detected_within_20_ms() {
@@ -82,8 +82,9 @@ fn slip_on_a_wet_patch_is_detected_within_20_ms() {
 
 /// Gentle ramps (0.5 m/s^2 to 1 m/s) at 0, 90 and 180 deg: nothing slips and the monitor
 /// raises no alarm (its estimate stays below the 0.05 m/s at which it calls a wheel slipping:
-/// the roller ripple, the sensors, and since issue 28 the drivetrain's wind-up and backlash
-/// between the motor's encoder and the wheel: 0.040 / 0.033 / 0.030 m/s at 0 / 90 / 180 deg).
+/// the roller ripple, the sensors, and since the drivetrain model the coupling's wind-up and
+/// the backlash between the motor's encoder and the wheel: 0.040 / 0.033 / 0.030 m/s at 0 / 90
+/// / 180 deg).
 #[test]
 fn gentle_ramps_raise_no_alarm() {
     let p = params();
@@ -108,13 +109,13 @@ fn gentle_ramps_raise_no_alarm() {
     }
 }
 
-/// Issue 26: a push is not a slip. Standing on a zero command with traction-aware control and
+/// A push is not a slip. Standing on a zero command with traction-aware control and
 /// balance-point estimation on (the defaults to come), pushes at the centre of mass (spread over
 /// 0.1 s) of 20 and 40 N s towards 0, 90, 180 and 270 deg: the robot recovers without a
 /// `WheelSlip` fault or a stop, and wherever no wheel slips in the world the monitor flags no
 /// slip (checked by mutation: with every wheel's evidence taken as supported, as before the fix,
 /// the pushes flag slips and stop the robot). Every 20 N s push and the 40 N s pushes towards 0,
-/// 90 and 180 deg slip no wheel. Since the drivetrain (issue 28: the coupling's wind-up and the
+/// 90 and 180 deg slip no wheel. Since the drivetrain model (the coupling's wind-up and the
 /// backlash between motor and wheel) the 40 N s push towards 270 deg slips OW2 for about 17 ms
 /// during the recovery, and the robot still comes to rest upright. The monitor flags that real
 /// slip, but its observers then coast on a residual that holds the push's momentum too, so the
@@ -123,7 +124,7 @@ fn gentle_ramps_raise_no_alarm() {
 /// with a rigid drivetrain, 50 N s pushes slip the wheels for 17 to 34 ms (towards 0, 90 and
 /// 270 deg), which the monitor does not flag: a slip shared so that the no-spin part stays quiet,
 /// whose demand came with the push (docs/traction.md). Since the wheel contacts follow the
-/// coating's whole-range law (2.64 mm of travel, issue 28) the pushes towards 180 deg, which
+/// coating's whole-range law (2.64 mm of travel) the pushes towards 180 deg, which
 /// slip no wheel, are flagged for one (20 N s) and three (40 N s) outer periods: a false flag,
 /// too short to raise `WheelSlip` or stop the robot, which is what is asserted there.
 #[test]

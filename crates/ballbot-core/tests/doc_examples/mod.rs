@@ -1,4 +1,4 @@
-//! Issue 8: every public item of the core carries a runnable doc example.
+//! Every public item of the core carries a runnable doc example.
 //!
 //! The test scans `src/**/*.rs` as text (no nightly rustdoc JSON needed) and requires, in the
 //! doc comment of every public `fn`, `const fn`, `struct`, `enum`, `trait`, `type`, `const`,
@@ -169,7 +169,7 @@ fn every_core_file_is_checked() {
     }
     assert!(
         problems.is_empty(),
-        "issue 8: CHECKED is out of date:\n{problems}"
+        "doc examples: CHECKED is out of date:\n{problems}"
     );
 }
 

@@ -274,7 +274,9 @@ class Fuzz(_Result):
     findings_by_what: dict[str, int]
     """Findings by what happened."""
     invariants: list[dict[str, Any]]
-    """Every invariant with its issue item, class (bad command or finding) and count."""
+    """Every invariant: ``key``, ``item`` (the safe-by-default hardening item it checks, 0 for
+    the campaign's first invariants), ``class`` (``"bad_command"`` or ``"finding"``), ``what``
+    and ``breaks``."""
     violations: list[dict[str, Any]]
     """The first bad commands and findings, each with its episode seed."""
     faults_raised: dict[str, int]

@@ -5,7 +5,7 @@ In the 3D world: the maximum-speed ramp and study (``max_speed_ramp`` with ``Ram
 braking (``braking_run``, ``braking_study`` with ``BrakingSettings``) and push recovery
 (``push_trial``, ``push_recovery_limit`` with ``PushSettings``). On the planar simulator: the
 PIPTB controller comparison (``piptb_experiment``) and TOML scenarios (``Scenario``). The
-reliability campaign: ``robustness`` (issue 15).
+reliability campaign (fuzzing, fault injection, Monte Carlo): ``robustness``.
 
 Each study takes its settings as one parameter class; the settings' fields may also be given
 as keyword arguments (they map one to one onto the class and override ``settings``).

@@ -2,7 +2,7 @@
 //! values, drawn from the episode's seed).
 //!
 //! Every value is uniform in its range; a field left `None` keeps the nominal world's value.
-//! [`Randomization::recommended`] holds the ranges of the reliability campaign (issue 15):
+//! [`Randomization::recommended`] holds the ranges of the reliability campaign's Monte Carlo:
 //! +-20 % around MiaPURE's payload, COM height, roller friction, drive friction and IMU noise,
 //! chosen before any training.
 
@@ -128,7 +128,7 @@ pub struct Randomization {
 }
 
 impl Randomization {
-    /// The reliability campaign's ranges (issue 15), fixed before any training: +-20 % on
+    /// The reliability campaign's Monte Carlo ranges, fixed before any training: +-20 % on
     /// MiaPURE's 60 kg payload (+-12 kg) and on its nominal COM height, roller friction, drive
     /// friction and IMU noise; a
     /// sensor delay of 0 to 5 ms (an assumption: a 2.5 ms outer period plus filter lag); and

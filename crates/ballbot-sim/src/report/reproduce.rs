@@ -22,10 +22,10 @@
 //! largest push recovered at 180 deg); telemetry at 1 kHz, 100 Hz when quick. Open them with
 //! `foxglove/world-layout.json`.
 //!
-//! Traction-aware control (issue 14, [`crate::report::traction`]): summary key
+//! Traction-aware control ([`crate::report::traction`]): summary key
 //! `traction_aware`; figures `traction_envelope_polar`, `traction_limited_ramp`.
 //!
-//! Bump and step tolerance (issue 28, [`crate::report::crossing`]): summary keys
+//! Bump and step tolerance ([`crate::report::crossing`]): summary keys
 //! `bump_tolerance` and `step_tolerance`, one [`crate::studies::crossing`] study each.
 
 use super::ReportError;
@@ -109,21 +109,22 @@ pub fn reproduce(
     // MiaPURE maximum speed per heading in the 3D world (paper Sec. V).
     max_speed_section(options, observer, &mut summary)?;
 
-    // What limits the slow ramp: mechanisms, controller ablation, sweep, ripple (issue 13).
+    // What limits the slow ramp (the mechanism study): mechanisms, controller ablation, sweep,
+    // ripple.
     mechanisms_section(options, observer, &mut summary)?;
 
-    // 3D world: minimum braking time and push recovery (paper Sec. V, issue 6).
+    // 3D world: minimum braking time and push recovery (paper Sec. V).
     world_suite_section(options, observer, &mut summary)?;
 
-    // Traction-aware control against the same controller without it (issue 14).
+    // Traction-aware control against the same controller without it.
     traction_section(options, observer, &mut summary)?;
 
-    // The highest floor bump and step crossed (issue 28), on the experiment driver.
+    // The highest floor bump and step crossed, each a study on the experiment driver.
     for obstacle in [Obstacle::BUMP, Obstacle::STEP] {
         crossing_section(options, obstacle, observer, &mut summary)?;
     }
 
-    // The paper's three controllers in the 3D world (issue 28).
+    // The paper's three controllers (LQR, PI-PD, LQR-PI) in the 3D world.
     controllers_3d_section(options, observer, &mut summary)?;
 
     let summary = Value::Object(summary);

@@ -1,4 +1,5 @@
-//! `ballbot robustness` as a library call: the reliability campaign of issue 15.
+//! `ballbot robustness` as a library call: the reliability campaign (fuzzing, fault
+//! injection, Monte Carlo).
 //!
 //! Writes `OUT/robustness.json` (keys `fuzz`, `fault_matrix`, `monte_carlo`), the figures
 //! (`OUT/fault_matrix_<controller>.{svg,png}` and the Monte Carlo figures, with the `plot`
@@ -336,13 +337,13 @@ pub fn fuzz_table(f: &FuzzResult) -> String {
         "  panics {}, bad commands {}, findings {}, single corrupted samples compared with a clean twin {}",
         f.panics, f.bad_commands, f.findings, f.single_sample_checks
     );
-    let _ = writeln!(t, "  breaks by invariant (issue 26 item, class):");
+    let _ = writeln!(t, "  breaks by invariant (hardening item, class):");
     for c in &f.invariants {
         let i = &c.invariant;
         let _ = writeln!(
             t,
             "    {:>8}  {:<22} item {} {:<11} {}",
-            c.breaks, i.key, i.issue_26_item, i.class, i.what
+            c.breaks, i.key, i.item, i.class, i.what
         );
     }
     for (what, n) in &f.findings_by_what {

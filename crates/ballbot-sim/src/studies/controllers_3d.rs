@@ -1,4 +1,4 @@
-//! The paper's controller comparison in the 3D world (issue 28 item 4): the LQR, the cascaded
+//! The paper's controller comparison in the 3D world: the LQR, the cascaded
 //! PI-PD and the cascaded LQR-PI balancing MiaPURE with 60 kg, standing, through a velocity
 //! cycle and after a push.
 //!

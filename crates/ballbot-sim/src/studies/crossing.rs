@@ -1,6 +1,6 @@
-//! Bump and step tolerance (issue 28 item 5, issue 27's proof of the experiment driver): the
-//! highest floor bump, or step up, that MiaPURE with 60 kg crosses at a speed and heading, with
-//! traction-aware control off and on.
+//! Bump and step tolerance (the study that proved the experiment driver,
+//! [`crate::studies::driver`]): the highest floor bump, or step up, that MiaPURE with 60 kg
+//! crosses at a speed and heading, with traction-aware control off and on.
 //!
 //! One trial: the robot stands for `settle_secs`, ramps (jerk-limited, `ramp_accel_m_per_s2`)
 //! to the speed along the heading and cruises; `ahead_m` in front of the ball, once it cruises,

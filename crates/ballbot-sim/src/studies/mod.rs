@@ -15,11 +15,11 @@
 //!   braking reference its controllers track.
 //! - [`ramp`]: a velocity ramp in the 3D world until failure (the maximum-speed protocol's run).
 //! - [`max_speed`]: MiaPURE's maximum speed and failing acceleration per heading (Sec. V).
-//! - [`world_braking`]: optimal braking to rest in the 3D world (Sec. V, issue 6).
+//! - [`world_braking`]: optimal braking to rest in the 3D world (Sec. V).
 //! - [`push`]: push recovery in the 3D world.
 //! - [`world_suite`]: the world braking and push studies of `ballbot reproduce`, run together.
-//! - [`traction`]: traction-aware control against the same controller without it (issue 14).
-//! - [`robustness`]: the reliability campaign: fuzzing, fault injection, Monte Carlo (issue 15).
+//! - [`traction`]: traction-aware control against the same controller without it.
+//! - [`robustness`]: the reliability campaign: fuzzing, fault injection, Monte Carlo.
 //! - [`scenario`]: the TOML scenario files of `ballbot simulate`; [`scenario_run`]: one planar
 //!   run from such a file.
 //! - [`world_run`]: one logged world run with a ramp and a push (`ballbot world`).

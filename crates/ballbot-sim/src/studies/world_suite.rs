@@ -1,4 +1,4 @@
-//! The 3D world's braking-time and push-recovery studies of `ballbot reproduce` (issue 6), run
+//! The 3D world's braking-time and push-recovery studies of `ballbot reproduce`, run
 //! together on the shared runner ([`crate::studies::runner`]); each braking study and each push
 //! search is one job of its driver study ([`BrakingExperiment`], [`crate::studies::push::PushStudy`])
 //! run by [`driver::run_job`].

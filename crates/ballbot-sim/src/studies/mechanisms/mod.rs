@@ -1,4 +1,4 @@
-//! What limited MiaPURE on the paper's slow ramps: the mechanism study (issue 13).
+//! What limited MiaPURE on the paper's slow ramps: the mechanism study.
 //!
 //! The paper's robot failed below 0.6 m/s towards OW1 (0 deg) and at 2.3 m/s away from it
 //! (180 deg) on slow velocity ramps. The study runs the maximum-speed protocol

@@ -48,8 +48,8 @@ impl FaultMatrixSettings {
             conditions: Condition::ALL.to_vec(),
             headings_deg: vec![0.0, 90.0, 180.0],
             seed: 1,
-            protocol: CellProtocol::issue15(),
-            magnitudes: FaultMagnitudes::issue15(),
+            protocol: CellProtocol::fault_matrix(),
+            magnitudes: FaultMagnitudes::fault_matrix(),
             log_dir: None,
         }
     }
@@ -67,7 +67,7 @@ impl FaultMatrixSettings {
             protocol: CellProtocol {
                 moving_inject_secs: 3.0,
                 observe_secs: 4.0,
-                ..CellProtocol::issue15()
+                ..CellProtocol::fault_matrix()
             },
             ..Self::full()
         }

@@ -3,12 +3,12 @@
 //!
 //! The expected safe states are the ones docs/embedding.md ("Fault injection: what each fault
 //! should do") wrote down before the matrix was first run; [`FaultClass::expected`] is that
-//! table. The magnitudes ([`FaultMagnitudes::issue15`]) were chosen at the same time, each with
-//! its reason, and not changed after.
+//! table. The magnitudes ([`FaultMagnitudes::fault_matrix`]) were chosen at the same time,
+//! each with its reason, and not changed after.
 
 use serde::Serialize;
 
-/// One kind of fault the matrix injects (issue 15, section 2).
+/// One kind of fault the fault-injection matrix injects.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FaultClass {
@@ -253,13 +253,14 @@ pub struct FaultMagnitudes {
 }
 
 impl FaultMagnitudes {
-    /// The magnitudes of the issue-15 matrix (see the fields).
+    /// The fault-injection matrix's magnitudes (see the fields), in the full and the quick
+    /// matrix alike.
     ///
     /// ```
     /// use ballbot_sim::studies::robustness::FaultMagnitudes;
-    /// assert_eq!(FaultMagnitudes::issue15().missed_ticks, 3);
+    /// assert_eq!(FaultMagnitudes::fault_matrix().missed_ticks, 3);
     /// ```
-    pub fn issue15() -> Self {
+    pub fn fault_matrix() -> Self {
         Self {
             imu_nan_samples: 3,
             gyro_bias_rad_per_s: 0.05,
@@ -277,5 +278,12 @@ impl FaultMagnitudes {
             obstacle_ahead_m: 0.3,
             payload_shift_m: 0.05,
         }
+    }
+
+    /// The fault-injection matrix's magnitudes under their old name.
+    #[deprecated(note = "renamed to `FaultMagnitudes::fault_matrix`")]
+    // check-no-issue-numbers: allow (the deprecated alias keeps its old name for one release)
+    pub fn issue15() -> Self {
+        Self::fault_matrix()
     }
 }

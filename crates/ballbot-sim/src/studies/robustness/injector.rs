@@ -22,7 +22,7 @@ pub const FAULTY_WHEEL: usize = 0;
 /// use ballbot_sim::studies::robustness::{FaultClass, FaultInjector, FaultMagnitudes};
 /// let actuator = BallbotParams::miapure_60kg().drivetrain.actuator;
 /// let mut stale =
-///     FaultInjector::new(FaultClass::ImuStale, FaultMagnitudes::issue15(), 1_000_000, actuator);
+///     FaultInjector::new(FaultClass::ImuStale, FaultMagnitudes::fault_matrix(), 1_000_000, actuator);
 /// assert!(stale.imu(997_500, ImuSample::upright(997_500)).is_some());
 /// assert!(stale.imu(1_000_000, ImuSample::upright(1_000_000)).is_none());
 /// ```
@@ -255,7 +255,7 @@ mod tests {
 
     fn injector(class: FaultClass) -> FaultInjector {
         let actuator = BallbotParams::miapure_60kg().drivetrain.actuator;
-        FaultInjector::new(class, FaultMagnitudes::issue15(), AT_US, actuator)
+        FaultInjector::new(class, FaultMagnitudes::fault_matrix(), AT_US, actuator)
     }
 
     fn torque(f: &mut FaultInjector, now_us: u64, t: Vector3<f64>) -> Vector3<f64> {

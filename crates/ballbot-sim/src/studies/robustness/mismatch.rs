@@ -4,8 +4,8 @@
 //! Ranges (chosen before the first run, not changed after):
 //! - payload mass, COM height, body inertia (both planes), ball inertia, wheel-ball ("roller")
 //!   friction, drive friction (the wheels' viscous damping) and IMU noise (tilt and gyro
-//!   standard deviations): each scaled by a factor uniform in `1 +- fraction` (issue 15:
-//!   0.2), independently;
+//!   standard deviations): each scaled by a factor uniform in `1 +- fraction` (the
+//!   campaign's: 0.2), independently;
 //! - gyro bias: uniform in +-1 deg/s on each axis, the zero-rate offset of the Bosch BMI088
 //!   (datasheet BST-BMI088-DS001, "zero-rate offset +-1 deg/s");
 //! - tilt bias (the IMU's roll and pitch): uniform in +-0.02 rad on each axis, the BMI088

@@ -32,9 +32,9 @@ pub struct MonteCarloSettings {
     pub runs: usize,
     /// Runs (the first ones) that also bisect their largest recovered push.
     pub limit_runs: usize,
-    /// The push (N s). 40, issue 15.
+    /// The push (N s). 40 in the campaign's presets.
     pub impulse_ns: f64,
-    /// Mismatch fraction of every scaled parameter. 0.2, issue 15.
+    /// Mismatch fraction of every scaled parameter. 0.2 in the campaign's presets.
     pub fraction: f64,
     /// Base seed; run `i` uses [`run_seed`]`(seed, i)`.
     pub seed: u64,

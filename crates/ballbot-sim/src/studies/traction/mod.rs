@@ -1,4 +1,4 @@
-//! Traction-aware control in the 3D world (issue 14): MiaPURE with 60 kg, the default world,
+//! Traction-aware control in the 3D world: MiaPURE with 60 kg, the default world,
 //! the designed controller with its shaper caps lifted, traction-aware control on and off.
 //!
 //! - **Failing acceleration per heading**: off, the failing-acceleration search

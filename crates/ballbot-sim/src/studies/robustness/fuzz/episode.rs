@@ -27,7 +27,7 @@ pub enum EpisodeKind {
     /// healthy sensors: must never end with the motors off.
     Accepted,
     /// The same with trajectories the API accepts (any finite samples, any sample period)
-    /// among them: must never end with the motors off either (issue 26, item 5).
+    /// among them: must never end with the motors off either (the `accepted_command` invariant).
     AcceptedTrajectories,
 }
 

@@ -1,5 +1,5 @@
-//! The fuzzer's invariants: what each checks, which item of issue 26 it belongs to, and how a
-//! break is counted (`bad_command`: must never happen, CI fails on one; `finding`: reported
+//! The fuzzer's invariants: what each checks, which item of the safe-by-default hardening it
+//! belongs to ([`Invariant::item`]), and how a break is counted (`bad_command`: must never happen, CI fails on one; `finding`: reported
 //! with counts and seeds, explained in docs/robustness.md). Each is a property checked on
 //! every step of every episode it applies to, not an example.
 //!
@@ -19,8 +19,13 @@ pub const FINDING: &str = "finding";
 pub struct Invariant {
     /// Key in the counts.
     pub key: &'static str,
-    /// The item of issue 26 it checks (0: issue 15's invariants).
-    pub issue_26_item: u8,
+    /// The item of the safe-by-default hardening (release 0.8.0) it checks: 1 the tilt from
+    /// the vertical, 2 dead or unanswering motors, 3 slip flags that clear and stops that
+    /// hold still, 4 stops that reach rest, 5 accepted commands that end balancing or
+    /// stopped, 6 a stalled or backwards clock, 7 the encoder guard, 8 huge finite commands,
+    /// 9 re-arming at rest; 0 for the reliability campaign's first invariants, which came
+    /// before it. Serialized as `item`.
+    pub item: u8,
     /// [`BAD`] or [`FINDING`].
     pub class: &'static str,
     /// What it checks.
@@ -30,21 +35,22 @@ pub struct Invariant {
 const fn inv(key: &'static str, item: u8, class: &'static str, what: &'static str) -> Invariant {
     Invariant {
         key,
-        issue_26_item: item,
+        item,
         class,
         what,
     }
 }
 
 /// Every motor reference and torque finite, within the peak torque, the no-load speed and the
-/// torque-speed line at the measured speed, zero with the motors off (issue 15).
+/// torque-speed line at the measured speed, zero with the motors off (item 0: one of the
+/// reliability campaign's first invariants).
 pub const LIMITS: Invariant = inv(
     "limits",
     0,
     BAD,
     "motor references and torques finite, within the peak, the no-load speed and the torque-speed line, zero with the motors off",
 );
-/// Only the documented mode transitions (issue 15).
+/// Only the documented mode transitions (item 0).
 pub const TRANSITIONS: Invariant = inv(
     "transitions",
     0,

@@ -1,6 +1,7 @@
-//! Fuzzing the core (issue 15, section 1; widened by issue 26, item 7): seeded hostile input
-//! sequences for the 3D controller (outer step, motor speed PIs, estimation, command shaper,
-//! supervisor) in closed loop on the planar plant, in `f64` and instantiated in `f32`; the
+//! Fuzzing the core (the reliability campaign's first part; widened by the safe-by-default
+//! hardening's invariants, [`invariants`]): seeded hostile input sequences for the 3D
+//! controller (outer step, motor speed PIs, estimation, command shaper, supervisor) in closed
+//! loop on the planar plant, in `f64` and instantiated in `f32`; the
 //! shipped `RobotLoop` on devices that fail; the planar controllers; and the parsers of the
 //! TOML files the tools read. Only the stable toolchain is available here, so the generator is
 //! a seeded ChaCha8, not a coverage-guided fuzzer.
@@ -140,7 +141,7 @@ impl FuzzSettings {
 /// One invariant's count in a campaign.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct InvariantCount {
-    /// The invariant (key, item of issue 26, class, what it checks).
+    /// The invariant (key, hardening item, class, what it checks).
     #[serde(flatten)]
     pub invariant: Invariant,
     /// Breaks counted (events: once when a break starts).

@@ -48,7 +48,7 @@ impl Plant {
     /// controller's estimator and slip monitor assume. (The small-tilt form of
     /// [`synthesize_sensors`] leaves that out: a lean of 0.1 rad at 2 m/s then reads as a
     /// 1.7 rad/s slip of the ball about the body's z axis, and the slip monitor flagged it on
-    /// this slip-free plant: issue 26's fuzz, `slip_clears`.)
+    /// this slip-free plant: the fuzzer's `slip_clears` invariant.)
     pub fn wheel_speeds(&self) -> Vector3<f64> {
         let s = &self.states;
         let mut rel = relative_rate_from_planar(
