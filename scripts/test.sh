@@ -31,6 +31,9 @@ python3 scripts/check-cycles.py --self-test && python3 scripts/check-cycles.py
 step "the shipped path (core, runtime) in functions of at most 80 lines"
 python3 scripts/check-function-length.py --self-test && python3 scripts/check-function-length.py
 
+step "no issue numbers in the code (there is no public tracker to follow them to)"
+python3 scripts/check-no-issue-numbers.py
+
 step "docs (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps
 

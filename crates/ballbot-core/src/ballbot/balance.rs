@@ -6,7 +6,7 @@
 //! balance leaning by some `theta_eq`, and the LQR settles where its tilt error is balanced by a
 //! speed error: `k_theta theta_eq + k_v (v - v_c) = 0`. On MiaPURE with 60 kg, a payload 5 cm
 //! off centre made the robot drive off at 0.62 m/s on a zero command, for good (the fault
-//! matrix of issue 15, `ballbot robustness`).
+//! matrix, `ballbot robustness`).
 //!
 //! [`BalancePoint`] learns `theta_eq - theta_c` per plane, a first-order low-pass of the
 //! measured tilt's departure from its command, and the controller's planes measure the tilt
@@ -24,10 +24,10 @@
 //! equilibrium lean, [`crate::command::CommandShaper`]): after a push the controller brakes
 //! the ball for seconds on a slowly decaying lean, with small tilt rates and a still command,
 //! and an estimator that took that lean for a balance point learnt the braking and made the
-//! robot creep at 0.09 m/s three seconds after a 40 N s push (issue 26). So the departure
-//! learnt is the tilt's departure from its command less the lean of the ball's measured
-//! acceleration relative to the command's, `K d/dt (phi_dot - phi_dot_c)`, a finite
-//! difference of the speed error, low-passed over 0.1 s ([`BalancePoint::ACCEL_FILTER_SECS`]:
+//! robot creep at 0.09 m/s three seconds after a 40 N s push (the safe-by-default review
+//! found it). So the departure learnt is the tilt's departure from its command less the lean
+//! of the ball's measured acceleration relative to the command's, `K d/dt (phi_dot -
+//! phi_dot_c)`, a finite difference of the speed error, low-passed over 0.1 s ([`BalancePoint::ACCEL_FILTER_SECS`]:
 //! a single 2.5 ms difference of the encoders' rates is noisy enough to leave the departure
 //! bound, and without the low-pass the fault matrix's payload-shift cells drifted at 0.35 m/s).
 //! An off-centre payload drives the ball at a steady speed (no acceleration) and is learnt as
@@ -42,8 +42,8 @@
 //! payload can change without the controller seeing it (a rider steps off, a load is moved):
 //! an offset kept from before is a bias of up to `max_offset_rad` in a direction nobody
 //! knows, and it made a re-armed robot drift at up to about 0.3 m/s on a stop command until it
-//! had relearnt (issue 26). Zero is the calibrated upright, the one point that does not depend
-//! on the payload; an off-centre payload then costs what it costs at the first arming (a
+//! had relearnt (the same review found it). Zero is the calibrated upright, the one point that
+//! does not depend on the payload; an off-centre payload then costs what it costs at the first arming (a
 //! drift for about `time_constant_secs` while the estimate learns it). With the motors on
 //! (balancing or in a controlled stop, whose fault kept them on) the payload is the one the
 //! robot is balancing, and the estimate keeps following it.

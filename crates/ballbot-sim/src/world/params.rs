@@ -28,11 +28,11 @@ pub const DEFAULT_RIGID_STEP_RATIO: u32 = 10;
 /// The largest `omega_B T` allowed for the rigid step `T`, with `omega_B` the ball's vertical
 /// frequency on its three omniwheel contacts ([`WorldParams::ball_contact_frequency_rad_per_s`]).
 /// Measured on the 10 s drive cycle of `benches/world_step` (docs/world-speed.md,
-/// "Multi-rate world") when the floor's force on the ball was held at the last rigid step's average, a lag
-/// of one rigid step on that mode: stable at 1.14 (ideal world, 1.25 ms) and 0.94 (default
-/// world, 2.5 ms), diverging at 1.83 (ideal, 2 ms) and 1.87 (default, 5 ms). The floor has
-/// since become the coating's compliant contact on the 8 kHz path; the bound is kept, not
-/// re-measured.
+/// "Multi-rate world") when the floor's force on the ball was held at the last rigid step's
+/// average, a lag of one rigid step on that mode: stable at 1.14 (ideal world, 1.25 ms) and
+/// 0.94 (default world, 2.5 ms), diverging at 1.83 (ideal, 2 ms) and 1.87 (default, 5 ms). The
+/// floor has since become the coating's compliant contact on the 8 kHz path; the bound is
+/// kept, not re-measured.
 pub const MAX_BALL_CONTACT_PHASE_RAD: f64 = 1.2;
 
 /// MiaPURE's link latency from the 400 Hz loop's sample to the drivers acting on its output
