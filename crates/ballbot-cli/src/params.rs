@@ -21,8 +21,8 @@ pub struct ParamsArgs {
 /// The `ballbot params` subcommands.
 #[derive(Debug, Subcommand)]
 pub enum ParamsCommand {
-    /// Write the JSON Schema of every parameter file (robot, scenario, world), generated from
-    /// the Rust types, into DIR.
+    /// Write the JSON Schema of every parameter file (robot, scenario, world, controller),
+    /// generated from the Rust types, into DIR.
     Schema {
         /// Output folder (created if missing).
         #[arg(long, default_value = "schemas")]
@@ -46,7 +46,7 @@ pub enum ParamsCommand {
         #[arg(long, default_value = "miapure")]
         preset: String,
         /// The kind of file; default the first kind that has the preset (robot, then
-        /// scenario, then world).
+        /// scenario, then world, then controller).
         #[arg(long, value_enum)]
         kind: Option<KindArg>,
     },
@@ -73,6 +73,8 @@ pub enum KindArg {
     Scenario,
     /// The 3D world with its robot (`WorldParams`), e.g. a sweep's `params` file.
     World,
+    /// The 3D robot's controller (`BallbotControllerConfig`): `--controller FILE`.
+    Controller,
 }
 
 impl From<KindArg> for FileKind {
@@ -81,6 +83,7 @@ impl From<KindArg> for FileKind {
             KindArg::Robot => Self::Robot,
             KindArg::Scenario => Self::Scenario,
             KindArg::World => Self::World,
+            KindArg::Controller => Self::Controller,
         }
     }
 }
@@ -88,9 +91,11 @@ impl From<KindArg> for FileKind {
 /// How the kind of a file is found without `--kind`.
 pub const KIND_HELP: &str = "Without --kind, the kind comes from the file:
   1. a `#:schema PATH` line among its leading comments whose PATH ends in
-     ballbot-params.schema.json (robot), scenario.schema.json or world-params.schema.json;
-  2. else its top-level keys: `controller` -> scenario; `contact`, or a `[robot]` table with
-     `sagittal` -> world; `sagittal`, `frontal`, `spin` or `drivetrain` -> robot.";
+     ballbot-params.schema.json (robot), scenario.schema.json, world-params.schema.json or
+     controller.schema.json;
+  2. else its top-level keys: `shaping` or `traction` -> controller; `controller` ->
+     scenario; `contact`, or a `[robot]` table with `sagittal` -> world; `sagittal`,
+     `frontal`, `spin` or `drivetrain` -> robot.";
 
 fn presets_help() -> String {
     let mut text = String::from("Presets (--kind, --preset):\n");

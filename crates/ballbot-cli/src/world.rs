@@ -19,15 +19,17 @@
 //! (`ws://127.0.0.1:8765` by default), paced to real time unless `--as-fast-as-possible`.
 
 use anyhow::{Context, bail};
+use ballbot_core::BallbotParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, WorldLogOptions};
+use ballbot_sim::params_file::{FileKind, ParamsFile};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
 use ballbot_sim::studies::world_run::{
     WorldRunSettings, run_logged_world, run_world, run_world_with_sink,
 };
 use ballbot_sim::world::{StopRules, WorldParams, wheel_name};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Examples and log sizes shown after `ballbot world --help`.
@@ -53,12 +55,65 @@ to the printed address (ws://127.0.0.1:8765) and watch the run as it happens. Si
 const LIVE_SUBSCRIBE_WAIT: Duration = Duration::from_secs(5);
 
 /// The controller configuration `ballbot world --controller` runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ControllerChoice {
-    /// The shipped default (`BallbotControllerConfig::design`).
+    /// The shipped default (`BallbotControllerConfig::design`), designed for the world's
+    /// robot.
     Design,
-    /// The paper's configuration (`BallbotControllerConfig::paper`).
+    /// The paper's configuration (`BallbotControllerConfig::paper`), designed for the
+    /// world's robot.
     Paper,
+    /// A controller file (`ballbot params show --kind controller`), its own robot model
+    /// included: a controller designed for another robot than the world's is a model
+    /// mismatch, and runs as one.
+    File(PathBuf),
+}
+
+impl std::str::FromStr for ControllerChoice {
+    type Err = std::convert::Infallible;
+
+    /// `design`, `paper`, or else the path of a controller file.
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        Ok(match text {
+            "design" => Self::Design,
+            "paper" => Self::Paper,
+            path => Self::File(PathBuf::from(path)),
+        })
+    }
+}
+
+impl ControllerChoice {
+    /// The configuration: designed for `robot`, or read and checked from the file (every
+    /// error names the file and the key).
+    pub fn config(
+        &self,
+        robot: &BallbotParams<f64>,
+    ) -> anyhow::Result<BallbotControllerConfig<f64>> {
+        let designed = match self {
+            Self::Design => BallbotControllerConfig::design(robot),
+            Self::Paper => BallbotControllerConfig::paper(robot),
+            Self::File(path) => return read_controller_file(path),
+        };
+        designed.context(
+            "cannot design the controller for this robot (--wheel-ball-friction/--com-height-m)",
+        )
+    }
+}
+
+/// A controller file, checked ([`ParamsFile::check`]).
+pub fn read_controller_file(path: &Path) -> anyhow::Result<BallbotControllerConfig<f64>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read the controller file {}", path.display()))?;
+    match ParamsFile::check(&text, FileKind::Controller)
+        .with_context(|| format!("{} is not a valid controller file", path.display()))?
+    {
+        ParamsFile::Controller(config) => Ok(*config),
+        other => bail!(
+            "{} is a {} file, not a controller file",
+            path.display(),
+            other.kind()
+        ),
+    }
 }
 
 /// Arguments of `ballbot world`.
@@ -109,11 +164,18 @@ pub struct WorldArgs {
     /// (slips, lift-offs, trips, faults, traction limits) are reported whatever the rules.
     #[arg(long, default_value = "all")]
     pub stop_on: StopRules,
-    /// The controller configuration: `design`, the shipped default (traction-aware control
-    /// and balance-point estimation on), or `paper`, the configuration the paper's studies
-    /// pin (both off) (`BallbotControllerConfig::design` / `::paper`).
-    #[arg(long, value_enum, default_value_t = ControllerChoice::Design)]
+    /// The controller: `design`, the shipped default (traction-aware control and
+    /// balance-point estimation on), `paper`, the configuration the paper's studies pin (both
+    /// off) (`BallbotControllerConfig::design` / `::paper`, designed for the world's robot),
+    /// or the path of a controller file (`ballbot params show --kind controller --preset
+    /// design > mine.toml`, then edit; its robot model is the controller's own).
+    #[arg(long, default_value = "design", value_name = "design|paper|FILE")]
     pub controller: ControllerChoice,
+    /// The traction envelope's friction safety factor (>= 1; it plans with `mu / factor`):
+    /// overrides the controller's (`traction.friction_safety_factor`, 2 in `design`; used only
+    /// where traction-aware control is on).
+    #[arg(long, value_parser = crate::finite_f64)]
+    pub traction_safety_factor: Option<f64>,
     /// Time constant of the command shaper's reference filter (s, >= 0; 0 is off). Default:
     /// the controller's own (0.3 s in `design`, off in `paper`), which removes the speed
     /// overshoot of a velocity ramp (`CommandShaperParams::reference_filter_secs`,
@@ -175,6 +237,7 @@ impl Default for WorldArgs {
             after_failure_secs: 0.25,
             stop_on: StopRules::all(),
             controller: ControllerChoice::Design,
+            traction_safety_factor: None,
             reference_filter_secs: None,
             out: PathBuf::from("out/world.mcap"),
             no_log: false,
@@ -301,32 +364,26 @@ impl WorldArgs {
         Ok(params)
     }
 
-    /// The controller designed for the robot, with the command shaper's speed and
-    /// acceleration caps raised to the requested ramp where it exceeds them.
+    /// The controller (`--controller`) with the flags' overrides, and the command shaper's
+    /// speed and acceleration caps raised to the requested ramp where it exceeds them
+    /// (`CommandShaperParams::admitting_ramp`). The result is checked as a whole.
     pub fn controller_config(
         &self,
         params: &WorldParams,
     ) -> anyhow::Result<BallbotControllerConfig<f64>> {
-        let designed = match self.controller {
-            ControllerChoice::Design => BallbotControllerConfig::design(&params.robot),
-            ControllerChoice::Paper => BallbotControllerConfig::paper(&params.robot),
-        };
-        let mut config = designed.context(
-            "cannot design the controller for this robot (--wheel-ball-friction/--com-height-m)",
-        )?;
-        let shaping = &mut config.shaping;
+        let mut config = self.controller.config(&params.robot)?;
         if let Some(filter_secs) = self.reference_filter_secs {
-            shaping.reference_filter_secs = filter_secs;
+            config.shaping.reference_filter_secs = filter_secs;
         }
-        if self.top_speed_m_per_s > shaping.translation.max_value {
-            shaping.translation.max_value = self.top_speed_m_per_s;
+        if let Some(factor) = self.traction_safety_factor {
+            config.traction.friction_safety_factor = factor;
         }
-        if self.accel_m_per_s2 > shaping.translation.max_rate_per_s {
-            shaping.translation.max_rate_per_s = self.accel_m_per_s2;
-            shaping.max_tilt_command_rad = shaping.max_tilt_command_rad.max(0.5);
-            shaping.max_tilt_rate_command_rad_per_s =
-                shaping.max_tilt_rate_command_rad_per_s.max(5.0);
-        }
+        config.shaping = config
+            .shaping
+            .admitting_ramp(self.top_speed_m_per_s, self.accel_m_per_s2);
+        ballbot_core::ballbot::BallbotController::new(config).context(
+            "the controller with --traction-safety-factor/--reference-filter-secs is invalid",
+        )?;
         Ok(config)
     }
 }

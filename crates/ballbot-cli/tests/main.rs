@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod brake;
+mod controller_file;
 mod export;
 mod float_flags;
 mod params;

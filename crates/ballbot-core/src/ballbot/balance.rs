@@ -62,22 +62,33 @@ use nalgebra::{RealField, Vector2};
 /// assert!(!BalancePointParams::<f64>::off().enabled);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct BalancePointParams<T> {
     /// Whether the controller estimates and uses the balance point.
     pub enabled: bool,
     /// Time constant of the estimate's low-pass (s). Recommended 2: ten times slower than
     /// the body's falling time constant (about 0.2 s on MiaPURE).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub time_constant_secs: T,
     /// Largest offset learnt, per plane (rad). Recommended 0.12 (6.9 deg: the centre of mass
     /// 6 cm off the axis at MiaPURE's 0.50 m height).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_offset_rad: T,
     /// Learning only while the shaped command accelerates less than this (m/s^2).
     /// Recommended 0.05.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub steady_accel_m_per_s2: T,
     /// ... and every tilt rate is below this (rad/s). Recommended 0.1.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub steady_tilt_rate_rad_per_s: T,
     /// ... and the tilt's departure from its command is within this (rad), with and without
     /// the lean of the ball's acceleration (see the module docs). Recommended 0.15.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_departure_rad: T,
 }
 

@@ -28,6 +28,12 @@ use nalgebra::RealField;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct BallbotControllerConfig<T> {
     /// The robot (reference models and kinematics).
     pub robot: BallbotParams<T>,
@@ -44,6 +50,7 @@ pub struct BallbotControllerConfig<T> {
     /// Safety thresholds.
     pub safety: SafetyParams<T>,
     /// Outer-loop period (s): 1/400 on MiaPURE.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub outer_dt_secs: T,
     /// How the reference rates map to the omniwheels (see [`WheelMapping`]). Default
     /// [`WheelMapping::RollingBall`].
@@ -79,6 +86,12 @@ pub struct BallbotControllerConfig<T> {
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum BalancingLaw<T> {
     /// The cascaded LQR-PI's outer loop in each plane ([`crate::control::LqrPiOuter`], with
     /// [`BallbotControllerConfig::frontal`] and [`BallbotControllerConfig::sagittal`]): the

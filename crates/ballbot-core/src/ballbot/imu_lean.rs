@@ -33,9 +33,16 @@ use nalgebra::{RealField, Vector2};
 /// assert!(ImuLeanParams::for_filter(-1.0_f64).validate().is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct ImuLeanParams<T> {
     /// Time constant of the IMU filter's pull towards the accelerometer's vertical (s); 0:
     /// no correction.
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub filter_time_constant_secs: T,
 }
 

@@ -32,6 +32,12 @@ use core::str::FromStr;
 /// assert!("Upright".parse::<WheelMapping>().is_err()); // names are snake_case
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "snake_case")
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum WheelMapping {
     /// The lean-corrected mapping `k . [phi_dot_rx, phi_dot_ry] - theta_dot_rz` (default).
     #[default]
@@ -77,19 +83,5 @@ impl FromStr for WheelMapping {
     /// The mapping named `s` ([`WheelMapping::as_str`]).
     fn from_str(s: &str) -> Result<Self, ParseNameError> {
         parse_name(s, &Self::ALL, Self::as_str, "wheel mapping")
-    }
-}
-
-#[cfg(feature = "serde")]
-impl serde::Serialize for WheelMapping {
-    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        serializer.serialize_str(self.as_str())
-    }
-}
-
-#[cfg(feature = "serde")]
-impl<'de> serde::Deserialize<'de> for WheelMapping {
-    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        crate::names::serde_name::deserialize(deserializer, "wheel mapping")
     }
 }

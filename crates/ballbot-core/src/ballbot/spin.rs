@@ -23,12 +23,19 @@ use nalgebra::RealField;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SpinGains<T> {
     /// On the heading error (N m/rad).
     pub heading_nm_per_rad: T,
     /// On the yaw-rate error (N m s/rad).
     pub rate_nm_s_per_rad: T,
     /// Symmetric yaw-torque limit (N m, > 0).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_torque_nm: T,
 }
 
@@ -43,11 +50,18 @@ pub struct SpinGains<T> {
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SpinOuterConfig<T> {
     /// The LQR gains.
     pub gains: SpinGains<T>,
     /// Largest distance between the integrated reference yaw rate and the measured yaw rate
     /// (rad/s, > 0), as [`LqrPiOuterConfig::max_speed_error_rad_per_s`](crate::control::LqrPiOuterConfig::max_speed_error_rad_per_s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_rate_error_rad_per_s: T,
 }
 

@@ -20,10 +20,18 @@ use nalgebra::RealField;
 /// assert_eq!(CommandShaperParams::<f64>::miapure().translation, limits);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct AxisLimits<T> {
     /// Largest magnitude of the value (m/s or rad/s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_value: T,
     /// Largest magnitude of its rate of change, the acceleration (per s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_rate_per_s: T,
     /// Largest magnitude of the rate's rate of change, the jerk (per s^2).
     pub max_jerk_per_s2: T,

@@ -50,17 +50,28 @@ pub struct LeanInput<T> {
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct LeanToDriveParams<T> {
     /// Lean magnitude that commands nothing (rad).
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub deadband_rad: T,
     /// Speed per radian of lean beyond the deadband (m/s per rad).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub gain_m_per_s_per_rad: T,
     /// Largest commanded speed (m/s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_speed_m_per_s: T,
     /// Largest acceleration while riding (m/s^2); the shaper uses the smaller of this and its
     /// translation limit.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_accel_m_per_s2: T,
     /// Largest yaw rate a rider may request (rad/s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_yaw_rate_rad_per_s: T,
 }
 

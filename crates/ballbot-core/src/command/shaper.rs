@@ -6,7 +6,7 @@ use super::limit::NoLimit;
 use super::{AccelLimit, AxisLimits, Command, JerkLimiter, LeanToDrive, LeanToDriveParams};
 use crate::check::{lit, non_negative, positive};
 use crate::control::dt_is_valid;
-use crate::num::{clamp_sym, direction, hypot, min};
+use crate::num::{clamp_sym, direction, hypot, max, min};
 use crate::spin::SpinState;
 use crate::wip::{BALL_RATE, TILT, TILT_RATE, WipState};
 use crate::{BallbotParams, Error, WipParams};
@@ -27,6 +27,12 @@ use nalgebra::RealField;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct CommandShaperParams<T> {
     /// Limits of each translation axis, body x and body y (m/s, m/s^2, m/s^3).
     pub translation: AxisLimits<T>,
@@ -35,8 +41,10 @@ pub struct CommandShaperParams<T> {
     /// Lean-to-drive settings.
     pub lean_to_drive: LeanToDriveParams<T>,
     /// Largest commanded tilt (rad), feedforward or from a trajectory.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_tilt_command_rad: T,
     /// Largest commanded tilt rate (rad/s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_tilt_rate_command_rad_per_s: T,
     /// Time constant of the reference filter (s, >= 0; 0 = off). When positive, velocity and
     /// lean commands build the planar reference from the jerk-limited speed `v` passed through
@@ -47,6 +55,7 @@ pub struct CommandShaperParams<T> {
     /// acceleration ends: on MiaPURE with 60 kg a ramp at 1 m/s^2 to 1.5 m/s peaks at 1.786 m/s
     /// ball speed with 0, 1.500 m/s with 0.3 s, at the price of a delay of about `tau`
     /// (docs/embedding.md, "Speed overshoot"). Trajectories are not filtered.
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub reference_filter_secs: T,
 }
 
@@ -78,6 +87,43 @@ impl<T: RealField + Copy> CommandShaperParams<T> {
             max_tilt_rate_command_rad_per_s: lit(1.0),
             reference_filter_secs: T::zero(),
         }
+    }
+
+    /// The tilt-command caps a raised acceleration cap comes with ([`Self::admitting_ramp`]):
+    /// 0.5 rad and 5 rad/s, far above the lean and lean rate any feasible ramp needs (the
+    /// equilibrium lean of 3 m/s^2 on MiaPURE is about 0.3 rad), so that the command, not the
+    /// caps, is what a ramp study measures.
+    pub const RAMP_TILT_CAPS: (f64, f64) = (0.5, 5.0);
+
+    /// These caps raised so that a speed ramp to `top_speed_m_per_s` at `accel_m_per_s2` is
+    /// not cut by them: the translation speed cap to the top speed and the acceleration cap to
+    /// the ramp's where they are below, and with a raised acceleration cap the tilt-command
+    /// caps to at least [`Self::RAMP_TILT_CAPS`]. The jerk limit and everything else stay.
+    /// (A non-finite or smaller value raises nothing.)
+    ///
+    /// ```
+    /// use ballbot_core::command::CommandShaperParams;
+    /// let core = CommandShaperParams::<f64>::miapure();
+    /// let ramp = core.admitting_ramp(3.0, 2.0);
+    /// assert_eq!((ramp.translation.max_value, ramp.translation.max_rate_per_s), (3.0, 2.0));
+    /// assert_eq!((ramp.max_tilt_command_rad, ramp.max_tilt_rate_command_rad_per_s), (0.5, 5.0));
+    /// assert_eq!(ramp.translation.max_jerk_per_s2, core.translation.max_jerk_per_s2);
+    /// // Within the caps, nothing moves.
+    /// assert_eq!(core.admitting_ramp(1.0, 0.5), core);
+    /// ```
+    pub fn admitting_ramp(mut self, top_speed_m_per_s: T, accel_m_per_s2: T) -> Self {
+        let translation = &mut self.translation;
+        if top_speed_m_per_s > translation.max_value {
+            translation.max_value = top_speed_m_per_s;
+        }
+        if accel_m_per_s2 > translation.max_rate_per_s {
+            translation.max_rate_per_s = accel_m_per_s2;
+            let (tilt, tilt_rate) = Self::RAMP_TILT_CAPS;
+            self.max_tilt_command_rad = max(self.max_tilt_command_rad, lit(tilt));
+            self.max_tilt_rate_command_rad_per_s =
+                max(self.max_tilt_rate_command_rad_per_s, lit(tilt_rate));
+        }
+        self
     }
 
     /// Checks every field.

@@ -29,6 +29,12 @@ use nalgebra::{RealField, Vector3, Vector4};
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct LqrGains<T> {
     /// `k1`, on the tilt error `theta_c - theta` (N m/rad).
     pub tilt_nm_per_rad: T,
@@ -38,6 +44,7 @@ pub struct LqrGains<T> {
     pub ball_rate_nm_s_per_rad: T,
     /// Torque saturation, symmetric (N m, > 0). For a ballbot plane, the planar torque
     /// capacity (83.9 N m in x for MiaPURE); for the PIPTB, the actuator peak (43.2 N m).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_torque_nm: T,
 }
 

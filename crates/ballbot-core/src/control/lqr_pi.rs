@@ -64,11 +64,18 @@ use nalgebra::RealField;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct LqrPiOuterConfig<T> {
     /// The LQR gains; their `max_torque_nm` saturates the reference torque `tau_r`.
     pub lqr: LqrGains<T>,
     /// Largest allowed distance between the integrated reference ball rate and the measured
     /// ball rate (rad/s, > 0); see the module docs ("anchoring").
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_speed_error_rad_per_s: T,
 }
 

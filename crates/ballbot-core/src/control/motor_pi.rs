@@ -41,16 +41,26 @@ use nalgebra::RealField;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SpeedPiGains<T> {
     /// Proportional gain `kp` on the speed error (N m s/rad, >= 0).
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub proportional_nm_s_per_rad: T,
     /// Integral gain `ki` on the integrated speed error (N m/rad, >= 0).
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub integral_nm_per_rad: T,
     /// Back-calculation anti-windup gain `k_aw` (1/s, >= 0): how fast the integral is pulled
     /// back by the saturation excess. 0 disables back-calculation (the integral then stays
     /// bounded only by the torque-limit clamp). A usual choice is `ki / kp`.
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub anti_windup_per_s: T,
     /// Symmetric torque limit (N m, > 0): 43.2 N m at the wheel for the MiaPURE actuator.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_torque_nm: T,
 }
 

@@ -65,6 +65,12 @@ pub const PI_PD_DEFAULT_MAX_TILT_RAD: f64 = 0.2;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct PiPdGains<T> {
     /// Outer proportional gain `kp_v`: reference tilt per ball-rate error (rad per rad/s, i.e. s).
     pub speed_p_secs: T,
@@ -76,8 +82,10 @@ pub struct PiPdGains<T> {
     /// balance).
     pub tilt_d_nm_s_per_rad: T,
     /// Reference-tilt limit (rad, > 0).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_tilt_rad: T,
     /// Torque saturation, symmetric (N m, > 0).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_torque_nm: T,
 }
 

@@ -17,36 +17,62 @@ use nalgebra::RealField;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct SafetyParams<T> {
     /// Longest age of the newest valid IMU sample (us).
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub imu_timeout_us: u64,
     /// Longest age of the newest valid encoder sample (us).
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub encoder_timeout_us: u64,
     /// How long bit-identical IMU readings may last before the IMU counts as frozen (us);
     /// `None` disables the check (needed for noiseless simulated sensors at rest).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub frozen_imu_timeout_us: Option<u64>,
     /// Longest age of the newest command (us); `None` disables link supervision (a robot
     /// without a remote).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Option::is_none")
+    )]
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub command_timeout_us: Option<u64>,
     /// Longest time between two supervisor steps (us).
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub max_loop_period_us: u64,
     /// The outer loop's nominal period (us): one supervisor step per period. The watchdogs
     /// also count steps (ticks): a sample not refreshed (its timestamp unchanged) for
     /// `timeout / outer_period_us` ticks, rounded up, is stale whatever the clock says
     /// ([`Self::timeout_ticks`]).
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub outer_period_us: u64,
     /// Largest tilt from the vertical (the angle between the body's z axis and the world's,
     /// [`tilt_from_vertical_rad`]) from which balancing is still attempted (rad).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub tilt_limit_rad: T,
     /// Largest tilt from the vertical at which arming is allowed (rad).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub arm_tilt_limit_rad: T,
     /// Largest body rate (each gyro axis) at which arming is allowed (rad/s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub arm_rate_limit_rad_per_s: T,
     /// Gyro measurement range: beyond it a reading is out of range (rad/s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub gyro_range_rad_per_s: T,
     /// Omniwheel speed beyond which a controlled stop starts (rad/s, at the omniwheel).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub wheel_speed_limit_rad_per_s: T,
     /// Encoder measurement range: beyond it a reading is out of range (rad/s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub encoder_range_rad_per_s: T,
 }
 

@@ -24,6 +24,12 @@ use nalgebra::RealField;
 /// assert!(bad.validate().is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub struct TractionParams<T> {
     /// Whether traction-aware control runs: the envelope shapes the commands and the slip
     /// monitor reacts. Off, the controller is exactly the one without it.
@@ -34,32 +40,40 @@ pub struct TractionParams<T> {
     /// acceleration towards OW1 at 0.60 to 0.62 of the model's quasi-static limit (1.35 to
     /// 1.4 against 2.25 m/s^2, docs/mechanisms.md), and `mu` itself is an estimate
     /// (MODEL.md). Half covers that gap with about 20 % to spare.
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub friction_safety_factor: T,
     /// The smallest normal force the envelope lets any wheel keep (N, > 0). Default a quarter
     /// of the static load `m_U g / (3 cos(alpha))`: margin for the dynamic load swings of the
     /// compliant contact.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub min_normal_force_n: T,
     /// Braking is never limited below this deceleration (m/s^2, > 0), whatever the envelope,
     /// the slip reaction or the friction estimate say: the envelope shapes a stop, it never
     /// blocks it. Default 0.5 (2 m/s to rest within 4 s).
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub min_braking_decel_m_per_s2: T,
     /// A wheel counts as slipping when its estimated slip speed exceeds this (m/s, > 0).
     /// Default 0.05: the 3D world's own definition of slip. (On gentle ramps in the default 3D
     /// world the estimate peaks at 0.040 / 0.033 / 0.030 m/s towards 0 / 90 / 180 deg: roller
     /// ripple, sensor noise, and the drivetrain's wind-up and backlash between the motor's
     /// encoder and the wheel; ballbot-sim test `gentle_ramps_raise_no_alarm`.)
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub slip_speed_threshold_m_per_s: T,
     /// Gain of the momentum observers (1/s, > 0): the residual forgets a model error within
     /// about `1 / gain`. Default 10.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub observer_gain_per_s: T,
     /// While a wheel slips or a lift-off is imminent the envelope is scaled by this
     /// (0 < scale <= 1). Default 0.5, as a traction control halves the drive on wheel spin.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0), range(max = 1)))]
     pub slip_accel_scale: T,
     /// After the slip ends the scale returns to 1 linearly over this time (s, > 0). Default 1.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub recovery_secs: T,
     /// Slip lasting longer than this raises [`Fault::WheelSlip`](crate::safety::Fault::WheelSlip), which starts the
     /// supervisor's controlled stop (s, > 0). Default 0.3: three times the world's definition
     /// of a sustained slip, time for the halved envelope to end it.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub slip_fault_secs: T,
     /// The observers coast on a slip for at most this long (s, > `slip_fault_secs`): then
     /// they take the measured momentum again and the flags fall, whatever the residual holds.
@@ -72,9 +86,11 @@ pub struct TractionParams<T> {
     /// Whether a detected slip lowers the friction estimate the envelope uses.
     pub estimate_friction: bool,
     /// The friction estimate never falls below this (> 0). Default 0.1.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub min_friction: T,
     /// Without slip, the friction estimate climbs back to the parameter's `mu` at the rate
     /// `mu / friction_recovery_secs` (s, > 0). Default 5.
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub friction_recovery_secs: T,
 }
 

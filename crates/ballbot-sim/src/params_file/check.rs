@@ -5,6 +5,7 @@ use super::{FileKind, ParamsFileError};
 use crate::studies::scenario::{Scenario, ScenarioError};
 use crate::world::{WorldError, WorldParams};
 use ballbot_core::BallbotParams;
+use ballbot_core::ballbot::{BalancingLaw, BallbotController, BallbotControllerConfig};
 use serde::de::DeserializeOwned;
 
 /// A parameter file of one of the [`FileKind`]s, read into its type.
@@ -16,6 +17,8 @@ pub enum ParamsFile {
     Scenario(Box<Scenario>),
     /// The 3D world and its robot.
     World(Box<WorldParams>),
+    /// The 3D robot's controller.
+    Controller(Box<BallbotControllerConfig<f64>>),
 }
 
 impl ParamsFile {
@@ -25,6 +28,7 @@ impl ParamsFile {
             Self::Robot(_) => FileKind::Robot,
             Self::Scenario(_) => FileKind::Scenario,
             Self::World(_) => FileKind::World,
+            Self::Controller(_) => FileKind::Controller,
         }
     }
 
@@ -35,6 +39,7 @@ impl ParamsFile {
             FileKind::Robot => Self::Robot(Box::new(parse_typed(text)?)),
             FileKind::Scenario => Self::Scenario(Box::new(parse_typed(text)?)),
             FileKind::World => Self::World(Box::new(parse_typed(text)?)),
+            FileKind::Controller => Self::Controller(Box::new(parse_typed(text)?)),
         })
     }
 
@@ -73,6 +78,7 @@ impl ParamsFile {
                     },
                 })
             }
+            Self::Controller(config) => validate_controller(config),
         }
     }
 
@@ -83,6 +89,7 @@ impl ParamsFile {
             Self::Robot(robot) => toml::to_string(robot.as_ref()),
             Self::Scenario(scenario) => toml::to_string(scenario.as_ref()),
             Self::World(world) => toml::to_string(world.as_ref()),
+            Self::Controller(config) => toml::to_string(config.as_ref()),
         };
         text.map_err(|e| ParamsFileError::Write(e.to_string()))
     }
@@ -178,4 +185,74 @@ fn validate_robot(robot: &BallbotParams<f64>, prefix: &str) -> Result<(), Params
         .map_err(|e| named("drivetrain.", e))?;
     // What is left is across parts (one ball for both planes); its field is already whole.
     robot.validate().map_err(|e| named("", e))
+}
+
+/// A core error as a file error whose key is `prefix` + the field the core names.
+fn named(prefix: &str, e: ballbot_core::Error) -> ParamsFileError {
+    match e {
+        ballbot_core::Error::InvalidParameter { field, requirement } => ParamsFileError::Invalid {
+            key: format!("{prefix}{field}"),
+            requirement: requirement.to_owned(),
+        },
+        other => ParamsFileError::Invalid {
+            key: prefix.trim_end_matches('.').to_owned(),
+            requirement: other.to_string(),
+        },
+    }
+}
+
+/// The controller configuration part by part (each part's own `validate()`, the error named
+/// by its whole key), then what only the whole controller can check
+/// ([`BallbotController::new`]: the parts against the robot).
+fn validate_controller(c: &BallbotControllerConfig<f64>) -> Result<(), ParamsFileError> {
+    validate_robot(&c.robot, "robot.")?;
+    for (plane, outer) in [("frontal.", &c.frontal), ("sagittal.", &c.sagittal)] {
+        outer
+            .lqr
+            .validate()
+            .map_err(|e| named(&format!("{plane}lqr."), e))?;
+        outer.validate().map_err(|e| named(plane, e))?;
+    }
+    c.spin.validate().map_err(|e| match e {
+        ballbot_core::Error::InvalidParameter { field, .. }
+            if field != "max_rate_error_rad_per_s" =>
+        {
+            named("spin.gains.", e)
+        }
+        _ => named("spin.", e),
+    })?;
+    c.motor.validate().map_err(|e| named("motor.", e))?;
+    let shaping = &c.shaping;
+    shaping
+        .translation
+        .validate()
+        .map_err(|e| named("shaping.translation.", e))?;
+    shaping
+        .yaw
+        .validate()
+        .map_err(|e| named("shaping.yaw.", e))?;
+    shaping
+        .lean_to_drive
+        .validate()
+        .map_err(|e| named("shaping.lean_to_drive.", e))?;
+    shaping.validate().map_err(|e| named("shaping.", e))?;
+    c.safety.validate().map_err(|e| named("safety.", e))?;
+    if !(c.outer_dt_secs.is_finite() && c.outer_dt_secs > 0.0) {
+        return Err(invalid("outer_dt_secs", "must be finite and > 0"));
+    }
+    c.traction.validate().map_err(|e| named("traction.", e))?;
+    // These two name their fields with the part already (`balance_point.max_offset_rad`).
+    c.balance_point.validate().map_err(|e| named("", e))?;
+    c.imu_lean.validate().map_err(|e| named("", e))?;
+    if let BalancingLaw::PiPd { frontal, sagittal } = &c.balancing {
+        frontal
+            .validate()
+            .map_err(|e| named("balancing.pi_pd.frontal.", e))?;
+        sagittal
+            .validate()
+            .map_err(|e| named("balancing.pi_pd.sagittal.", e))?;
+    }
+    BallbotController::new(*c)
+        .map(|_| ())
+        .map_err(|e| named("", e))
 }

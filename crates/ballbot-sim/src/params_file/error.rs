@@ -32,12 +32,13 @@ pub enum ParamsFileError {
     /// Neither `--kind` nor the file says which kind of file it is.
     #[error(
         "cannot tell which kind of file this is: no `#:schema` line naming one of the \
-         schemas, and none of the keys `controller` (scenario), `robot.sagittal` or `contact` \
-         (world), `sagittal`/`frontal`/`spin`/`drivetrain` (robot) at the top level; pass --kind"
+         schemas, and none of the keys `shaping` or `traction` (controller), `controller` \
+         (scenario), `robot.sagittal` or `contact` (world), `sagittal`/`frontal`/`spin`/\
+         `drivetrain` (robot) at the top level; pass --kind"
     )]
     UnknownKind,
     /// An unknown kind name.
-    #[error("unknown kind `{0}` (robot, scenario, world)")]
+    #[error("unknown kind `{0}` (robot, scenario, world, controller)")]
     KindName(String),
     /// An unknown preset, or one that does not exist for the kind asked for.
     #[error("no preset `{name}`{}; presets: {known}", kind.map(|k| format!(" for kind {k}")).unwrap_or_default())]

@@ -14,18 +14,22 @@ pub enum FileKind {
     /// The 3D world with its robot: [`crate::world::WorldParams`] (`params = "world.toml"` of
     /// a sweep).
     World,
+    /// The 3D robot's controller: [`ballbot_core::ballbot::BallbotControllerConfig`]
+    /// (`--controller FILE` of the commands that run it).
+    Controller,
 }
 
 impl FileKind {
     /// Every kind.
-    pub const ALL: [Self; 3] = [Self::Robot, Self::Scenario, Self::World];
+    pub const ALL: [Self; 4] = [Self::Robot, Self::Scenario, Self::World, Self::Controller];
 
-    /// The canonical name: `robot`, `scenario`, `world`.
+    /// The canonical name: `robot`, `scenario`, `world`, `controller`.
     pub const fn as_str(self) -> &'static str {
         match self {
             Self::Robot => "robot",
             Self::Scenario => "scenario",
             Self::World => "world",
+            Self::Controller => "controller",
         }
     }
 
@@ -35,6 +39,7 @@ impl FileKind {
             Self::Robot => "BallbotParams",
             Self::Scenario => "Scenario",
             Self::World => "WorldParams",
+            Self::Controller => "BallbotControllerConfig",
         }
     }
 
@@ -44,17 +49,20 @@ impl FileKind {
             Self::Robot => "ballbot-params.schema.json",
             Self::Scenario => "scenario.schema.json",
             Self::World => "world-params.schema.json",
+            Self::Controller => "controller.schema.json",
         }
     }
 
     /// The kind of a file's text: the schema its `#:schema` line names (a path ending in one
     /// of [`Self::schema_file_name`]) if it has one among its leading comments, else its
-    /// top-level keys: `controller` makes a scenario; `contact`, or a `robot` table with a
-    /// `sagittal` key, a world; `sagittal`, `frontal`, `spin` or `drivetrain` a robot.
+    /// top-level keys: `shaping` or `traction` makes a controller; `controller` a scenario;
+    /// `contact`, or a `robot` table with a `sagittal` key, a world; `sagittal`, `frontal`,
+    /// `spin` or `drivetrain` a robot.
     ///
     /// ```
     /// use ballbot_sim::params_file::FileKind;
     /// assert_eq!(FileKind::infer("[sagittal]\nball_mass_kg = 3.6")?, FileKind::Robot);
+    /// assert_eq!(FileKind::infer("[traction]\nenabled = true")?, FileKind::Controller);
     /// assert_eq!(FileKind::infer("[robot.sagittal]\nball_mass_kg = 3.6")?, FileKind::World);
     /// let directive = "#:schema ../schemas/world-params.schema.json\n";
     /// assert_eq!(FileKind::infer(directive)?, FileKind::World);
@@ -75,7 +83,9 @@ impl FileKind {
             .get("robot")
             .and_then(toml::Value::as_table)
             .is_some_and(|robot| robot.contains_key("sagittal"));
-        if has("controller") {
+        if has("shaping") || has("traction") {
+            Ok(Self::Controller)
+        } else if has("controller") {
             Ok(Self::Scenario)
         } else if has("contact") || robot_has_planes {
             Ok(Self::World)

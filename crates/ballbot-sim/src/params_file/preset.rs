@@ -1,5 +1,5 @@
-//! The presets that `ballbot params show` writes: the robots, worlds and scenario the code
-//! constructs by name.
+//! The presets that `ballbot params show` writes: the robots, worlds, scenario and controllers
+//! the code constructs by name.
 
 use super::{FileKind, ParamsFile, ParamsFileError};
 use crate::planar::{
@@ -8,6 +8,7 @@ use crate::planar::{
 use crate::studies::scenario::{CommandSpec, InitialState, RobotSpec, Scenario};
 use crate::world::WorldParams;
 use ballbot_core::BallbotParams;
+use ballbot_core::ballbot::BallbotControllerConfig;
 
 /// A named preset of one kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,7 +23,7 @@ pub struct Preset {
 
 /// Every preset, in the order `--kind`-less look-ups try them (a robot before the world of the
 /// same name). `miapure` is short for `miapure_60kg`.
-pub const PRESETS: [Preset; 6] = [
+pub const PRESETS: [Preset; 8] = [
     Preset {
         kind: FileKind::Robot,
         name: "miapure_60kg",
@@ -53,6 +54,17 @@ pub const PRESETS: [Preset; 6] = [
         kind: FileKind::World,
         name: "ideal",
         about: "MiaPURE carrying 60 kg in the ideal world (WorldParams::ideal)",
+    },
+    Preset {
+        kind: FileKind::Controller,
+        name: "design",
+        about: "the shipped controller of MiaPURE carrying 60 kg, traction-aware \
+                (BallbotControllerConfig::design)",
+    },
+    Preset {
+        kind: FileKind::Controller,
+        name: "paper",
+        about: "the paper's LQR-PI for MiaPURE carrying 60 kg (BallbotControllerConfig::paper)",
     },
 ];
 
@@ -98,6 +110,19 @@ pub fn preset(name: &str, kind: Option<FileKind>) -> Result<(Preset, ParamsFile)
             ParamsFile::World(Box::new(WorldParams::ideal(BallbotParams::miapure_60kg())))
         }
         (FileKind::World, _) => ParamsFile::World(Box::new(WorldParams::miapure_60kg())),
+        (FileKind::Controller, name) => {
+            let robot = BallbotParams::miapure_60kg();
+            let designed = if name == "paper" {
+                BallbotControllerConfig::paper(&robot)
+            } else {
+                BallbotControllerConfig::design(&robot)
+            };
+            let config = designed.map_err(|e| ParamsFileError::Invalid {
+                key: String::new(),
+                requirement: e.to_string(),
+            })?;
+            ParamsFile::Controller(Box::new(config))
+        }
     };
     Ok((found, file))
 }

@@ -9,6 +9,7 @@ use super::FileKind;
 use crate::studies::scenario::Scenario;
 use crate::world::WorldParams;
 use ballbot_core::BallbotParams;
+use ballbot_core::ballbot::BallbotControllerConfig;
 use schemars::generate::SchemaSettings;
 use serde_json::Value;
 
@@ -31,6 +32,7 @@ pub fn schema_json(kind: FileKind) -> Value {
         FileKind::Robot => generator.into_root_schema_for::<BallbotParams<f64>>(),
         FileKind::Scenario => generator.into_root_schema_for::<Scenario>(),
         FileKind::World => generator.into_root_schema_for::<WorldParams>(),
+        FileKind::Controller => generator.into_root_schema_for::<BallbotControllerConfig<f64>>(),
     };
     let mut value = schema.to_value();
     clean_docs(&mut value);
