@@ -31,6 +31,9 @@ python3 scripts/check-cycles.py --self-test && python3 scripts/check-cycles.py
 step "the shipped path (core, runtime) in functions of at most 80 lines"
 python3 scripts/check-function-length.py --self-test && python3 scripts/check-function-length.py
 
+step "the docs' rendered numbers agree with the committed run summaries"
+python3 scripts/render-docs.py --self-test && python3 scripts/render-docs.py --check
+
 step "no issue numbers in the code (there is no public tracker to follow them to)"
 python3 scripts/check-no-issue-numbers.py
 

@@ -1,0 +1,225 @@
+#!/usr/bin/env python3
+"""Renders the numbers the docs quote from a run, so that each figure is written once.
+
+Usage:
+    python3 scripts/render-docs.py           rewrite the marked numbers in README.md, docs/*.md
+    python3 scripts/render-docs.py --check   exit 1 if any marked number differs from its source
+    python3 scripts/render-docs.py --self-test
+    python3 scripts/render-docs.py FILE ...  only these files
+
+A number taken from a run is written between two markers that Markdown does not show:
+
+    J_P is <!--= piptb.lqr_pi.j_p .3f -->0.679<!--/--> N^2 m^2 s
+
+The opening marker names a value of a summary by its path (dotted keys, `[i]` for a list item;
+a key may be a number, `max_speed_by_heading.180`) and, optionally, how to write it: a Python
+format spec (`.3f`, `.0f`, `+.2f`, `.1%`, `d`) or `sciN` (`6.1e5`: N decimals, no `+` or
+leading zeros in the exponent). Without one the value is written as JSON would (strings bare).
+The value comes from the full `ballbot reproduce`'s `summary.json`, through
+`docs/figures/reproduce-figures.json`: the values the docs quote, by path, taken from a summary by
+`--import` (the whole summary is 5 MB). With a `quick:` prefix on the path it comes from
+`scripts/reference/reproduce-quick-summary.json` (the CI's run, checked against the code).
+
+Rendering replaces the text between the markers and nothing else. After a full run, refresh the
+figures with:
+
+    ballbot reproduce --out out
+    python3 scripts/render-docs.py --import out/summary.json && git diff docs README.md
+
+(`--import` also takes the values of markers added since, and drops those no page quotes.)
+
+`--check` (in the test command) fails when the docs and the committed summaries disagree, and
+names each file:line, the path, the text written and the text rendered. A path that does not
+exist, or a format the value does not take, is an error (exit 2). Standard library only.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SOURCES = {
+    "full": ROOT / "docs/figures/reproduce-figures.json",
+    "quick": ROOT / "scripts/reference/reproduce-quick-summary.json",
+}
+MARKER = re.compile(r"<!--=\s*(?P<path>\S+)(?:\s+(?P<fmt>\S+))?\s*-->(?P<text>.*?)<!--/-->", re.S)
+FIGURES_TAG = "$comment"
+STEP = re.compile(r"\.?([^.\[\]]+)|\[(\d+)\]")
+
+
+class RenderError(Exception):
+    """A marker that cannot be rendered."""
+
+
+def lookup(summary: object, path: str) -> object:
+    """The value at dotted `path` of `summary` (or under the key `path` of a figures file)."""
+    if isinstance(summary, dict) and summary.get(FIGURES_TAG) and path in summary:
+        return summary[path]
+    if isinstance(summary, dict) and summary.get(FIGURES_TAG):
+        raise RenderError(f"`{path}` is not in {SOURCES['full'].name}: run --import (see --help)")
+    node = summary
+    pos = 0
+    while pos < len(path):
+        m = STEP.match(path, pos)
+        if not m or m.end() == pos:
+            raise RenderError(f"bad path `{path}` at `{path[pos:]}`")
+        key, index = m.group(1), m.group(2)
+        try:
+            if index is not None:
+                node = node[int(index)]  # type: ignore[index]
+            elif isinstance(node, list):
+                node = node[int(key)]
+            else:
+                node = node[key]  # type: ignore[index]
+        except (KeyError, IndexError, TypeError, ValueError):
+            raise RenderError(f"`{path}`: no `{m.group(0).lstrip('.')}` there") from None
+        pos = m.end()
+    return node
+
+
+def write(value: object, fmt: str | None) -> str:
+    """`value` written with `fmt`."""
+    if fmt is None:
+        return value if isinstance(value, str) else json.dumps(value)
+    sci = re.fullmatch(r"sci(\d)", fmt)
+    try:
+        if sci:
+            mantissa, exponent = f"{float(value):.{sci.group(1)}e}".split("e")  # type: ignore[arg-type]
+            return f"{mantissa}e{int(exponent)}"
+        return format(value, fmt)
+    except (TypeError, ValueError) as e:
+        raise RenderError(f"cannot write {value!r} as `{fmt}`: {e}") from None
+
+
+def render(text: str, summaries: dict[str, object], where: str) -> tuple[str, list[str]]:
+    """`text` with every marker rendered, and a line per marker whose text changed."""
+    changes: list[str] = []
+
+    def one(m: re.Match[str]) -> str:
+        path = m.group("path")
+        source, _, rest = path.partition(":") if ":" in path else ("full", "", path)
+        if source not in summaries:
+            raise RenderError(f"{where}: `{path}`: unknown source `{source}` ({', '.join(SOURCES)})")
+        try:
+            new = write(lookup(summaries[source], rest), m.group("fmt"))
+        except RenderError as e:
+            line = text.count("\n", 0, m.start()) + 1
+            raise RenderError(f"{where}:{line}: {e}") from None
+        if new != m.group("text"):
+            line = text.count("\n", 0, m.start()) + 1
+            changes.append(f"{where}:{line}: {path}: written {m.group('text')!r}, rendered {new!r}")
+        head = m.group(0)[: m.start("text") - m.start()]
+        return f"{head}{new}<!--/-->"
+
+    return MARKER.sub(one, text), changes
+
+
+def load(sources: dict[str, Path]) -> dict[str, object]:
+    return {name: json.loads(path.read_text(encoding="utf-8")) for name, path in sources.items()}
+
+
+def import_figures(summary_path: Path, files: list[Path]) -> None:
+    """Writes the figures file: every `full` path the files mark, from the summary."""
+    summary = json.loads(summary_path.read_text(encoding="utf-8"))
+    paths = set()
+    for path in files:
+        for m in MARKER.finditer(path.read_text(encoding="utf-8")):
+            if ":" not in m.group("path"):
+                paths.add(m.group("path"))
+    figures: dict[str, object] = {
+        FIGURES_TAG: "The numbers the docs quote from the full `ballbot reproduce`, by their path "
+        "in its summary.json. Written by `python3 scripts/render-docs.py --import "
+        "out/summary.json`; do not edit."
+    }
+    for path in sorted(paths):
+        figures[path] = lookup(summary, path)
+    SOURCES["full"].write_text(json.dumps(figures, indent=1) + "\n", encoding="utf-8")
+    print(f"wrote {len(paths)} figures from {summary_path} to {SOURCES['full'].relative_to(ROOT)}")
+
+
+def default_files() -> list[Path]:
+    return [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
+def run(files: list[Path], summaries: dict[str, object], check: bool) -> int:
+    changed, markers = 0, 0
+    for path in files:
+        text = path.read_text(encoding="utf-8")
+        markers += len(MARKER.findall(text))
+        new, changes = render(text, summaries, str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path))
+        for line in changes:
+            print(line)
+        changed += len(changes)
+        if changes and not check:
+            path.write_text(new, encoding="utf-8")
+    if check and changed:
+        print(
+            f"{changed} of {markers} rendered numbers differ from the committed summaries; "
+            "run `python3 scripts/render-docs.py` (see its docstring)",
+            file=sys.stderr,
+        )
+        return 1
+    verb = "would change" if check else "changed"
+    print(f"{markers} rendered numbers in {len(files)} files; {changed} {verb}")
+    return 0
+
+
+def self_test() -> int:
+    summary = {"a": {"b": [1.23456, {"c": "x"}], "180": 2.5, "big": 612345.6}, "n": 3}
+    cases = [
+        ("<!--= a.b[0] .2f -->?<!--/-->", "<!--= a.b[0] .2f -->1.23<!--/-->"),
+        ("<!--= a.b[1].c -->?<!--/-->", "<!--= a.b[1].c -->x<!--/-->"),
+        ("<!--= a.180 .1f -->2.5<!--/-->", "<!--= a.180 .1f -->2.5<!--/-->"),
+        ("<!--= a.big sci1 -->?<!--/-->", "<!--= a.big sci1 -->6.1e5<!--/-->"),
+        ("<!--= quick:n d -->?<!--/--> and <!--= n -->0<!--/-->", "<!--= quick:n d -->4<!--/--> and <!--= n -->3<!--/-->"),
+    ]
+    failures = 0
+    for source, expected in cases:
+        got, _ = render(source, {"full": summary, "quick": {"n": 4}}, "self-test")
+        if got != expected:
+            print(f"self-test: {source!r} -> {got!r}, expected {expected!r}", file=sys.stderr)
+            failures += 1
+    for bad in ["<!--= a.zz -->?<!--/-->", "<!--= a.b[1].c .2f -->?<!--/-->", "<!--= other:n -->?<!--/-->"]:
+        try:
+            render(bad, {"full": summary, "quick": {}}, "self-test")
+            print(f"self-test: {bad!r} rendered, expected an error", file=sys.stderr)
+            failures += 1
+        except RenderError:
+            pass
+    with tempfile.TemporaryDirectory() as tmp:
+        doc = Path(tmp) / "page.md"
+        doc.write_text("x <!--= n d -->2<!--/-->\n", encoding="utf-8")
+        if run([doc], {"full": summary, "quick": {}}, check=True) != 1:
+            print("self-test: --check passed a stale number", file=sys.stderr)
+            failures += 1
+    total = len(cases) + 4
+    print(f"render-docs self-test: {total - failures}/{total} pass")
+    return 1 if failures else 0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("files", nargs="*", type=Path)
+    parser.add_argument("--check", action="store_true")
+    parser.add_argument("--self-test", action="store_true")
+    parser.add_argument("--import", dest="summary", type=Path, help="a full run's summary.json")
+    args = parser.parse_args()
+    if args.self_test:
+        return self_test()
+    try:
+        files = [p.resolve() for p in args.files] or default_files()
+        if args.summary:
+            import_figures(args.summary, default_files())
+        return run(files, load(SOURCES), args.check)
+    except RenderError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
