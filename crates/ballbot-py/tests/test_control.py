@@ -1,6 +1,7 @@
 """Controllers with `step`, log replay with `step_many`, and closed-loop rollouts in Rust."""
 
 import math
+from typing import Any, Callable
 
 import numpy as np
 import pytest
@@ -69,6 +70,30 @@ def test_step_many_equals_a_python_loop_of_step(wip: ballbot.Wip) -> None:
     assert batch["status"].dtype == np.int8
     a.reset()
     assert a.speed_error_integral_rad == 0.0
+
+
+def test_every_step_many_has_a_column_per_term_and_equals_its_step(wip: ballbot.Wip) -> None:
+    rng = np.random.default_rng(12)
+    measured = rng.normal(scale=0.05, size=(50, 4))
+    command = [0.0, 0.0, 0.0, 1.0]
+    gains = ballbot.LqrGains.for_wip(wip, 83.9)
+    inner_gains = ballbot.SpeedPiGains.for_wip_ball_rate(wip, 30.0, 83.9)
+    config = ballbot.LqrPiOuterConfig.for_inner(gains, inner_gains)
+    makers: list[Callable[[], Any]] = [
+        lambda: ballbot.LqrController(gains),
+        lambda: ballbot.PiPdController(ballbot.PiPdGains.for_wip(wip, 83.9)),
+        lambda: ballbot.LqrPiOuter(wip, config),
+    ]
+    for make in makers:
+        batched, looped = make(), make()
+        batch = batched.step_many(measured, command)
+        steps = [looped.step(m, command).to_dict() for m in measured]
+        assert set(batch) == set(steps[0]), type(batched).__name__
+        for name in steps[0]:
+            if name == "status":
+                continue
+            column = [s[name] for s in steps]
+            assert batch[name] == pytest.approx(column, rel=0, abs=0), name
 
 
 def test_every_controller_recovers_from_a_ten_degree_lean(wip: ballbot.Wip) -> None:

@@ -66,6 +66,7 @@ mod lqr;
 mod lqr_pi;
 mod motor_pi;
 mod pi_pd;
+mod plane;
 mod terms;
 
 pub use feedforward::accelerating_command;
@@ -75,6 +76,7 @@ pub use motor_pi::{SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput};
 pub use pi_pd::{
     PI_PD_DEFAULT_MAX_TILT_RAD, PI_PD_DEFAULT_POLES_PER_P0, PiPdController, PiPdGains, PiPdOutput,
 };
+pub use plane::{PlaneController, PlaneOutput};
 pub use terms::Terms;
 pub(crate) use terms::impl_terms;
 

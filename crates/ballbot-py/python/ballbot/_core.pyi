@@ -826,6 +826,12 @@ class LqrPiOuter:
         command: Optional[npt.ArrayLike] = None,
         dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
     ) -> LqrPiOuterOutput: ...
+    def step_many(
+        self,
+        measured: npt.ArrayLike,
+        command: Optional[npt.ArrayLike] = None,
+        dt_secs: float = ...,  # OUTER_LOOP_DT_SECS (1/400 s)
+    ) -> dict[str, npt.NDArray[Any]]: ...
 
 @final
 class SpeedPi:

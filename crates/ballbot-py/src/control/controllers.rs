@@ -8,7 +8,8 @@ use crate::errors::{Kind, core_error, error};
 use crate::models::PyWip;
 use ballbot_core::WipState;
 use ballbot_core::control::{
-    LqrController, LqrPiOuter, PiPdController, SpeedCommand, SpeedPi, StepStatus,
+    LqrController, LqrPiOuter, PiPdController, PlaneController, PlaneOutput, SpeedCommand, SpeedPi,
+    Terms,
 };
 use ballbot_core::rates::{INNER_LOOP_DT_SECS, OUTER_LOOP_DT_SECS};
 use nalgebra::Vector4;
@@ -84,27 +85,7 @@ impl PyLqrController {
         command: Option<Arr<'py>>,
         dt_secs: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let (m, c) = replay_inputs(py, &measured, command.as_ref())?;
-        let mut ctrl = self.inner;
-        let outs = py.detach(|| {
-            m.iter()
-                .zip(c.iter().cycle())
-                .map(|(m, c)| ctrl.step(&Vector4::from(*m), &Vector4::from(*c), dt_secs))
-                .collect::<Vec<_>>()
-        });
-        self.inner = ctrl;
-        columns(
-            py,
-            &outs,
-            &[
-                ("torque_nm", |o| o.torque_nm),
-                ("tilt_term_nm", |o| o.tilt_term_nm),
-                ("tilt_rate_term_nm", |o| o.tilt_rate_term_nm),
-                ("ball_rate_term_nm", |o| o.ball_rate_term_nm),
-                ("saturation_nm", |o| o.saturation_nm),
-            ],
-            |o| o.status,
-        )
+        replay(py, &mut self.inner, &measured, command.as_ref(), dt_secs)
     }
 }
 
@@ -166,31 +147,7 @@ impl PyPiPdController {
         command: Option<Arr<'py>>,
         dt_secs: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let (m, c) = replay_inputs(py, &measured, command.as_ref())?;
-        let mut ctrl = self.inner;
-        let outs = py.detach(|| {
-            m.iter()
-                .zip(c.iter().cycle())
-                .map(|(m, c)| ctrl.step(&Vector4::from(*m), &Vector4::from(*c), dt_secs))
-                .collect::<Vec<_>>()
-        });
-        self.inner = ctrl;
-        columns(
-            py,
-            &outs,
-            &[
-                ("torque_nm", |o| o.torque_nm),
-                ("reference_tilt_rad", |o| o.reference_tilt_rad),
-                ("tilt_feedforward_rad", |o| o.tilt_feedforward_rad),
-                ("speed_p_term_rad", |o| o.speed_p_term_rad),
-                ("speed_i_term_rad", |o| o.speed_i_term_rad),
-                ("tilt_limit_rad", |o| o.tilt_limit_rad),
-                ("tilt_p_term_nm", |o| o.tilt_p_term_nm),
-                ("tilt_d_term_nm", |o| o.tilt_d_term_nm),
-                ("saturation_nm", |o| o.saturation_nm),
-            ],
-            |o| o.status,
-        )
+        replay(py, &mut self.inner, &measured, command.as_ref(), dt_secs)
     }
 }
 
@@ -245,6 +202,19 @@ impl PyLqrPiOuter {
         Ok(PyLqrPiOuterOutput {
             inner: self.inner.step(&m, &c, dt_secs),
         })
+    }
+
+    /// Steps through measurements `(n, 4)` in Rust, the reference rate carried from step to
+    /// step (see `LqrController.step_many`).
+    #[pyo3(signature = (measured, command = None, dt_secs = OUTER_LOOP_DT_SECS))]
+    fn step_many<'py>(
+        &mut self,
+        py: Python<'py>,
+        measured: Arr<'py>,
+        command: Option<Arr<'py>>,
+        dt_secs: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        replay(py, &mut self.inner, &measured, command.as_ref(), dt_secs)
     }
 }
 
@@ -349,28 +319,47 @@ pub(crate) fn replay_inputs(
     Ok((m.rows, c))
 }
 
-/// Output columns as a dict of `(n,)` arrays plus int8 `status`.
-pub(crate) type Column<O> = (&'static str, fn(&O) -> f64);
-
-pub(crate) fn columns<'py, O>(
+/// Steps `ctrl` through the measurements in Rust (the GIL released) and returns its output
+/// terms as a dict of `(n,)` arrays, one per `Terms::TERM_NAMES` entry, plus int8 `status`:
+/// one replay for every plane controller.
+fn replay<'py, C>(
     py: Python<'py>,
-    outs: &[O],
-    fields: &[Column<O>],
-    status: fn(&O) -> StepStatus,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    for (name, get) in fields {
-        d.set_item(
-            *name,
-            PyArray1::from_vec(py, outs.iter().map(get).collect()),
-        )?;
+    ctrl: &mut C,
+    measured: &Arr<'py>,
+    command: Option<&Arr<'py>>,
+    dt_secs: f64,
+) -> PyResult<Bound<'py, PyDict>>
+where
+    C: PlaneController<f64> + Copy + Send,
+    C::Output: Send,
+{
+    let (m, c) = replay_inputs(py, measured, command)?;
+    let mut stepped = *ctrl;
+    let outs = py.detach(|| {
+        m.iter()
+            .zip(c.iter().cycle())
+            .map(|(m, c)| stepped.step(&Vector4::from(*m), &Vector4::from(*c), dt_secs))
+            .collect::<Vec<_>>()
+    });
+    *ctrl = stepped;
+    let names = <C::Output as Terms<f64>>::TERM_NAMES;
+    let mut columns: Vec<Vec<f64>> = names
+        .iter()
+        .map(|_| Vec::with_capacity(outs.len()))
+        .collect();
+    for out in &outs {
+        let mut column = columns.iter_mut();
+        out.for_each_term(|_, value| {
+            if let Some(c) = column.next() {
+                c.push(value);
+            }
+        });
     }
-    d.set_item(
-        "status",
-        PyArray1::from_vec(
-            py,
-            outs.iter().map(|o| step_status_code(status(o))).collect(),
-        ),
-    )?;
+    let d = PyDict::new(py);
+    for (name, values) in names.iter().zip(columns) {
+        d.set_item(*name, PyArray1::from_vec(py, values))?;
+    }
+    let status = outs.iter().map(|o| step_status_code(o.status())).collect();
+    d.set_item("status", PyArray1::from_vec(py, status))?;
     Ok(d)
 }

@@ -1,0 +1,96 @@
+//! [`PlaneController`]: one balancing plane's controller, whatever its law, so that what steps
+//! a plane (a log replay, a rollout, a binding's `step_many`) is written once.
+
+use super::{
+    LqrController, LqrOutput, LqrPiOuter, LqrPiOuterOutput, PiPdController, PiPdOutput, StepStatus,
+    Terms,
+};
+use crate::wip::WipState;
+use nalgebra::RealField;
+
+/// A step's output of a [`PlaneController`]: its terms ([`Terms`]) and its status.
+pub trait PlaneOutput<T: Copy>: Terms<T> + Copy {
+    /// Whether the step was nominal, saturated or rejected.
+    fn status(&self) -> StepStatus;
+}
+
+/// One balancing plane's controller: from the measured and commanded WIP states
+/// `[theta, phi, theta_dot, phi_dot]` to an output with named terms. Implemented by the LQR
+/// ([`LqrController`]), the PI-PD ([`PiPdController`]) and the LQR-PI's outer loop
+/// ([`LqrPiOuter`]); each keeps its own inherent `step` and `reset`, which these call.
+///
+/// ```
+/// use ballbot_core::control::{
+///     LqrController, LqrGains, PiPdController, PiPdGains, PlaneController, PlaneOutput, StepStatus,
+///     Terms,
+/// };
+/// use ballbot_core::{Wip, WipParams};
+/// use nalgebra::Vector4;
+/// // One replay for every law: the torque of each step and how many were saturated.
+/// fn replay<C: PlaneController<f64>>(c: &mut C, tilts_rad: &[f64]) -> (Vec<f64>, usize) {
+///     c.reset();
+///     let outs: Vec<C::Output> = tilts_rad
+///         .iter()
+///         .map(|&tilt| c.step(&Vector4::new(tilt, 0.0, 0.0, 0.0), &Vector4::zeros(), 0.0025))
+///         .collect();
+///     let torque = outs.iter().map(|o| o.term(C::Output::TERM_NAMES[0]).unwrap()).collect();
+///     (torque, outs.iter().filter(|o| o.status() == StepStatus::Saturated).count())
+/// }
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let mut lqr = LqrController::new(LqrGains::for_wip(&wip, 83.9)?)?;
+/// let mut pi_pd = PiPdController::new(PiPdGains::for_wip(&wip, 83.9)?)?;
+/// let tilts = [0.0, 0.05, 0.5];
+/// let (lqr_torque, lqr_saturated) = replay(&mut lqr, &tilts);
+/// let (pi_pd_torque, _) = replay(&mut pi_pd, &tilts);
+/// // Leaning forward drives the ball forward under both laws; half a radian saturates.
+/// assert!(lqr_torque[1] > 0.0 && pi_pd_torque[1] > 0.0 && lqr_saturated == 1);
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
+pub trait PlaneController<T: RealField + Copy> {
+    /// What a step returns.
+    type Output: PlaneOutput<T>;
+
+    /// One step of `dt_secs` (s).
+    fn step(&mut self, measured: &WipState<T>, command: &WipState<T>, dt_secs: T) -> Self::Output;
+
+    /// Clears every internal state (integrals, references).
+    fn reset(&mut self);
+}
+
+/// [`PlaneOutput`] for outputs with a `status` field.
+macro_rules! impl_plane_output {
+    ($($output:ident),+) => {$(
+        impl<T: RealField + Copy> PlaneOutput<T> for $output<T> {
+            #[inline]
+            fn status(&self) -> StepStatus {
+                self.status
+            }
+        }
+    )+};
+}
+impl_plane_output!(LqrOutput, PiPdOutput, LqrPiOuterOutput);
+
+/// [`PlaneController`] through the controller's inherent `step` and `reset`.
+macro_rules! impl_plane_controller {
+    ($($controller:ident => $output:ident),+) => {$(
+        impl<T: RealField + Copy> PlaneController<T> for $controller<T> {
+            type Output = $output<T>;
+
+            #[inline]
+            fn step(&mut self, measured: &WipState<T>, command: &WipState<T>, dt_secs: T)
+            -> $output<T> {
+                $controller::step(self, measured, command, dt_secs)
+            }
+
+            #[inline]
+            fn reset(&mut self) {
+                $controller::reset(self);
+            }
+        }
+    )+};
+}
+impl_plane_controller!(
+    LqrController => LqrOutput,
+    PiPdController => PiPdOutput,
+    LqrPiOuter => LqrPiOuterOutput
+);
