@@ -74,7 +74,7 @@ def test_to_toml_reads_back_and_is_what_the_cli_writes(tmp_path: Path) -> None:
             text=True,
             check=True,
         ).stdout
-        config = ballbot.ControllerConfig.preset(name)  # type: ignore[arg-type]
+        config = ballbot.ControllerConfig.preset(name)
         assert ballbot.ControllerConfig.from_toml(cli) == config
         # The same file but for the header: every key, comment and value.
         assert _body(config.to_toml()) == _body(cli)

@@ -74,6 +74,7 @@ __all__ = [
     "BrakingProblem",
     "BrakingSolution",
     "ContactForces",
+    "ControllerConfig",
     "DrivetrainParams",
     "LiveView",
     "Lqr",
