@@ -137,6 +137,10 @@ def test_other_bad_files_and_values_name_their_key(tmp_path: Path) -> None:
         ballbot.ControllerConfig.design().replace({"traction.enabled": 1})
     with pytest.raises(ballbot.ParameterError, match="balancing"):
         ballbot.ControllerConfig.design().replace(balancing="pid")
+    missing = r"`balancing\.pi_pd\.frontal\.\w+`: missing field"
+    with pytest.raises(ballbot.ParameterError, match=missing) as e:
+        ballbot.ControllerConfig.design().replace(balancing={"pi_pd": {"frontal": {}}})
+    assert "line" not in str(e.value), "no line of a text the caller never saw"
     with pytest.raises(ballbot.FileError, match="not a TOML file"):
         path = tmp_path / "broken.toml"
         path.write_text("[traction\n")
@@ -163,6 +167,23 @@ def test_replace_takes_dotted_keys_dicts_and_keywords() -> None:
     assert design.replace(robot=heavy).robot == heavy
     # from_dict / to_dict round trip.
     assert ballbot.ControllerConfig.from_dict(off.to_dict()) == off
+
+
+def test_the_pi_pd_balancing_law_is_set_whole_or_by_key() -> None:
+    paper = ballbot.ControllerConfig.paper()
+    robot = paper.robot
+    frontal = ballbot.PiPdGains.for_wip(ballbot.Wip(robot.frontal), 83.9).to_dict()
+    sagittal = ballbot.PiPdGains.for_wip(ballbot.Wip(robot.sagittal), 96.9).to_dict()
+    pi_pd = paper.replace(balancing={"pi_pd": {"frontal": frontal, "sagittal": sagittal}})
+    assert pi_pd.to_dict()["balancing"]["pi_pd"]["sagittal"] == sagittal
+    assert ballbot.ControllerConfig.from_toml(pi_pd.to_toml()) == pi_pd
+    assert pickle.loads(pickle.dumps(pi_pd)) == pi_pd
+    stiffer = pi_pd.replace({"balancing.pi_pd.frontal.tilt_p_nm_per_rad": -300.0})
+    assert stiffer.to_dict()["balancing"]["pi_pd"]["frontal"]["tilt_p_nm_per_rad"] == -300.0
+    assert stiffer.replace(balancing="lqr_pi") == paper
+    loop = ballbot.WorldLoop(controller=pi_pd)
+    loop.run(400)
+    assert loop.mode is ballbot.Mode.BALANCING
 
 
 def test_equality_repr_and_pickle() -> None:

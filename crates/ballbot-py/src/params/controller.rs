@@ -125,6 +125,10 @@ fn with_controller_fields(
             Kind::Other,
             format!("expected a controller, read a {} file", other.kind()),
         )),
+        // The line and column are of the text written here, not the caller's: left out.
+        Err(ParamsFileError::Key { key, message, .. }) => {
+            Err(error(py, Kind::Parameter, format!("`{key}`: {message}")))
+        }
         Err(e) => Err(file_error(py, &e, None)),
     }
 }
