@@ -586,7 +586,9 @@ py_params! {
     }
 }
 
+mod controller;
 mod world;
+pub use controller::PyControllerConfig;
 pub use world::PyWorldParams;
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -596,5 +598,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyDrivetrainParams>()?;
     m.add_class::<PyBallbotParams>()?;
     m.add_class::<PyPlanarRobotParams>()?;
+    controller::register(m)?;
     world::register(m)
 }

@@ -3,7 +3,8 @@
 //!
 //! Two forms: a class with a keyword constructor is re-created by calling it
 //! ([`by_constructor`], so the round trip validates again); a record without one goes through
-//! its serde JSON ([`by_json`], exact for floats: `serde_json`'s `float_roundtrip`).
+//! its serde JSON ([`by_json`], exact for floats: `serde_json`'s `float_roundtrip`); a
+//! parameter file without a full keyword constructor through its TOML ([`by_toml`]).
 
 use crate::errors::{Kind, error};
 use pyo3::prelude::*;
@@ -33,6 +34,15 @@ pub fn by_json<'py, T: Serialize>(
     let text = serde_json::to_string(value)
         .map_err(|e| error(py, Kind::Other, format!("pickling: {e}")))?;
     let rebuild = py.import("ballbot._pickle")?.getattr("from_json")?;
+    let args = (obj.get_type(), text);
+    PyTuple::new(py, [rebuild, args.into_pyobject(py)?.into_any()])
+}
+
+/// `(ballbot._pickle.from_toml, (type(obj), text))`: unpickling calls the class's
+/// `from_toml` (which checks the file again), for a class that is a parameter file.
+pub fn by_toml<'py>(obj: &Bound<'py, PyAny>, text: String) -> PyResult<Bound<'py, PyTuple>> {
+    let py = obj.py();
+    let rebuild = py.import("ballbot._pickle")?.getattr("from_toml")?;
     let args = (obj.get_type(), text);
     PyTuple::new(py, [rebuild, args.into_pyobject(py)?.into_any()])
 }

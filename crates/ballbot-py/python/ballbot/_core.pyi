@@ -44,6 +44,7 @@ _ContactPreset = Literal["default", "ideal", "coating", "rubber_coated_miapure_6
 _ContactNormalLaw = Literal["linear", "coating"]
 _RollerPreset = Literal["none", "miapure"]
 _WorldPreset = Literal["miapure_60kg", "miapure_unloaded", "ideal_miapure_60kg"]
+_ControllerPreset = Literal["design", "paper"]
 _DriverPreset = Literal["ideal", "odrive_v36_factory", "miapure"]
 _DriverModel = Literal["ideal", "odrive"]
 _DriverLimit = Literal["none", "current", "voltage", "velocity_limiter", "disarmed"]
@@ -73,6 +74,7 @@ __all__ = [
     "BrakingProblem",
     "BrakingSolution",
     "ContactForces",
+    "ControllerConfig",
     "DrivetrainParams",
     "LiveView",
     "Lqr",
@@ -1772,6 +1774,55 @@ class World:
 
 
 @final
+class ControllerConfig:
+    """The 3D robot's controller configuration (``BallbotControllerConfig``): the robot model it
+    was designed for, the gains, the command shaping, the safety thresholds, traction-aware
+    control, balance-point estimation; the same data as a controller file (``ballbot params
+    show --kind controller``, ``ballbot world --controller FILE``). Every error names the
+    dotted key (``traction.friction_safety_factor``)."""
+
+    def __new__(cls, **kwargs: Any) -> ControllerConfig: ...
+    @staticmethod
+    def design(robot: Optional[BallbotParams] = None) -> ControllerConfig: ...
+    @staticmethod
+    def paper(robot: Optional[BallbotParams] = None) -> ControllerConfig: ...
+    @staticmethod
+    def preset(name: _ControllerPreset) -> ControllerConfig: ...
+    @staticmethod
+    def presets() -> list[_ControllerPreset]: ...
+    @staticmethod
+    def from_toml(text: str) -> ControllerConfig: ...
+    @staticmethod
+    def from_file(path: _Path) -> ControllerConfig: ...
+    @staticmethod
+    def load(path: _Path) -> ControllerConfig: ...
+    def to_toml(self) -> str: ...
+    def save(self, path: _Path) -> None: ...
+    def replace(
+        self, fields: Optional[dict[str, Any]] = None, /, **kwargs: Any
+    ) -> ControllerConfig: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    @staticmethod
+    def from_dict(fields: dict[str, Any]) -> ControllerConfig: ...
+    @property
+    def traction_safety_factor(self) -> float:
+        """``traction.friction_safety_factor`` (>= 1): traction-aware control plans with
+        ``mu / factor``."""
+    def with_traction_safety_factor(self, factor: float) -> ControllerConfig:
+        """A copy with ``traction.friction_safety_factor = factor`` (finite and >= 1)."""
+    @property
+    def traction_control(self) -> bool: ...
+    @property
+    def balance_point(self) -> bool: ...
+    @property
+    def robot(self) -> BallbotParams: ...
+    @property
+    def wheel_mapping(self) -> Literal["rolling_ball", "upright"]: ...
+    @property
+    def outer_dt_secs(self) -> float: ...
+
+
+@final
 class WorldLoop:
     """The 3D world with the core's cascaded LQR-PI controller in the loop (400 Hz outer,
     8 kHz motor PIs)."""
@@ -1786,9 +1837,10 @@ class WorldLoop:
         max_tilt_command_rad: Optional[float] = None,
         max_tilt_rate_command_rad_per_s: Optional[float] = None,
         wheel_mapping: Optional[Literal["rolling_ball", "upright"]] = None,
-        traction_control: bool = True,
-        balance_point: bool = True,
+        traction_control: Optional[bool] = None,
+        balance_point: Optional[bool] = None,
         imu_lean_time_constant_secs: Optional[float] = None,
+        controller: Optional[ControllerConfig] = None,
     ) -> WorldLoop: ...
     @property
     def mode(self) -> Mode: ...
@@ -1857,6 +1909,7 @@ def max_speed_ramp(
     max_jerk_m_per_s3: Optional[float] = None,
     max_tilt_command_rad: Optional[float] = None,
     max_tilt_rate_command_rad_per_s: Optional[float] = None,
+    controller: Optional[ControllerConfig] = None,
 ) -> RampRun: ...
 
 def export(

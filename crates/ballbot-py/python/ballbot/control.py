@@ -4,6 +4,8 @@ LQR design (``wip_lqr``, the Riccati solvers, ``expm``/``zoh`` discretisation); 
 controllers with ``step``/``step_many`` (``LqrController``, ``PiPdController``, the cascaded
 ``LqrPiOuter`` + ``SpeedPi``), their gains and per-step outputs (``status`` is a
 ``StepStatus``); ``closed_loop_rollout`` runs batches in Rust and returns a ``Rollout``.
+``ControllerConfig`` is the 3D controller's configuration, a controller file as data
+(``WorldLoop(controller=...)`` and ``max_speed_ramp(controller=...)`` run it).
 
 ``OUTER_LOOP_DT_SECS`` (1/400 s) and ``INNER_LOOP_DT_SECS`` (1/8000 s) are the robot's two
 rates (``ballbot_core::rates``) and the controllers' default step lengths.
@@ -14,6 +16,7 @@ from ballbot._core import (
     INNER_LOOP_RATE_HZ,
     OUTER_LOOP_DT_SECS,
     OUTER_LOOP_RATE_HZ,
+    ControllerConfig,
     Lqr,
     LqrController,
     LqrGains,
@@ -47,6 +50,7 @@ __all__ = [
     "INNER_LOOP_RATE_HZ",
     "OUTER_LOOP_DT_SECS",
     "OUTER_LOOP_RATE_HZ",
+    "ControllerConfig",
     "Lqr",
     "LqrController",
     "LqrGains",

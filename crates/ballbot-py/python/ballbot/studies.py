@@ -19,7 +19,13 @@ import os
 from typing import Any, Optional, TypeVar
 
 from ballbot import _core
-from ballbot._core import Scenario, WorldParams, piptb_experiment, slow_ramp_trial
+from ballbot._core import (
+    ControllerConfig,
+    Scenario,
+    WorldParams,
+    piptb_experiment,
+    slow_ramp_trial,
+)
 from ballbot._enums import BrakingOutcome, Feedforward, PushOutcome
 from ballbot._results import (
     BrakingPeaks,
@@ -76,13 +82,18 @@ def max_speed_ramp(
     *,
     heading_deg: float = 0.0,
     settings: Optional[RampSettings] = None,
+    controller: Optional[ControllerConfig] = None,
     **overrides: Any,
 ) -> RampRun:
     """The maximum-speed experiment of the paper's Sec. V: the core's controller follows a
     velocity ramp towards ``heading_deg`` (body frame; 0 towards OW1) until the world detects a
-    failure or the top speed has been held for 1 s."""
+    failure or the top speed has been held for 1 s. The controller is the paper's
+    configuration unless ``controller`` (a ``ControllerConfig``) is given; the settings' caps
+    apply on top of either."""
     s = _settings(RampSettings, settings, overrides)
-    return _core.max_speed_ramp(params, heading_deg=heading_deg, **s.to_dict())
+    return _core.max_speed_ramp(
+        params, heading_deg=heading_deg, controller=controller, **s.to_dict()
+    )
 
 
 def failing_acceleration(

@@ -6,7 +6,7 @@ use super::world_loop::Shaping;
 use super::{finite, non_negative, params_or_default};
 use crate::errors::world_error;
 use crate::errors::{Kind, error};
-use crate::params::PyWorldParams;
+use crate::params::{PyControllerConfig, PyWorldParams};
 use ballbot_sim::studies::ramp::{RampParams, RampResult, max_speed_ramp_with_config};
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -56,6 +56,11 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
 /// about 2.07 m/s whatever the heading), the others keep the designed caps (1.0 m/s^2,
 /// 2.0 m/s^3, 0.2 rad, 1.0 rad/s).
 ///
+/// The controller is the paper's configuration (traction-aware control and balance-point
+/// estimation off), as the Rust study pins it, unless `controller` (a `ControllerConfig`) is
+/// given: then that one runs, with its own layers and caps, the shaping keywords on top and the
+/// speed cap still raised to `max_command_m_per_s` unless `max_speed_m_per_s` is given.
+///
 /// Returns a `RampRun`: `heading_deg`, `max_speed_m_per_s` (highest ball speed along the heading
 /// before failure), `failure` (`Failure` or `None` if the ramp ended first),
 /// `supervisor_stop_secs` (when the core's safety supervisor stopped balancing, e.g. at its
@@ -68,6 +73,7 @@ pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyD
     params = None, *, heading_deg = 0.0, accel_m_per_s2 = 0.25, max_command_m_per_s = 3.5,
     settle_secs = 0.5, sample_every_secs = 0.01, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
     max_jerk_m_per_s3 = None, max_tilt_command_rad = None, max_tilt_rate_command_rad_per_s = None,
+    controller = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn max_speed_ramp<'py>(
@@ -83,6 +89,7 @@ pub(crate) fn max_speed_ramp<'py>(
     max_jerk_m_per_s3: Option<f64>,
     max_tilt_command_rad: Option<f64>,
     max_tilt_rate_command_rad_per_s: Option<f64>,
+    controller: Option<PyControllerConfig>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params_or_default(params);
     finite(py, &[heading_deg], "heading_deg")?;
@@ -103,13 +110,15 @@ pub(crate) fn max_speed_ramp<'py>(
     // The study looks for the highest speed: the shaper's speed cap (2.0 m/s as designed)
     // must not end the ramp first, so by default it is the ramp's top.
     let config = Shaping {
+        controller: controller.map(|c| c.inner),
         max_speed_m_per_s: max_speed_m_per_s.or(Some(max_command_m_per_s)),
         max_accel_m_per_s2,
         max_jerk_m_per_s3,
         max_tilt_command_rad,
         max_tilt_rate_command_rad_per_s,
         wheel_mapping: None,
-        // The paper's configuration, as the Rust ramp study (`studies::ramp`) pins it.
+        // The paper's configuration, as the Rust ramp study (`studies::ramp`) pins it
+        // (without `controller`; with one, its own layers).
         traction_control: false,
         balance_point: false,
         imu_lean_time_constant_secs: None,

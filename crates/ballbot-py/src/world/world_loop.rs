@@ -9,7 +9,7 @@ use super::{Arr, finite, non_negative, params_or_default, step_rows, vec3};
 use crate::errors::world_error;
 use crate::errors::{Kind, core_error, error};
 use crate::log::log_error;
-use crate::params::PyWorldParams;
+use crate::params::{PyControllerConfig, PyWorldParams};
 use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_core::command::{Command, VelocityCommand};
 use ballbot_sim::rig::WorldRobot;
@@ -23,6 +23,11 @@ use std::path::PathBuf;
 /// lift the translation caps so that a ramp, not the shaper, sets the command.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Shaping {
+    /// The controller to start from (`controller=`, a `ControllerConfig`): replaces the
+    /// designed one; the overrides below still apply on top, except `traction_control` and
+    /// `balance_point`, which only choose the designed controller (the caller refuses them
+    /// with a controller, see [`Shaping::layers`]).
+    pub(crate) controller: Option<BallbotControllerConfig<f64>>,
     pub(crate) max_speed_m_per_s: Option<f64>,
     pub(crate) max_accel_m_per_s2: Option<f64>,
     pub(crate) max_jerk_m_per_s3: Option<f64>,
@@ -42,16 +47,43 @@ pub(crate) struct Shaping {
 }
 
 impl Shaping {
-    /// The controller designed from the robot with these overrides: the paper's configuration
-    /// (`BallbotControllerConfig::paper`) with the layers asked for; with both on, the shipped
-    /// default (`BallbotControllerConfig::design`).
+    /// The `traction_control` and `balance_point` keywords (`None`: not given) as the layers
+    /// of the designed controller (`None` is on); with a `controller` they are an error, as
+    /// its own `traction.enabled` and `balance_point.enabled` say which layers run.
+    pub(crate) fn layers(
+        py: Python<'_>,
+        controller: Option<&PyControllerConfig>,
+        traction_control: Option<bool>,
+        balance_point: Option<bool>,
+    ) -> PyResult<(bool, bool)> {
+        if controller.is_some() && (traction_control.is_some() || balance_point.is_some()) {
+            return Err(error(
+                py,
+                Kind::Parameter,
+                "`traction_control` and `balance_point` choose the layers of the designed \
+                 controller; with `controller=` its own `traction.enabled` and \
+                 `balance_point.enabled` decide (set them with `ControllerConfig.replace`)",
+            ));
+        }
+        Ok((
+            traction_control.unwrap_or(true),
+            balance_point.unwrap_or(true),
+        ))
+    }
+
+    /// The controller with these overrides: `controller` if given, else the one designed from
+    /// the robot, the paper's configuration (`BallbotControllerConfig::paper`) with the layers
+    /// asked for (with both on, the shipped default, `BallbotControllerConfig::design`); then
+    /// the shaping caps, the wheel mapping and the IMU-lean correction given.
     pub(crate) fn config(
         &self,
         py: Python<'_>,
         params: &WorldParams,
     ) -> PyResult<BallbotControllerConfig<f64>> {
-        let mut config =
-            BallbotControllerConfig::paper(&params.robot).map_err(|e| core_error(py, e))?;
+        let mut config = match self.controller {
+            Some(config) => config,
+            None => BallbotControllerConfig::paper(&params.robot).map_err(|e| core_error(py, e))?,
+        };
         let shaping = &mut config.shaping;
         for (value, name, slot) in [
             (
@@ -99,11 +131,13 @@ impl Shaping {
         if let Some(mapping) = self.wheel_mapping {
             config.wheel_mapping = mapping;
         }
-        if self.traction_control {
-            config = config.with_traction_control();
-        }
-        if self.balance_point {
-            config = config.with_balance_point_estimation();
+        if self.controller.is_none() {
+            if self.traction_control {
+                config = config.with_traction_control();
+            }
+            if self.balance_point {
+                config = config.with_balance_point_estimation();
+            }
         }
         if let Some(tau) = self.imu_lean_time_constant_secs {
             config = config.with_imu_lean_correction(tau);
@@ -144,6 +178,13 @@ world_class! {
     /// `imu_lean_time_constant_secs` corrects the measured tilt for an IMU attitude filter of
     /// that time constant (`BallbotControllerConfig::with_imu_lean_correction`; for the world's
     /// `SensorParams.preset("miapure")`, its `imu.filter_time_constant_secs`); default `None`.
+    ///
+    /// `controller` (a `ControllerConfig`, e.g. read from a controller file) replaces the
+    /// designed controller, its own robot model included (designed for another robot than the
+    /// world's, it runs as a model mismatch); the shaping keywords, `wheel_mapping` and
+    /// `imu_lean_time_constant_secs` still apply on top of it, while `traction_control` and
+    /// `balance_point` are then an error (the controller's `traction.enabled` and
+    /// `balance_point.enabled` decide).
     PyWorldLoop("WorldLoop") {
         inner: WorldRobot,
         world: |this| this.inner.world(),
@@ -155,7 +196,8 @@ world_class! {
             params = None, *, max_speed_m_per_s = None, max_accel_m_per_s2 = None,
             max_jerk_m_per_s3 = None, max_tilt_command_rad = None,
             max_tilt_rate_command_rad_per_s = None, wheel_mapping = None,
-            traction_control = true, balance_point = true, imu_lean_time_constant_secs = None,
+            traction_control = None, balance_point = None, imu_lean_time_constant_secs = None,
+            controller = None,
         ))]
         #[allow(clippy::too_many_arguments)]
         fn py_new(
@@ -167,11 +209,14 @@ world_class! {
             max_tilt_command_rad: Option<f64>,
             max_tilt_rate_command_rad_per_s: Option<f64>,
             wheel_mapping: Option<&str>,
-            traction_control: bool,
-            balance_point: bool,
+            traction_control: Option<bool>,
+            balance_point: Option<bool>,
             imu_lean_time_constant_secs: Option<f64>,
+            controller: Option<PyControllerConfig>,
         ) -> PyResult<Self> {
             let params = params_or_default(params);
+            let (traction_control, balance_point) =
+                Shaping::layers(py, controller.as_ref(), traction_control, balance_point)?;
             let wheel_mapping = wheel_mapping
                 .map(|name| {
                     name.parse::<WheelMapping>().map_err(|e| {
@@ -184,6 +229,7 @@ world_class! {
                 })
                 .transpose()?;
             let config = Shaping {
+                controller: controller.map(|c| c.inner),
                 max_speed_m_per_s,
                 max_accel_m_per_s2,
                 max_jerk_m_per_s3,
