@@ -158,33 +158,21 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 /// The robot's own `validate()`, part by part, so that every error names the whole key
 /// (`prefix` + `sagittal.ball_mass_kg`; the core's errors name the field alone).
 fn validate_robot(robot: &BallbotParams<f64>, prefix: &str) -> Result<(), ParamsFileError> {
-    let named = |part: &str, e: ballbot_core::Error| match e {
-        ballbot_core::Error::InvalidParameter { field, requirement } => ParamsFileError::Invalid {
-            key: format!("{prefix}{part}{field}"),
-            requirement: requirement.to_owned(),
-        },
-        other => ParamsFileError::Invalid {
-            key: format!("{prefix}{}", part.trim_end_matches('.')),
-            requirement: other.to_string(),
-        },
-    };
-    robot
-        .sagittal
-        .validate()
-        .map_err(|e| named("sagittal.", e))?;
-    robot.frontal.validate().map_err(|e| named("frontal.", e))?;
-    robot.spin.validate().map_err(|e| named("spin.", e))?;
+    let at = |part: &str, e: ballbot_core::Error| named(&format!("{prefix}{part}"), e);
+    robot.sagittal.validate().map_err(|e| at("sagittal.", e))?;
+    robot.frontal.validate().map_err(|e| at("frontal.", e))?;
+    robot.spin.validate().map_err(|e| at("spin.", e))?;
     robot
         .drivetrain
         .actuator
         .validate()
-        .map_err(|e| named("drivetrain.actuator.", e))?;
+        .map_err(|e| at("drivetrain.actuator.", e))?;
     robot
         .drivetrain
         .validate()
-        .map_err(|e| named("drivetrain.", e))?;
+        .map_err(|e| at("drivetrain.", e))?;
     // What is left is across parts (one ball for both planes); its field is already whole.
-    robot.validate().map_err(|e| named("", e))
+    robot.validate().map_err(|e| at("", e))
 }
 
 /// A core error as a file error whose key is `prefix` + the field the core names.
