@@ -93,6 +93,15 @@ impl<T: RealField + Copy> CommandShaperParams<T> {
     /// 0.5 rad and 5 rad/s, far above the lean and lean rate any feasible ramp needs (the
     /// equilibrium lean of 3 m/s^2 on MiaPURE is about 0.3 rad), so that the command, not the
     /// caps, is what a ramp study measures.
+    ///
+    /// ```
+    /// use ballbot_core::command::CommandShaperParams;
+    /// let (lean_rad, lean_rate_rad_per_s) = CommandShaperParams::<f64>::RAMP_TILT_CAPS;
+    /// // Above the rider's own caps, which a ramp would otherwise run into.
+    /// let rider = CommandShaperParams::<f64>::miapure();
+    /// assert!(lean_rad > rider.max_tilt_command_rad);
+    /// assert!(lean_rate_rad_per_s > rider.max_tilt_rate_command_rad_per_s);
+    /// ```
     pub const RAMP_TILT_CAPS: (f64, f64) = (0.5, 5.0);
 
     /// These caps raised so that a speed ramp to `top_speed_m_per_s` at `accel_m_per_s2` is

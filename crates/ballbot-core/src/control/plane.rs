@@ -9,6 +9,19 @@ use crate::wip::WipState;
 use nalgebra::RealField;
 
 /// A step's output of a [`PlaneController`]: its terms ([`Terms`]) and its status.
+///
+/// ```
+/// use ballbot_core::control::{LqrController, LqrGains, LqrOutput, PlaneOutput, StepStatus, Terms};
+/// use ballbot_core::{Wip, WipParams};
+/// use nalgebra::Vector4;
+/// let wip = Wip::new(WipParams::<f64>::miapure_60kg())?;
+/// let mut lqr = LqrController::new(LqrGains::for_wip(&wip, 83.9)?)?;
+/// let upright = lqr.step(&Vector4::zeros(), &Vector4::zeros(), 0.0025);
+/// // Upright and at rest: a nominal step that asks for no torque.
+/// assert_eq!(PlaneOutput::status(&upright), StepStatus::Nominal);
+/// assert_eq!(upright.term(<LqrOutput<f64> as Terms<f64>>::TERM_NAMES[0]), Some(0.0));
+/// # Ok::<(), ballbot_core::Error>(())
+/// ```
 pub trait PlaneOutput<T: Copy>: Terms<T> + Copy {
     /// Whether the step was nominal, saturated or rejected.
     fn status(&self) -> StepStatus;

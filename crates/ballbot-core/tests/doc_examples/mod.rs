@@ -79,6 +79,7 @@ pub(super) const CHECKED: &[&str] = &[
     "control/lqr_pi.rs",
     "control/motor_pi.rs",
     "control/pi_pd.rs",
+    "control/plane.rs",
     "control/terms.rs",
     "safety/mod.rs",
     "safety/fault.rs",
