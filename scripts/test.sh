@@ -15,8 +15,8 @@ cargo clippy --all-targets -- -D warnings
 step "clippy (Python bindings)"
 cargo clippy -p ballbot-py --all-targets -- -D warnings
 
-step "clippy (ballbot-sim without the plot feature, as the Python extension builds it)"
-cargo clippy -p ballbot-sim --no-default-features -- -D warnings
+step "clippy (ballbot-sim and ballbot-studies without the plot feature, as the Python extension builds them)"
+cargo clippy -p ballbot-sim -p ballbot-studies --no-default-features -- -D warnings
 
 step "layers: the Python extension links no command-line or plotting crate"
 # Procedural macros run at build time and are not linked (prost-derive uses anyhow).
@@ -24,6 +24,9 @@ if cargo tree -p ballbot-py -e normal,no-proc-macro | grep -E 'clap|indicatif|an
     echo "ballbot-py must not depend on clap, indicatif, anyhow or plotters" >&2
     exit 1
 fi
+
+step "layers: each crate depends only on the crates its row of ARCHITECTURE.md allows"
+python3 scripts/check-layers.py --self-test && python3 scripts/check-layers.py
 
 step "no import cycles"
 python3 scripts/check-cycles.py --self-test && python3 scripts/check-cycles.py
