@@ -19,12 +19,17 @@ use nalgebra::RealField;
 /// let upright = lqr.step(&Vector4::zeros(), &Vector4::zeros(), 0.0025);
 /// // Upright and at rest: a nominal step that asks for no torque.
 /// assert_eq!(PlaneOutput::status(&upright), StepStatus::Nominal);
+/// assert_eq!(PlaneOutput::torque_nm(&upright), upright.torque_nm);
 /// assert_eq!(upright.term(<LqrOutput<f64> as Terms<f64>>::TERM_NAMES[0]), Some(0.0));
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 pub trait PlaneOutput<T: Copy>: Terms<T> + Copy {
     /// Whether the step was nominal, saturated or rejected.
     fn status(&self) -> StepStatus;
+
+    /// The torque the step asks of the plane's drive (N m): the LQR's and the PI-PD's motor
+    /// torque, the LQR-PI outer loop's reference torque (its speed PI's feedforward).
+    fn torque_nm(&self) -> T;
 }
 
 /// One balancing plane's controller: from the measured and commanded WIP states
@@ -70,18 +75,27 @@ pub trait PlaneController<T: RealField + Copy> {
     fn reset(&mut self);
 }
 
-/// [`PlaneOutput`] for outputs with a `status` field.
+/// [`PlaneOutput`] for outputs with a `status` field and the named torque field.
 macro_rules! impl_plane_output {
-    ($($output:ident),+) => {$(
+    ($($output:ident => $torque:ident),+) => {$(
         impl<T: RealField + Copy> PlaneOutput<T> for $output<T> {
             #[inline]
             fn status(&self) -> StepStatus {
                 self.status
             }
+
+            #[inline]
+            fn torque_nm(&self) -> T {
+                self.$torque
+            }
         }
     )+};
 }
-impl_plane_output!(LqrOutput, PiPdOutput, LqrPiOuterOutput);
+impl_plane_output!(
+    LqrOutput => torque_nm,
+    PiPdOutput => torque_nm,
+    LqrPiOuterOutput => reference_torque_nm
+);
 
 /// [`PlaneController`] through the controller's inherent `step` and `reset`.
 macro_rules! impl_plane_controller {

@@ -16,8 +16,8 @@ use super::{
     DriveMeasurement, DriveSetpoint, OuterMeasurement, PlanarCommand, PlanarController, PlanarError,
 };
 use ballbot_core::control::{
-    LqrController, LqrGains, LqrOutput, LqrPiOuter, LqrPiOuterConfig, LqrPiOuterOutput,
-    PiPdController, PiPdGains, PiPdOutput, SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput,
+    LqrController, LqrGains, LqrPiOuter, LqrPiOuterConfig, LqrPiOuterOutput, PiPdController,
+    PiPdGains, PlaneController, PlaneOutput, SpeedCommand, SpeedPi, SpeedPiGains, SpeedPiOutput,
     StepStatus, Terms,
 };
 use ballbot_core::lqr::WipLqrWeights;
@@ -221,67 +221,49 @@ fn push_terms<O: Terms<f64>>(
     out.push(("status", f64::from(status.code())));
 }
 
-/// The paper's LQR in torque mode.
+/// A balancing-plane controller of the core in torque mode: its step's torque goes straight to
+/// the drive ([`PlaneController`]). [`LqrTorque`] and [`PiPdTorque`] are the paper's two.
 #[derive(Clone, Debug)]
-pub struct LqrTorque {
-    controller: LqrController<f64>,
-    last: Option<LqrOutput<f64>>,
+pub struct TorqueMode<C: PlaneController<f64>> {
+    name: &'static str,
+    controller: C,
+    last: Option<C::Output>,
 }
+
+/// The paper's LQR in torque mode.
+pub type LqrTorque = TorqueMode<LqrController<f64>>;
+
+/// The cascaded PI-PD in torque mode.
+pub type PiPdTorque = TorqueMode<PiPdController<f64>>;
 
 impl LqrTorque {
     /// An LQR torque controller with `gains`.
     pub fn new(gains: LqrGains<f64>) -> Result<Self, PlanarError> {
-        Ok(Self {
-            controller: LqrController::new(gains)?,
-            last: None,
-        })
+        Ok(TorqueMode::with_name("lqr", LqrController::new(gains)?))
     }
-}
-
-impl PlanarController for LqrTorque {
-    fn name(&self) -> &str {
-        "lqr"
-    }
-    fn outer_step(&mut self, m: &OuterMeasurement, c: &PlanarCommand, dt: f64) -> DriveSetpoint {
-        let out = self
-            .controller
-            .step(&measured_state(m), &command_state(c), dt);
-        self.last = Some(out);
-        DriveSetpoint {
-            torque_nm: out.torque_nm,
-            joint_rate_rad_per_s: None,
-        }
-    }
-    fn terms(&self, out: &mut Vec<(&'static str, f64)>) {
-        let status = self.last.map_or(StepStatus::Nominal, |o| o.status);
-        push_terms(self.last.as_ref(), status, out);
-    }
-    fn reset(&mut self) {
-        self.controller.reset();
-        self.last = None;
-    }
-}
-
-/// The cascaded PI-PD in torque mode.
-#[derive(Clone, Debug)]
-pub struct PiPdTorque {
-    controller: PiPdController<f64>,
-    last: Option<PiPdOutput<f64>>,
 }
 
 impl PiPdTorque {
     /// A PI-PD torque controller with `gains`.
     pub fn new(gains: PiPdGains<f64>) -> Result<Self, PlanarError> {
-        Ok(Self {
-            controller: PiPdController::new(gains)?,
-            last: None,
-        })
+        Ok(TorqueMode::with_name("pi_pd", PiPdController::new(gains)?))
     }
 }
 
-impl PlanarController for PiPdTorque {
+impl<C: PlaneController<f64>> TorqueMode<C> {
+    /// `controller` in torque mode, named `name` in logs and run summaries.
+    pub fn with_name(name: &'static str, controller: C) -> Self {
+        Self {
+            name,
+            controller,
+            last: None,
+        }
+    }
+}
+
+impl<C: PlaneController<f64>> PlanarController for TorqueMode<C> {
     fn name(&self) -> &str {
-        "pi_pd"
+        self.name
     }
     fn outer_step(&mut self, m: &OuterMeasurement, c: &PlanarCommand, dt: f64) -> DriveSetpoint {
         let out = self
@@ -289,12 +271,12 @@ impl PlanarController for PiPdTorque {
             .step(&measured_state(m), &command_state(c), dt);
         self.last = Some(out);
         DriveSetpoint {
-            torque_nm: out.torque_nm,
+            torque_nm: out.torque_nm(),
             joint_rate_rad_per_s: None,
         }
     }
     fn terms(&self, out: &mut Vec<(&'static str, f64)>) {
-        let status = self.last.map_or(StepStatus::Nominal, |o| o.status);
+        let status = self.last.map_or(StepStatus::Nominal, |o| o.status());
         push_terms(self.last.as_ref(), status, out);
     }
     fn reset(&mut self) {

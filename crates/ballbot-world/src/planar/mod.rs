@@ -25,7 +25,9 @@ pub use controller::{
     CommandProfile, DriveMeasurement, DriveSetpoint, OuterMeasurement, PlanarCommand,
     PlanarController,
 };
-pub use controllers::{ControllerKind, ControllerSettings, LqrPiCascade, LqrTorque, PiPdTorque};
+pub use controllers::{
+    ControllerKind, ControllerSettings, LqrPiCascade, LqrTorque, PiPdTorque, TorqueMode,
+};
 pub use error::PlanarError;
 pub use friction::{FrictionMode, TransmissionFriction};
 pub use plant::{PlanarPlant, PlantStep};

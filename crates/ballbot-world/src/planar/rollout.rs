@@ -29,7 +29,8 @@ use super::{
     PlanarError, PlanarSim, PlantStep, SensorParams, SimConfig, TransmissionFriction,
 };
 use ballbot_core::control::{
-    LqrController, LqrPiOuter, PiPdController, SpeedCommand, SpeedPi, StepStatus,
+    LqrController, LqrPiOuter, PiPdController, PlaneController, PlaneOutput, SpeedCommand, SpeedPi,
+    StepStatus,
 };
 use ballbot_core::{ActuatorParams, PlanarRobotParams, WipParams, WipState};
 
@@ -95,6 +96,18 @@ fn measured_state(m: &OuterMeasurement) -> WipState<f64> {
     )
 }
 
+/// One step of a plane controller in torque mode: its torque, no joint-rate reference, its
+/// status.
+fn torque_mode<C: PlaneController<f64>>(
+    controller: &mut C,
+    measured: &WipState<f64>,
+    command: &WipState<f64>,
+    dt_secs: f64,
+) -> (f64, Option<f64>, StepStatus) {
+    let o = PlaneController::step(controller, measured, command, dt_secs);
+    (o.torque_nm(), None, o.status())
+}
+
 impl PlanarController for Adapter {
     fn name(&self) -> &str {
         match self.controller {
@@ -108,14 +121,8 @@ impl PlanarController for Adapter {
         let s = measured_state(m);
         let command = self.command;
         let (torque_nm, joint_rate_rad_per_s, status) = match &mut self.controller {
-            RolloutController::Lqr(c) => {
-                let o = c.step(&s, &command, dt);
-                (o.torque_nm, None, o.status)
-            }
-            RolloutController::PiPd(c) => {
-                let o = c.step(&s, &command, dt);
-                (o.torque_nm, None, o.status)
-            }
+            RolloutController::Lqr(c) => torque_mode(c, &s, &command, dt),
+            RolloutController::PiPd(c) => torque_mode(c, &s, &command, dt),
             RolloutController::LqrPi { outer, .. } => {
                 let o = outer.step(&s, &command, dt);
                 let joint_rate = o.reference_ball_rate_rad_per_s - m.tilt_rate_rad_per_s;
@@ -146,8 +153,8 @@ impl PlanarController for Adapter {
 
     fn reset(&mut self) {
         match &mut self.controller {
-            RolloutController::Lqr(c) => c.reset(),
-            RolloutController::PiPd(c) => c.reset(),
+            RolloutController::Lqr(c) => PlaneController::reset(c),
+            RolloutController::PiPd(c) => PlaneController::reset(c),
             RolloutController::LqrPi { outer, inner } => {
                 outer.reset();
                 inner.reset();
