@@ -14,7 +14,10 @@ A number taken from a run is written between two markers that Markdown does not 
 The opening marker names a value of a summary by its path (dotted keys, `[i]` for a list item;
 a key may be a number, `max_speed_by_heading.180`) and, optionally, how to write it: a Python
 format spec (`.3f`, `.0f`, `+.2f`, `.1%`, `d`) or `sciN` (`6.1e5`: N decimals, no `+` or
-leading zeros in the exponent). Without one the value is written as JSON would (strings bare).
+leading zeros in the exponent); a `deg` prefix (`deg.2f`) writes an angle the summary holds in
+radians in degrees. `[*]` in a path takes every item of a list (`by_heading[*].envelope_m_per_s2`),
+and a `min` or `max` prefix (`min.2f`, `maxdeg.1f`) writes the smallest or largest of them (nulls
+left out). Without one the value is written as JSON would (strings bare).
 The value comes from the full `ballbot reproduce`'s `summary.json`, through
 `docs/figures/reproduce-figures.json`: the values the docs quote, by path, taken from a summary by
 `--import` (the whole summary is 5 MB). With a `quick:` prefix on the path it comes from
@@ -37,6 +40,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import re
 import sys
 import tempfile
@@ -47,9 +51,11 @@ SOURCES = {
     "full": ROOT / "docs/figures/reproduce-figures.json",
     "quick": ROOT / "scripts/reference/reproduce-quick-summary.json",
 }
-MARKER = re.compile(r"<!--=\s*(?P<path>\S+)(?:\s+(?P<fmt>\S+))?\s*-->(?P<text>.*?)<!--/-->", re.S)
+# A path and a format hold no `<` or `>`, so that a marker without a format cannot swallow the
+# `-->` that closes it (and with it the next marker).
+MARKER = re.compile(r"<!--=\s*(?P<path>[^\s<>]+)(?:\s+(?P<fmt>[^\s<>]+))?\s*-->(?P<text>.*?)<!--/-->", re.S)
 FIGURES_TAG = "$comment"
-STEP = re.compile(r"\.?([^.\[\]]+)|\[(\d+)\]")
+STEP = re.compile(r"\.?([^.\[\]]+)|\[(\d+|\*)\]")
 
 
 class RenderError(Exception):
@@ -69,6 +75,12 @@ def lookup(summary: object, path: str) -> object:
         if not m or m.end() == pos:
             raise RenderError(f"bad path `{path}` at `{path[pos:]}`")
         key, index = m.group(1), m.group(2)
+        if index == "*":
+            # Every item of a list: the rest of the path in each, as a list.
+            if not isinstance(node, list):
+                raise RenderError(f"`{path}`: `[*]` on something that is not a list")
+            rest = path[m.end() :].lstrip(".")
+            return [lookup(item, rest) if rest else item for item in node]
         try:
             if index is not None:
                 node = node[int(index)]  # type: ignore[index]
@@ -86,6 +98,23 @@ def write(value: object, fmt: str | None) -> str:
     """`value` written with `fmt`."""
     if fmt is None:
         return value if isinstance(value, str) else json.dumps(value)
+    reduce = re.match(r"(min|max)(?=[^a-z]|deg|sci|$)", fmt)
+    if reduce:
+        # The smallest or largest of a list (`[*]` in the path), nulls left out.
+        fmt = fmt[3:]
+        numbers = [v for v in value if v is not None] if isinstance(value, list) else None
+        if not numbers:
+            raise RenderError(f"cannot take the {reduce.group(1)} of {value!r}")
+        value = min(numbers) if reduce.group(1) == "min" else max(numbers)  # type: ignore[type-var]
+        if not fmt:
+            return json.dumps(value)
+    if fmt.startswith("deg"):
+        # An angle the summary holds in radians, written in degrees (the docs' unit).
+        fmt = fmt[3:]
+        try:
+            value = math.degrees(float(value))  # type: ignore[arg-type]
+        except (TypeError, ValueError) as e:
+            raise RenderError(f"cannot write {value!r} in degrees: {e}") from None
     sci = re.fullmatch(r"sci(\d)", fmt)
     try:
         if sci:
@@ -170,12 +199,15 @@ def run(files: list[Path], summaries: dict[str, object], check: bool) -> int:
 
 
 def self_test() -> int:
-    summary = {"a": {"b": [1.23456, {"c": "x"}], "180": 2.5, "big": 612345.6}, "n": 3}
+    summary = {"a": {"b": [1.23456, {"c": "x"}], "180": 2.5, "big": 612345.6, "half_pi": math.pi / 2, "rows": [{"v": 2.0}, {"v": None}, {"v": 0.5}]}, "n": 3}
     cases = [
         ("<!--= a.b[0] .2f -->?<!--/-->", "<!--= a.b[0] .2f -->1.23<!--/-->"),
         ("<!--= a.b[1].c -->?<!--/-->", "<!--= a.b[1].c -->x<!--/-->"),
         ("<!--= a.180 .1f -->2.5<!--/-->", "<!--= a.180 .1f -->2.5<!--/-->"),
         ("<!--= a.big sci1 -->?<!--/-->", "<!--= a.big sci1 -->6.1e5<!--/-->"),
+        ("<!--= a.b[1].c -->?<!--/--> <!--= n d -->?<!--/-->", "<!--= a.b[1].c -->x<!--/--> <!--= n d -->3<!--/-->"),
+        ("<!--= a.half_pi deg.1f -->?<!--/-->", "<!--= a.half_pi deg.1f -->90.0<!--/-->"),
+        ("<!--= a.rows[*].v min.1f -->?<!--/--> to <!--= a.rows[*].v max.1f -->?<!--/-->", "<!--= a.rows[*].v min.1f -->0.5<!--/--> to <!--= a.rows[*].v max.1f -->2.0<!--/-->"),
         ("<!--= quick:n d -->?<!--/--> and <!--= n -->0<!--/-->", "<!--= quick:n d -->4<!--/--> and <!--= n -->3<!--/-->"),
     ]
     failures = 0
@@ -184,7 +216,7 @@ def self_test() -> int:
         if got != expected:
             print(f"self-test: {source!r} -> {got!r}, expected {expected!r}", file=sys.stderr)
             failures += 1
-    for bad in ["<!--= a.zz -->?<!--/-->", "<!--= a.b[1].c .2f -->?<!--/-->", "<!--= other:n -->?<!--/-->"]:
+    for bad in ["<!--= a.zz -->?<!--/-->", "<!--= a.b[1].c .2f -->?<!--/-->", "<!--= a.b[1].c deg.1f -->?<!--/-->", "<!--= a.b[*] .1f -->?<!--/-->", "<!--= other:n -->?<!--/-->"]:
         try:
             render(bad, {"full": summary, "quick": {}}, "self-test")
             print(f"self-test: {bad!r} rendered, expected an error", file=sys.stderr)
@@ -197,7 +229,7 @@ def self_test() -> int:
         if run([doc], {"full": summary, "quick": {}}, check=True) != 1:
             print("self-test: --check passed a stale number", file=sys.stderr)
             failures += 1
-    total = len(cases) + 4
+    total = len(cases) + 6
     print(f"render-docs self-test: {total - failures}/{total} pass")
     return 1 if failures else 0
 
