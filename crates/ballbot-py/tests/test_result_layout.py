@@ -1,0 +1,131 @@
+"""What the native module's results look like from Python, pinned field by field: attribute
+names, types (float or int, enum class, nested result class), numpy dtypes, shapes and
+writability, and a few values, recorded in `result_layouts.json` from the hand-filled results
+(`set_item`): a change of how the bindings convert a result must not change them."""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+import json
+import os
+import pickle
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import ballbot
+from ballbot import _results
+
+FAST_BRAKING = ballbot.BrakingSettings(approach_accel_m_per_s2=1.0, settle_secs=0.2, cruise_secs=1.0)
+FAST_PUSH = ballbot.PushSettings(settle_secs=0.5, observe_secs=3.0, rest_within_secs=2.5)
+
+
+def layout(value: Any) -> Any:
+    """The type structure of a result: classes with their fields, arrays as
+    ``(dtype, shape, writeable, c_contiguous)``, enums as their class, lists item by item,
+    dicts key by key, scalars as their type's name."""
+    if isinstance(value, _results._Result):
+        fields = {f.name: layout(getattr(value, f.name)) for f in dataclasses.fields(value)}
+        return (type(value).__name__, fields)
+    if isinstance(value, np.ndarray):
+        flags = value.flags
+        # The number of rows depends on how long the run lasted: "n" (the values test checks
+        # that the columns of a result agree).
+        shape = ("n", *value.shape[1:]) if value.ndim else ()
+        return ("ndarray", str(value.dtype), shape, flags.writeable, flags.c_contiguous)
+    if isinstance(value, enum.Enum):
+        return ("enum", type(value).__name__)
+    if isinstance(value, list):
+        return [layout(v) for v in value]
+    if isinstance(value, tuple):
+        return ("tuple", [layout(v) for v in value])
+    if isinstance(value, dict):
+        return {k: layout(v) for k, v in value.items()}
+    return type(value).__name__
+
+LAYOUTS = Path(__file__).with_name("result_layouts.json")
+
+
+def _cases() -> dict[str, Any]:
+    quick = ballbot.MaxSpeedSettings(
+        quick=True,
+        trial_headings_deg=(180.0,),
+        map_headings_deg=(180.0,),
+        accel_bracket_m_per_s2=(2.0, 2.4),
+        accel_resolution_m_per_s2=0.2,
+    )
+    return {
+        "braking_run_no_trajectory": lambda: ballbot.braking_run(
+            heading_deg=180.0, duration_secs=0.3, settings=FAST_BRAKING
+        ),
+        "braking_study": lambda: ballbot.braking_study(
+            heading_deg=180.0,
+            durations_secs=[3.0, 1.0, 0.5],
+            bisection_resolution_secs=1.0,
+            settings=FAST_BRAKING,
+        ),
+        "push_trial": lambda: ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH),
+        "push_recovery_limit": lambda: ballbot.push_recovery_limit(
+            heading_deg=90.0, upper_ns=160.0, resolution_ns=40.0, settings=FAST_PUSH
+        ),
+        "max_speed_ramp": lambda: ballbot.max_speed_ramp(heading_deg=90.0),
+        "slow_ramp_trial": lambda: ballbot.slow_ramp_trial(heading_deg=180.0, seed=2),
+        "failing_acceleration": lambda: ballbot.failing_acceleration(
+            ballbot.WorldParams.preset("ideal_miapure_60kg"),
+            heading_deg=0.0,
+            accel_bracket_m_per_s2=(1.5, 2.0),
+            accel_resolution_m_per_s2=0.25,
+        ),
+        "max_speed_study": lambda: ballbot.max_speed_study(settings=quick),
+    }
+
+
+def _plain(value: Any) -> Any:
+    """As JSON has it (tuples become lists), to compare with the recorded file."""
+    return json.loads(json.dumps(value))
+
+
+@pytest.mark.parametrize("name", list(_cases()))
+def test_result_layout_is_unchanged(name: str) -> None:
+    # BALLBOT_RECORD_LAYOUTS=1 rewrites the file from this build (only on purpose: a change
+    # of a result's Python form is an API change for CHANGELOG.md).
+    got = _plain(layout(_cases()[name]()))
+    recorded = json.loads(LAYOUTS.read_text()) if LAYOUTS.exists() else {}
+    if os.environ.get("BALLBOT_RECORD_LAYOUTS") == "1":
+        recorded[name] = got
+        lines = [f"{json.dumps(k)}: {json.dumps(v, sort_keys=True)}" for k, v in sorted(recorded.items())]
+        LAYOUTS.write_text("{\n" + ",\n".join(lines) + "\n}\n")
+    assert got == recorded[name]
+
+
+def test_result_values_survive_the_conversion() -> None:
+    none = ballbot.braking_run(heading_deg=180.0, duration_secs=0.3, settings=FAST_BRAKING)
+    assert none.outcome is ballbot.BrakingOutcome.NO_TRAJECTORY
+    assert none.solve_status is ballbot.SolveStatus.INFEASIBLE
+    assert none.time_secs.shape == (0,) and none.cone_utilisation.shape == (0, 3)
+    assert none.happened is None and none.failure is None
+    study = ballbot.braking_study(
+        heading_deg=180.0, durations_secs=[3.0, 1.0], bisection_resolution_secs=None, settings=FAST_BRAKING
+    )
+    ok, bad = study.descent
+    assert ok.heading_deg == 180.0 and ok.duration_secs == 3.0 and study.bisection == []
+    assert isinstance(ok.telemetry_hash, int) and ok.telemetry_hash > 0
+    assert ok.peaks.cone_utilisation == [float(v) for v in ok.peaks.cone_utilisation]
+    assert len(ok.peaks.min_normal_force_n) == 3
+    assert 0.0 < ok.time_secs[0] < 0.01 and np.all(np.diff(ok.time_secs) > 0.0)
+    assert ok.normal_force_n.shape == (ok.time_secs.size, 3)
+    failure = bad.failure
+    assert isinstance(failure, ballbot.Failure) and isinstance(failure.kind, ballbot.FailureKind)
+    assert failure == pickle.loads(pickle.dumps(failure))
+    push = ballbot.push_trial(heading_deg=90.0, impulse_ns=5.0, settings=FAST_PUSH)
+    assert push.outcome is ballbot.PushOutcome.RECOVERED and push.failure is None
+    assert push.time_secs[0] < 0.0 < push.time_secs[-1]
+    assert isinstance(push.happened["events_dropped"], int)
+    trial = ballbot.slow_ramp_trial(heading_deg=180.0, seed=2)
+    assert trial.outcome.seed == 2 and isinstance(trial.outcome.seed, int)
+    assert trial.outcome.min_normal_force_n == float(np.min(trial.normal_force_n))
+    assert trial.max_cone_utilisation.tolist() == np.max(trial.cone_utilisation, axis=1).tolist()
+
