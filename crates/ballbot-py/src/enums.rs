@@ -8,8 +8,6 @@
 use ballbot_core::control::StepStatus;
 use ballbot_core::lqr::RiccatiStatus;
 use ballbot_core::safety::Mode;
-use ballbot_sim::studies::push::PushOutcome;
-use ballbot_sim::studies::world_braking::BrakingOutcome;
 use ballbot_sim::world::FailureKind;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -64,19 +62,6 @@ pub fn solve_status(
     status: ballbot_sim::trajopt::SolveStatus,
 ) -> PyResult<Bound<'_, PyAny>> {
     member(py, "SolveStatus", status.as_str())
-}
-
-/// `ballbot.BrakingOutcome`.
-pub fn braking_outcome<'py>(
-    py: Python<'py>,
-    outcome: &BrakingOutcome,
-) -> PyResult<Bound<'py, PyAny>> {
-    member(py, "BrakingOutcome", outcome.label())
-}
-
-/// `ballbot.PushOutcome`.
-pub fn push_outcome<'py>(py: Python<'py>, outcome: &PushOutcome) -> PyResult<Bound<'py, PyAny>> {
-    member(py, "PushOutcome", outcome.label())
 }
 
 /// Adds the name tables the Python enums check themselves against.

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 import json
+import math
 import os
 import pickle
 from pathlib import Path
@@ -129,3 +130,39 @@ def test_result_values_survive_the_conversion() -> None:
     assert trial.outcome.min_normal_force_n == float(np.min(trial.normal_force_n))
     assert trial.max_cone_utilisation.tolist() == np.max(trial.cone_utilisation, axis=1).tolist()
 
+
+
+def test_non_finite_floats_stay_floats() -> None:
+    # The conversion's rule (src/results.rs): an f64 is a Python float, NaN and inf included
+    # (a JSON detour would make them None).
+    nan, inf = float("nan"), float("inf")
+    data = {
+        "min_duration_secs": nan,
+        "infeasible_below_secs": inf,
+        "solution": None,
+        "solves": 3,
+    }
+    found = _results._build("MinBrakingTime", data)
+    assert isinstance(found, _results.MinBrakingTime)
+    assert math.isnan(found.min_duration_secs or 0.0) and found.infeasible_below_secs == inf
+    array = {"dtype": "f8", "shape": [2], "data": np.array([nan, -inf]).tobytes()}
+    peaks = _results._build(
+        "BrakingRun",
+        {
+            **{f: None for f in ("failure", "rest_speed_m_per_s", "solve_status", "plan_peak_tilt_rad",
+                                 "plan_cost_n2m2s", "happened")},
+            "heading_deg": 0.0, "duration_secs": 1.0, "outcome": "failed", "success": False,
+            "brake_start_secs": 0.0, "telemetry_hash": 1,
+            "peaks": {"cone_utilisation": [nan] * 3, "min_normal_force_n": [inf] * 3,
+                      "actuator_utilisation": [0.0] * 3, "tilt_rad": nan, "speed_error_m_per_s": 0.0,
+                      "slip_secs": 0.0},
+            **{f: array for f in ("time_secs", "command_m_per_s", "speed_m_per_s", "command_tilt_rad",
+                                   "tilt_rad")},
+            **{f: {"dtype": "f8", "shape": [0, 3], "data": b""}
+               for f in ("cone_utilisation", "normal_force_n", "actuator_utilisation")},
+        },
+    )
+    assert isinstance(peaks, _results.BrakingRun) and peaks.outcome is ballbot.BrakingOutcome.FAILED
+    assert math.isnan(peaks.peaks.tilt_rad) and peaks.peaks.min_normal_force_n == [inf] * 3
+    assert math.isnan(peaks.time_secs[0]) and peaks.time_secs[1] == -inf
+    assert peaks.time_secs.flags.writeable and peaks.cone_utilisation.shape == (0, 3)
