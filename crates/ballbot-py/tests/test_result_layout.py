@@ -11,6 +11,7 @@ import json
 import math
 import os
 import pickle
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -81,7 +82,18 @@ def _cases() -> dict[str, Any]:
             accel_resolution_m_per_s2=0.25,
         ),
         "max_speed_study": lambda: ballbot.max_speed_study(settings=quick),
+        "world_run": lambda: ballbot.World().run(200, [0.0, 0.0, 1.0], record_every=7),
+        "world_run_failed": lambda: ballbot.World().run(
+            40_000, [30.0, 0.0, 0.0], record_every=400, stop_on_failure=True
+        ),
+        "world_loop_run": lambda: ballbot.WorldLoop().run(800, [0.5, 0.0, 0.0], record_every=80),
+        "world_loop_run_logged": _logged_world_loop_run,
     }
+
+
+def _logged_world_loop_run() -> Any:
+    with tempfile.TemporaryDirectory() as tmp:
+        return ballbot.WorldLoop().run(80, log_path=Path(tmp) / "run.mcap", record_every=8)
 
 
 def _plain(value: Any) -> Any:
@@ -125,6 +137,15 @@ def test_result_values_survive_the_conversion() -> None:
     assert push.outcome is ballbot.PushOutcome.RECOVERED and push.failure is None
     assert push.time_secs[0] < 0.0 < push.time_secs[-1]
     assert isinstance(push.happened["events_dropped"], int)
+    world = ballbot.World().run(40_000, [30.0, 0.0, 0.0], record_every=400, stop_on_failure=True)
+    assert world.failure is not None and world.steps < 40_000
+    assert world.time_secs.size in ((world.steps - 1) // 400 + 1, (world.steps - 1) // 400 + 2)
+    assert world.slipping.dtype == np.bool_ and world.body_orientation.shape == (world.time_secs.size, 4)
+    assert world.torque_nm[0].tolist() == [30.0, 0.0, 0.0] and world.log_path is None
+    with tempfile.TemporaryDirectory() as tmp:
+        logged = ballbot.WorldLoop().run(80, log_path=Path(tmp) / "run.mcap", record_every=8)
+        assert logged.log_path == Path(tmp) / "run.mcap" and isinstance(logged.log_path, Path)
+    assert logged.command.shape == (10, 3) and logged.steps == 80
     trial = ballbot.slow_ramp_trial(heading_deg=180.0, seed=2)
     assert trial.outcome.seed == 2 and isinstance(trial.outcome.seed, int)
     assert trial.outcome.min_normal_force_n == float(np.min(trial.normal_force_n))
