@@ -7,7 +7,7 @@ dicts too) for users who want one; ``repr`` shows scalars and the shapes of arra
 The native module converts a result in one way (``src/results.rs``): the Rust result's serde
 form, as plain Python objects (``pythonize``), goes to :func:`_build`, which converts each
 field by its annotation here: arrays from their ``{"dtype", "shape", "data"}`` form, nested
-result classes, enums from their canonical names, ``Failure`` from its parts.
+result classes, enums from their canonical names, ``Failure`` from its parts, paths.
 """
 
 from __future__ import annotations
@@ -545,6 +545,8 @@ def _decode(hint: Any, value: Any) -> Any:
             return hint(value)
         if hint is Failure:
             return Failure._from_parts(**value)
+        if hint is Path:
+            return Path(value)
     return value
 
 
