@@ -88,7 +88,17 @@ def _cases() -> dict[str, Any]:
         ),
         "world_loop_run": lambda: ballbot.WorldLoop().run(800, [0.5, 0.0, 0.0], record_every=80),
         "world_loop_run_logged": _logged_world_loop_run,
+        "scenario_run": lambda: ballbot.Scenario.from_toml(SCENARIO).run(),
+        "scenario_run_logged": _logged_scenario_run,
     }
+
+
+SCENARIO = 'seed = 3\nduration_secs = 0.5\n[controller]\nkind = "lqr_pi"'
+
+
+def _logged_scenario_run() -> Any:
+    with tempfile.TemporaryDirectory() as tmp:
+        return ballbot.Scenario.from_toml(SCENARIO).run(log_path=Path(tmp) / "run.mcap")
 
 
 def _logged_world_loop_run() -> Any:
@@ -146,6 +156,10 @@ def test_result_values_survive_the_conversion() -> None:
         logged = ballbot.WorldLoop().run(80, log_path=Path(tmp) / "run.mcap", record_every=8)
         assert logged.log_path == Path(tmp) / "run.mcap" and isinstance(logged.log_path, Path)
     assert logged.command.shape == (10, 3) and logged.steps == 80
+    planar = ballbot.Scenario.from_toml(SCENARIO).run()
+    assert planar.state.shape == (planar.time_secs.size, 4) and planar.command.shape[1] == 3
+    assert set(np.unique(planar.saturated)) <= {0.0, 1.0} and planar.fault is None
+    assert isinstance(planar.end_time_secs, float) and planar.log_path is None
     trial = ballbot.slow_ramp_trial(heading_deg=180.0, seed=2)
     assert trial.outcome.seed == 2 and isinstance(trial.outcome.seed, int)
     assert trial.outcome.min_normal_force_n == float(np.min(trial.normal_force_n))
