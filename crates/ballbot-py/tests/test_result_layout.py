@@ -90,7 +90,15 @@ def _cases() -> dict[str, Any]:
         "world_loop_run_logged": _logged_world_loop_run,
         "scenario_run": lambda: ballbot.Scenario.from_toml(SCENARIO).run(),
         "scenario_run_logged": _logged_scenario_run,
+        "traction_status": lambda: _traction_loop().traction,
+        "traction_envelope": lambda: _traction_loop().traction_envelope(),
     }
+
+
+def _traction_loop() -> ballbot.WorldLoop:
+    loop = ballbot.WorldLoop()
+    loop.run(800, [0.5, 0.0, 0.0])
+    return loop
 
 
 SCENARIO = 'seed = 3\nduration_secs = 0.5\n[controller]\nkind = "lqr_pi"'
@@ -160,6 +168,11 @@ def test_result_values_survive_the_conversion() -> None:
     assert planar.state.shape == (planar.time_secs.size, 4) and planar.command.shape[1] == 3
     assert set(np.unique(planar.saturated)) <= {0.0, 1.0} and planar.fault is None
     assert isinstance(planar.end_time_secs, float) and planar.log_path is None
+    status = _traction_loop().traction
+    assert status is not None and isinstance(status.slipping, tuple) and len(status.slipping) == 3
+    assert status.slip_speed_m_per_s.shape == (3,) and isinstance(status.limited_steps, int)
+    envelope = _traction_loop().traction_envelope()
+    assert envelope is not None and envelope.heading_rad.shape == envelope.accel_m_per_s2.shape == (96,)
     trial = ballbot.slow_ramp_trial(heading_deg=180.0, seed=2)
     assert trial.outcome.seed == 2 and isinstance(trial.outcome.seed, int)
     assert trial.outcome.min_normal_force_n == float(np.min(trial.normal_force_n))
