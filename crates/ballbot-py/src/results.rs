@@ -58,7 +58,7 @@ pub fn build<'py, T: Serialize + ?Sized>(
 
 /// A numpy dtype the conversion carries: `f8`, `?` (bool) or `i1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Dtype {
+pub(crate) enum Dtype {
     F64,
     Bool,
     I8,
@@ -75,7 +75,7 @@ impl Dtype {
 }
 
 /// An element of an [`Array`]: its dtype and native-endian bytes.
-trait Element: Copy {
+pub(crate) trait Element: Copy {
     const DTYPE: Dtype;
     fn put(self, out: &mut Vec<u8>);
 }
@@ -109,6 +109,23 @@ pub struct Array {
     dtype: Dtype,
     shape: Vec<usize>,
     data: Vec<u8>,
+}
+
+impl Array {
+    /// A 1-D array, `(n,)`, of `values`.
+    pub(crate) fn column<T: Element>(values: impl IntoIterator<Item = T>) -> Self {
+        let mut data = Vec::new();
+        let mut n = 0;
+        for v in values {
+            v.put(&mut data);
+            n += 1;
+        }
+        Self {
+            dtype: T::DTYPE,
+            shape: vec![n],
+            data,
+        }
+    }
 }
 
 /// Bytes serialized as bytes (Python `bytes`), not as a sequence of integers.
