@@ -92,7 +92,26 @@ def _cases() -> dict[str, Any]:
         "scenario_run_logged": _logged_scenario_run,
         "traction_status": lambda: _traction_loop().traction,
         "traction_envelope": lambda: _traction_loop().traction_envelope(),
+        "gym_reset_info": lambda: _gym_episode()[0],
+        "gym_step_info_with_events": lambda: _gym_episode()[1][12],
+        "gym_step_info_at_the_end": lambda: _gym_episode()[1][-1],
     }
+
+
+def _gym_episode() -> tuple[dict[str, Any], list[dict[str, Any]]]:
+    """The reset's info and every step's info of test_gym's lean-and-let-go episode: opposite
+    torques on OW1 and OW2 for ten steps, then nothing, until it ends (contact events, a
+    termination, the episode's events at the end)."""
+    env = ballbot._core.GymEnv("balance")
+    _, reset_info = env.reset(seed=0, options={"initial_tilt_rad": [0.0, 0.0]})
+    lean = np.array([0.5, -0.5, 0.0], dtype=np.float32)
+    infos = []
+    for k in range(2000):
+        _, _, term, trunc, info = env.step(lean if k < 10 else np.zeros(3, dtype=np.float32))
+        infos.append(info)
+        if term or trunc:
+            break
+    return reset_info, infos
 
 
 def _traction_loop() -> ballbot.WorldLoop:
