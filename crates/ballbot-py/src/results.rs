@@ -12,7 +12,10 @@
 //! [`Array`] (`{"dtype", "shape", "data"}`, the values' native-endian bytes). A time series
 //! kept as rows in Rust (`Vec<Sample>`) becomes its columns through [`Columns`]: each field of
 //! the row type is one array, `(n,)` for a scalar, `(n, k)` for a `[_; k]`, named as the
-//! field. [`make`] is the older path (a dict of Python objects filled by hand) that the
+//! field. `pythonize` makes a fixed-size array (`[T; N]`, a serde tuple) a Python `tuple` and
+//! a `Vec` a `list`; `_build` turns either into what the annotation says (`list[float]`,
+//! `tuple[bool, bool, bool]`), but inside a field typed `dict[str, Any]` a `[T; N]` would stay
+//! a tuple. [`make`] is the older path (a dict of Python objects filled by hand) that the
 //! families not yet moved still use.
 
 use pyo3::prelude::*;
