@@ -92,10 +92,19 @@ def _cases() -> dict[str, Any]:
         "scenario_run_logged": _logged_scenario_run,
         "traction_status": lambda: _traction_loop().traction,
         "traction_envelope": lambda: _traction_loop().traction_envelope(),
+        "rollout_single": lambda: _rollout(np.array([0.1, 0.0, 0.0, 0.0])),
+        "rollout_batch": lambda: _rollout(np.zeros((5, 4))),
         "gym_reset_info": lambda: _gym_episode()[0],
         "gym_step_info_with_events": lambda: _gym_episode()[1][12],
         "gym_step_info_at_the_end": lambda: _gym_episode()[1][-1],
     }
+
+
+def _rollout(initial: Any) -> Any:
+    wip = ballbot.Wip(ballbot.WipParams.preset("miapure_60kg"))
+    lqr = ballbot.wip_lqr(wip, q=[100.0, 10.0, 1.0], r=0.1)
+    controller = ballbot.LqrController(lqr.controller_gains(max_torque_nm=83.9))
+    return ballbot.closed_loop_rollout(wip, controller, initial, n_steps=50)
 
 
 def _gym_episode() -> tuple[dict[str, Any], list[dict[str, Any]]]:
