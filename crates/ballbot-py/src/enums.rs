@@ -8,8 +8,6 @@
 use ballbot_core::control::StepStatus;
 use ballbot_core::lqr::RiccatiStatus;
 use ballbot_core::safety::Mode;
-use ballbot_sim::studies::push::PushOutcome;
-use ballbot_sim::studies::world_braking::BrakingOutcome;
 use ballbot_sim::world::FailureKind;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -38,45 +36,29 @@ pub fn member<'py>(py: Python<'py>, class_name: &str, name: &str) -> PyResult<Bo
     module.bind(py).getattr(class_name)?.call1((name,))
 }
 
-/// `ballbot.StepStatus`.
-pub fn step_status(py: Python<'_>, status: StepStatus) -> PyResult<Bound<'_, PyAny>> {
-    member(py, "StepStatus", status.as_str())
+/// One function per status enum, `name(py, value)`: the member of `ballbot._enums.<Class>`
+/// whose value is `value.as_str()`, the Rust enum's canonical name (written once, in Rust; the
+/// Python classes check themselves against it).
+macro_rules! python_enums {
+    ($($(#[$doc:meta])* $name:ident($ty:ty) => $class:literal;)*) => {$(
+        $(#[$doc])*
+        pub fn $name<'py>(py: Python<'py>, value: $ty) -> PyResult<Bound<'py, PyAny>> {
+            member(py, $class, value.as_str())
+        }
+    )*};
 }
 
-/// `ballbot.Mode`.
-pub fn mode(py: Python<'_>, mode: Mode) -> PyResult<Bound<'_, PyAny>> {
-    member(py, "Mode", mode.as_str())
-}
-
-/// `ballbot.FailureKind`.
-pub fn failure_kind<'py>(py: Python<'py>, kind: &FailureKind) -> PyResult<Bound<'py, PyAny>> {
-    member(py, "FailureKind", kind.as_str())
-}
-
-/// `ballbot.RiccatiStatus`.
-pub fn riccati_status(py: Python<'_>, status: RiccatiStatus) -> PyResult<Bound<'_, PyAny>> {
-    member(py, "RiccatiStatus", status.as_str())
-}
-
-/// `ballbot.SolveStatus` of the trajectory optimiser.
-pub fn solve_status(
-    py: Python<'_>,
-    status: ballbot_sim::trajopt::SolveStatus,
-) -> PyResult<Bound<'_, PyAny>> {
-    member(py, "SolveStatus", status.as_str())
-}
-
-/// `ballbot.BrakingOutcome`.
-pub fn braking_outcome<'py>(
-    py: Python<'py>,
-    outcome: &BrakingOutcome,
-) -> PyResult<Bound<'py, PyAny>> {
-    member(py, "BrakingOutcome", outcome.label())
-}
-
-/// `ballbot.PushOutcome`.
-pub fn push_outcome<'py>(py: Python<'py>, outcome: &PushOutcome) -> PyResult<Bound<'py, PyAny>> {
-    member(py, "PushOutcome", outcome.label())
+python_enums! {
+    /// `ballbot.StepStatus`.
+    step_status(StepStatus) => "StepStatus";
+    /// `ballbot.Mode`.
+    mode(Mode) => "Mode";
+    /// `ballbot.FailureKind`.
+    failure_kind(&FailureKind) => "FailureKind";
+    /// `ballbot.RiccatiStatus`.
+    riccati_status(RiccatiStatus) => "RiccatiStatus";
+    /// `ballbot.SolveStatus` of the trajectory optimiser.
+    solve_status(ballbot_sim::trajopt::SolveStatus) => "SolveStatus";
 }
 
 /// Adds the name tables the Python enums check themselves against.

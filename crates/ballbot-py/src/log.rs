@@ -4,7 +4,7 @@ use crate::errors::{Kind, error};
 use ballbot_sim::log::{LogError, McapLog};
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList};
+use pyo3::types::{PyDict, PyList};
 use serde_json::Value;
 
 /// Maps a log error: unreadable or malformed files, and a live view that cannot serve, to
@@ -17,31 +17,10 @@ pub fn log_error(py: Python<'_>, e: LogError) -> PyErr {
     error(py, kind, e.to_string())
 }
 
-/// A JSON value as plain Python objects.
+/// A JSON value as plain Python objects, through `pythonize` (as [`crate::results::build`]):
+/// an integer as an `int`, any other number as a `float`.
 pub fn json_to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match value {
-        Value::Null => py.None().into_bound(py),
-        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
-        Value::Number(n) => match n.as_i64() {
-            Some(i) => i.into_pyobject(py)?.into_any(),
-            None => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
-        },
-        Value::String(s) => s.into_pyobject(py)?.into_any(),
-        Value::Array(items) => {
-            let list = PyList::empty(py);
-            for item in items {
-                list.append(json_to_py(py, item)?)?;
-            }
-            list.into_any()
-        }
-        Value::Object(map) => {
-            let d = PyDict::new(py);
-            for (k, v) in map {
-                d.set_item(k, json_to_py(py, v)?)?;
-            }
-            d.into_any()
-        }
-    })
+    Ok(pythonize::pythonize(py, value)?)
 }
 
 /// An MCAP log read into memory, complete or recovered from a killed writer.

@@ -1,10 +1,11 @@
 //! The planar simulator (`ballbot_sim::planar`, `ballbot_sim::studies::scenario`) and the PIPTB
 //! controller comparison (`ballbot_sim::studies::piptb`, what `ballbot reproduce` runs).
-//! Runs release the GIL; results come back as dicts of numpy arrays plus the MCAP path.
+//! Runs release the GIL; a scenario's run comes back through [`crate::results::build`], the
+//! PIPTB comparison as a hand-filled dict.
 
-use crate::arrays::rows_out;
 use crate::errors::{Kind, error};
 use crate::log::json_to_py;
+use crate::results::Columns;
 use ballbot_sim::log::planar::McapRecorder;
 use ballbot_sim::log::{LoggerOptions, McapLogger};
 use ballbot_sim::planar::{ControllerKind, Fault, Observer, OuterTick};
@@ -15,7 +16,8 @@ use ballbot_sim::studies::scenario::{Scenario, ScenarioError};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::path::PathBuf;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
 
 fn scenario_error(py: Python<'_>, e: ScenarioError) -> PyErr {
     let kind = match e {
@@ -34,38 +36,60 @@ fn experiment_error(py: Python<'_>, e: ExperimentError) -> PyErr {
     error(py, kind, e.to_string())
 }
 
-/// What a run records at every tick of the main controller.
+/// What a run records at every tick of the main controller: one [`Tick`] per tick and the
+/// fault that stopped it.
 #[derive(Default)]
 struct Recorder {
-    time_secs: Vec<f64>,
-    state: Vec<[f64; 4]>,
-    command: Vec<[f64; 3]>,
-    requested_torque_nm: Vec<f64>,
-    torque_nm: Vec<f64>,
-    friction_torque_nm: Vec<f64>,
-    saturated: Vec<f64>,
+    ticks: Vec<Tick>,
     fault: Option<String>,
+}
+
+/// One tick as `ScenarioRun`'s columns have it (through [`Columns`], named as the fields).
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+struct Tick {
+    time_secs: f64,
+    /// True `[theta, phi, theta_dot, phi_dot]`.
+    state: [f64; 4],
+    /// `[theta_c, theta_dot_c, phi_dot_c]`.
+    command: [f64; 3],
+    requested_torque_nm: f64,
+    /// Delivered.
+    torque_nm: f64,
+    friction_torque_nm: f64,
+    /// 1.0 when saturated, else 0.0.
+    saturated: f64,
 }
 
 impl Observer for Recorder {
     fn outer_tick(&mut self, tick: &OuterTick<'_>) {
-        self.time_secs.push(tick.time_secs);
-        self.state.push(tick.state.into());
-        self.command.push([
-            tick.command.tilt_rad,
-            tick.command.tilt_rate_rad_per_s,
-            tick.command.ball_rate_rad_per_s,
-        ]);
-        self.requested_torque_nm.push(tick.step.requested_torque_nm);
-        self.torque_nm.push(tick.step.applied_torque_nm);
-        self.friction_torque_nm.push(tick.step.friction_torque_nm);
-        self.saturated
-            .push(if tick.step.saturated { 1.0 } else { 0.0 });
+        self.ticks.push(Tick {
+            time_secs: tick.time_secs,
+            state: tick.state.into(),
+            command: [
+                tick.command.tilt_rad,
+                tick.command.tilt_rate_rad_per_s,
+                tick.command.ball_rate_rad_per_s,
+            ],
+            requested_torque_nm: tick.step.requested_torque_nm,
+            torque_nm: tick.step.applied_torque_nm,
+            friction_torque_nm: tick.step.friction_torque_nm,
+            saturated: if tick.step.saturated { 1.0 } else { 0.0 },
+        });
     }
 
     fn fault(&mut self, fault: &Fault) {
         self.fault = Some(format!("{:?} at {:.4} s", fault.kind, fault.time_secs));
     }
+}
+
+/// A scenario's run as `ballbot._results.ScenarioRun` has it.
+#[derive(Serialize)]
+struct ScenarioRunView<'a> {
+    #[serde(flatten)]
+    ticks: Columns<'a, Tick>,
+    end_time_secs: f64,
+    fault: Option<&'a str>,
+    log_path: Option<&'a Path>,
 }
 
 /// Why a scenario run failed after it was validated.
@@ -143,31 +167,17 @@ impl PyScenario {
             Err(RunError::Scenario(e)) => return Err(scenario_error(py, e)),
             Err(RunError::Log(m)) => return Err(error(py, Kind::File, m)),
         };
-        let d = PyDict::new(py);
-        d.set_item("time_secs", PyArray1::from_vec(py, rec.time_secs))?;
-        d.set_item("state", rows_out(py, rec.state, false)?)?;
-        d.set_item("command", rows_out(py, rec.command, false)?)?;
-        d.set_item(
-            "requested_torque_nm",
-            PyArray1::from_vec(py, rec.requested_torque_nm),
-        )?;
-        d.set_item("torque_nm", PyArray1::from_vec(py, rec.torque_nm))?;
-        d.set_item(
-            "friction_torque_nm",
-            PyArray1::from_vec(py, rec.friction_torque_nm),
-        )?;
-        d.set_item("saturated", PyArray1::from_vec(py, rec.saturated))?;
-        d.set_item("end_time_secs", end_time_secs)?;
-        d.set_item("fault", rec.fault)?;
-        d.set_item("log_path", log_path)?;
-        crate::results::make(py, "ScenarioRun", d)
+        let view = ScenarioRunView {
+            ticks: Columns(&rec.ticks),
+            end_time_secs,
+            fault: rec.fault.as_deref(),
+            log_path: log_path.as_deref(),
+        };
+        crate::results::build(py, "ScenarioRun", &view)
     }
 }
 
-fn run_scenario(
-    scenario: &Scenario,
-    log_path: Option<&std::path::Path>,
-) -> Result<(Recorder, f64), RunError> {
+fn run_scenario(scenario: &Scenario, log_path: Option<&Path>) -> Result<(Recorder, f64), RunError> {
     let robot = scenario.robot.params().map_err(RunError::Scenario)?;
     let mut sim = scenario.simulator().map_err(RunError::Scenario)?;
     let mut controller = scenario

@@ -1615,6 +1615,10 @@ class Failure:
     def wheel_index(self) -> Optional[int]: ...
     @property
     def tilt_rad(self) -> Optional[float]: ...
+    @staticmethod
+    def _from_parts(
+        kind: str, wheel: Optional[int], tilt_rad: Optional[float], time_secs: float
+    ) -> Failure: ...
 
 
 @final

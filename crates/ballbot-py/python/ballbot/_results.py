@@ -3,13 +3,22 @@
 Frozen dataclasses with typed attributes (numpy arrays, floats, nested results), built by the
 native module from the Rust result. ``to_dict()`` gives the plain dict (nested results become
 dicts too) for users who want one; ``repr`` shows scalars and the shapes of arrays.
+
+The native module converts a result in one way (``src/results.rs``): the Rust result's serde
+form, as plain Python objects (``pythonize``), goes to :func:`_build`, which converts each
+field by its annotation here: arrays from their ``{"dtype", "shape", "data"}`` form, nested
+result classes, enums from their canonical names, ``Failure`` from its parts, paths.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import enum
+import functools
+import sys
+import typing
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -501,6 +510,57 @@ class PiptbExperiment(_Result):
     controllers_until_stopped: dict[str, dict[str, Any]]
     """The same shape, braking phase ``[t2, t3]`` with ``t3`` when the testbed stopped (the
     speed within the stop band for the stop hold; ``t3_capped`` when it never did)."""
+
+
+@functools.lru_cache(maxsize=None)
+def _hints(cls: type) -> dict[str, Any]:
+    module = sys.modules[cls.__module__]
+    return typing.get_type_hints(cls, vars(module))
+
+
+def _decode(hint: Any, value: Any) -> Any:
+    """``value`` (plain Python objects from the native module) as the annotation ``hint``
+    says: the one place where the serde form becomes numpy arrays, result classes, enums and
+    ``Failure``s."""
+    if value is None:
+        return None
+    origin = typing.get_origin(hint)
+    args = typing.get_args(hint)
+    if origin is Union:
+        (inner,) = [a for a in args if a is not type(None)]
+        return _decode(inner, value)
+    if origin is np.ndarray:
+        flat = np.frombuffer(value["data"], dtype=np.dtype(value["dtype"]))
+        return flat.reshape(value["shape"]).copy()
+    if origin is list:
+        return [_decode(args[0], v) for v in value]
+    if origin is tuple:
+        return tuple(_decode(a, v) for a, v in zip(args, value))
+    if origin is dict:
+        return {_decode(args[0], k): _decode(args[1], v) for k, v in value.items()}
+    if isinstance(hint, type):
+        if issubclass(hint, _Result):
+            return _build(hint.__name__, value)
+        if issubclass(hint, enum.Enum):
+            return hint(value)
+        if hint is Failure:
+            return Failure._from_parts(**value)
+        if hint is Path:
+            return Path(value)
+    return value
+
+
+def _build(class_name: str, data: dict[str, Any]) -> _Result:
+    """The result class ``class_name`` from the native module's plain form of it (a dict
+    with one entry per field, no other)."""
+    cls = globals()[class_name]
+    hints = _hints(cls)
+    fields = {f.name: _decode(hints[f.name], data[f.name]) for f in dataclasses.fields(cls)}
+    extra = data.keys() - fields.keys()
+    if extra:
+        raise TypeError(f"{class_name}: unexpected fields {sorted(extra)}")
+    result: _Result = cls(**fields)
+    return result
 
 
 __all__ = [

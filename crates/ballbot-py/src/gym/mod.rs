@@ -11,8 +11,7 @@ use ballbot_sim::gym::{
     BallbotEnv, CommandRanges, EnvConfig, EpisodeDraw, GymError, Randomization, ResetInfo,
     ResetOptions, RewardWeights, StepInfo, Task,
 };
-use ballbot_sim::rig::{Event, EventKind};
-use ballbot_sim::world::wheel_name;
+use ballbot_sim::rig::Event;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde::de::DeserializeOwned;
@@ -165,6 +164,8 @@ pub(crate) fn reset_info<'py>(py: Python<'py>, info: &ResetInfo) -> PyResult<Bou
     Ok(d)
 }
 
+/// The draw through its JSON text, as `json.loads` reads it: its `[f64; 2]` stays a list
+/// (`pythonize` would make a fixed-size array a tuple) and Python's dict is plain.
 fn draw_dict<'py>(py: Python<'py>, draw: &EpisodeDraw) -> PyResult<Bound<'py, PyAny>> {
     let text = serde_json::to_string(draw)
         .map_err(|e| error(py, Kind::Other, format!("episode draw: {e}")))?;
@@ -198,13 +199,21 @@ pub(crate) fn step_info<'py>(
     Ok(d)
 }
 
+/// Events as a list of dicts, the keys of their serde form (`ballbot world --json`): `kind`
+/// (`slip`, `lift_off`, `driver_trip`, `controller_fault`, `traction_limit`), `wheel`
+/// (`"OW1"`..) for the wheel events, `fault` for a controller fault, the peak under a key
+/// naming its unit (`peak_slip_m_per_s`, `min_normal_force_n`, `min_accel_limit_m_per_s2`),
+/// `onset_secs`, `duration_secs`, `ongoing`.
+fn events_list<'py>(py: Python<'py>, events: &[&Event]) -> PyResult<Bound<'py, PyList>> {
+    pythonize::pythonize(py, events)?
+        .cast_into::<PyList>()
+        .map_err(PyErr::from)
+}
+
 /// The events in progress during `env`'s last step (`BallbotEnv::step_events`), as dicts.
 pub(crate) fn step_events<'py>(py: Python<'py>, env: &BallbotEnv) -> PyResult<Bound<'py, PyList>> {
-    let list = PyList::empty(py);
-    for e in env.step_events() {
-        list.append(event_dict(py, e)?)?;
-    }
-    Ok(list)
+    let events: Vec<&Event> = env.step_events().collect();
+    events_list(py, &events)
 }
 
 /// The episode's events so far (`BallbotEnv::events`) as dicts, and how many were not kept
@@ -213,49 +222,11 @@ pub(crate) fn episode_events<'py>(
     py: Python<'py>,
     env: &BallbotEnv,
 ) -> PyResult<(Bound<'py, PyList>, u64)> {
-    let list = PyList::empty(py);
     let Some(log) = env.events() else {
-        return Ok((list, 0));
+        return Ok((PyList::empty(py), 0));
     };
-    for e in log.events() {
-        list.append(event_dict(py, e)?)?;
-    }
-    Ok((list, log.dropped()))
-}
-
-/// One event as a dict, the keys of its JSON form (`ballbot world --json`): `kind` (`slip`,
-/// `lift_off`, `driver_trip`, `controller_fault`, `traction_limit`), `wheel` (`"OW1"`..) for
-/// the wheel events, `fault` for a controller fault, the peak under a key naming its unit
-/// (`peak_slip_m_per_s`, `min_normal_force_n`, `min_accel_limit_m_per_s2`), `onset_secs`,
-/// `duration_secs`, `ongoing`.
-fn event_dict<'py>(py: Python<'py>, e: &Event) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("kind", e.kind.as_str())?;
-    match e.kind {
-        EventKind::Slip {
-            wheel,
-            peak_slip_m_per_s,
-        } => {
-            d.set_item("wheel", wheel_name(wheel))?;
-            d.set_item("peak_slip_m_per_s", peak_slip_m_per_s)?;
-        }
-        EventKind::LiftOff {
-            wheel,
-            min_normal_force_n,
-        } => {
-            d.set_item("wheel", wheel_name(wheel))?;
-            d.set_item("min_normal_force_n", min_normal_force_n)?;
-        }
-        EventKind::DriverTrip { wheel } => d.set_item("wheel", wheel_name(wheel))?,
-        EventKind::ControllerFault { fault } => d.set_item("fault", fault.as_str())?,
-        EventKind::TractionLimit {
-            min_accel_limit_m_per_s2,
-        } => d.set_item("min_accel_limit_m_per_s2", min_accel_limit_m_per_s2)?,
-    }
-    d.set_item("onset_secs", e.onset_secs)?;
-    d.set_item("duration_secs", e.duration_secs)?;
-    d.set_item("ongoing", e.ongoing)?;
-    Ok(d)
+    let events: Vec<&Event> = log.events().iter().collect();
+    Ok((events_list(py, &events)?, log.dropped()))
 }
 
 /// A finite action of three numbers.

@@ -3,14 +3,15 @@
 
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
-use crate::world::{PyFailure, params_or_default};
+use crate::results::{Columns, FailureParts};
+use crate::world::params_or_default;
+use ballbot_sim::rig::Happened;
 use ballbot_sim::studies::world_braking::{
-    BrakingError, BrakingOutcome, BrakingParams, BrakingRun, BrakingSample, BrakingStudyParams,
-    TrajectoryFeedforward, braking_run, braking_study,
+    BrakingError, BrakingOutcome, BrakingParams, BrakingPeaks, BrakingRun, BrakingSample,
+    BrakingStudyParams, TrajectoryFeedforward, braking_run, braking_study,
 };
-use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use serde::Serialize;
 
 fn braking_error(py: Python<'_>, e: BrakingError) -> PyErr {
     match e {
@@ -71,70 +72,68 @@ fn braking_params(
     Ok(p)
 }
 
-fn triples<'py>(
-    py: Python<'py>,
-    samples: &[BrakingSample],
-    f: fn(&BrakingSample) -> [f64; 3],
-) -> PyResult<Bound<'py, numpy::PyArrayDyn<f64>>> {
-    crate::world::table(py, samples.iter().map(f).collect())
+/// A braking run as `ballbot._results.BrakingRun` has it: the outcome's fields lifted to the
+/// top (`failure`, `rest_speed_m_per_s`, `solve_status`), the samples as columns.
+#[derive(Serialize)]
+struct BrakingRunView<'a> {
+    heading_deg: f64,
+    duration_secs: f64,
+    /// `BrakingOutcome::label`, a `ballbot.BrakingOutcome`'s value.
+    outcome: &'static str,
+    success: bool,
+    failure: Option<FailureParts>,
+    rest_speed_m_per_s: Option<f64>,
+    /// `SolveStatus::as_str`, a `ballbot.SolveStatus`'s value.
+    solve_status: Option<&'static str>,
+    brake_start_secs: f64,
+    plan_peak_tilt_rad: Option<f64>,
+    plan_cost_n2m2s: Option<f64>,
+    peaks: &'a BrakingPeaks,
+    #[serde(flatten)]
+    samples: Columns<'a, BrakingSample>,
+    telemetry_hash: u64,
+    happened: Option<&'a Happened>,
 }
 
-fn braking_run_dict<'py>(py: Python<'py>, run: &BrakingRun) -> PyResult<Bound<'py, PyAny>> {
-    let d = PyDict::new(py);
-    d.set_item("heading_deg", run.heading_deg)?;
-    d.set_item("duration_secs", run.duration_secs)?;
-    d.set_item("outcome", crate::enums::braking_outcome(py, &run.outcome)?)?;
-    d.set_item("success", run.outcome.is_success())?;
-    let (failure, rest_speed, status) = match run.outcome {
-        BrakingOutcome::Stopped { rest_speed_m_per_s } => (None, Some(rest_speed_m_per_s), None),
-        BrakingOutcome::NotAtRest {
-            rest_speed_m_per_s, ..
-        } => (None, Some(rest_speed_m_per_s), None),
-        BrakingOutcome::Failed(f) => (Some(PyFailure::from(f)), None, None),
-        BrakingOutcome::NoTrajectory { status } => (None, None, Some(status)),
-    };
-    d.set_item("failure", failure)?;
-    d.set_item("rest_speed_m_per_s", rest_speed)?;
-    d.set_item(
-        "solve_status",
-        status
-            .map(|s| crate::enums::solve_status(py, s))
-            .transpose()?,
-    )?;
-    d.set_item("brake_start_secs", run.brake_start_secs)?;
-    d.set_item("plan_peak_tilt_rad", run.plan_peak_tilt_rad)?;
-    d.set_item("plan_cost_n2m2s", run.plan_cost_n2m2s)?;
-    let peaks = PyDict::new(py);
-    let p = &run.peaks;
-    peaks.set_item("cone_utilisation", p.cone_utilisation.to_vec())?;
-    peaks.set_item("min_normal_force_n", p.min_normal_force_n.to_vec())?;
-    peaks.set_item("actuator_utilisation", p.actuator_utilisation.to_vec())?;
-    peaks.set_item("tilt_rad", p.tilt_rad)?;
-    peaks.set_item("speed_error_m_per_s", p.speed_error_m_per_s)?;
-    peaks.set_item("slip_secs", p.slip_secs)?;
-    d.set_item("peaks", crate::results::make(py, "BrakingPeaks", peaks)?)?;
-    let s = &run.samples;
-    let column = |f: fn(&BrakingSample) -> f64| PyArray1::from_vec(py, s.iter().map(f).collect());
-    d.set_item("time_secs", column(|x| x.time_secs))?;
-    d.set_item("command_m_per_s", column(|x| x.command_m_per_s))?;
-    d.set_item("speed_m_per_s", column(|x| x.speed_m_per_s))?;
-    d.set_item("command_tilt_rad", column(|x| x.command_tilt_rad))?;
-    d.set_item("tilt_rad", column(|x| x.tilt_rad))?;
-    d.set_item("cone_utilisation", triples(py, s, |x| x.cone_utilisation)?)?;
-    d.set_item("normal_force_n", triples(py, s, |x| x.normal_force_n)?)?;
-    d.set_item(
-        "actuator_utilisation",
-        triples(py, s, |x| x.actuator_utilisation)?,
-    )?;
-    d.set_item("telemetry_hash", run.telemetry_hash)?;
-    d.set_item(
-        "happened",
-        run.happened
-            .as_ref()
-            .map(|h| super::happened_dict(py, h))
-            .transpose()?,
-    )?;
-    crate::results::make(py, "BrakingRun", d)
+impl<'a> From<&'a BrakingRun> for BrakingRunView<'a> {
+    fn from(run: &'a BrakingRun) -> Self {
+        let (failure, rest_speed_m_per_s, solve_status) = match run.outcome {
+            BrakingOutcome::Stopped { rest_speed_m_per_s }
+            | BrakingOutcome::NotAtRest {
+                rest_speed_m_per_s, ..
+            } => (None, Some(rest_speed_m_per_s), None),
+            BrakingOutcome::Failed(f) => (Some(f.into()), None, None),
+            BrakingOutcome::NoTrajectory { status } => (None, None, Some(status.as_str())),
+        };
+        Self {
+            heading_deg: run.heading_deg,
+            duration_secs: run.duration_secs,
+            outcome: run.outcome.label(),
+            success: run.outcome.is_success(),
+            failure,
+            rest_speed_m_per_s,
+            solve_status,
+            brake_start_secs: run.brake_start_secs,
+            plan_peak_tilt_rad: run.plan_peak_tilt_rad,
+            plan_cost_n2m2s: run.plan_cost_n2m2s,
+            peaks: &run.peaks,
+            samples: Columns(&run.samples),
+            telemetry_hash: run.telemetry_hash,
+            happened: run.happened.as_ref(),
+        }
+    }
+}
+
+/// A braking study as `ballbot._results.BrakingStudy` has it.
+#[derive(Serialize)]
+struct BrakingStudyView<'a> {
+    heading_deg: f64,
+    shortest_success_secs: Option<f64>,
+    first_failure_secs: Option<f64>,
+    limit_secs: Option<f64>,
+    limit_failure_secs: Option<f64>,
+    descent: Vec<BrakingRunView<'a>>,
+    bisection: Vec<BrakingRunView<'a>>,
 }
 
 /// One braking run of the paper's Sec. V in the 3D world
@@ -192,7 +191,7 @@ pub(crate) fn py_braking_run<'py>(
     let run = py
         .detach(|| braking_run(world, &protocol, heading_deg, duration_secs, None))
         .map_err(|e| braking_error(py, e))?;
-    braking_run_dict(py, &run)
+    crate::results::build(py, "BrakingRun", &BrakingRunView::from(&run))
 }
 
 /// The paper's minimum-braking-time protocol at one heading
@@ -251,16 +250,14 @@ pub(crate) fn py_braking_study<'py>(
     let result = py
         .detach(|| braking_study(world, &protocol, &study, heading_deg, &mut |_| {}))
         .map_err(|e| braking_error(py, e))?;
-    let d = PyDict::new(py);
-    d.set_item("heading_deg", result.heading_deg)?;
-    d.set_item("shortest_success_secs", result.shortest_success_secs)?;
-    d.set_item("first_failure_secs", result.first_failure_secs)?;
-    d.set_item("limit_secs", result.limit_secs)?;
-    d.set_item("limit_failure_secs", result.limit_failure_secs)?;
-    let runs = |runs: &[BrakingRun]| -> PyResult<Vec<Bound<'py, PyAny>>> {
-        runs.iter().map(|r| braking_run_dict(py, r)).collect()
+    let view = BrakingStudyView {
+        heading_deg: result.heading_deg,
+        shortest_success_secs: result.shortest_success_secs,
+        first_failure_secs: result.first_failure_secs,
+        limit_secs: result.limit_secs,
+        limit_failure_secs: result.limit_failure_secs,
+        descent: result.descent.iter().map(BrakingRunView::from).collect(),
+        bisection: result.bisection.iter().map(BrakingRunView::from).collect(),
     };
-    d.set_item("descent", runs(&result.descent)?)?;
-    d.set_item("bisection", runs(&result.bisection)?)?;
-    crate::results::make(py, "BrakingStudy", d)
+    crate::results::build(py, "BrakingStudy", &view)
 }

@@ -3,15 +3,16 @@
 //! heading, the capability map and the mu / COM-height sensitivity.
 
 use crate::errors::{Kind, error, world_error};
-use crate::log::json_to_py;
 use crate::params::PyWorldParams;
-use crate::world::{PyFailure, params_or_default, ramp_dict};
+use crate::results::FailureParts;
+use crate::world::{RampRunView, params_or_default};
+use ballbot_sim::rig::Happened;
 use ballbot_sim::studies::max_speed::{
     FailingAccel, MaxSpeedProtocol, MaxSpeedStudySettings, TrialOutcome, failing_acceleration,
     run_study, slow_ramp_trial,
 };
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use serde::Serialize;
 
 /// The study's protocol with the search overrides, checked (the search divides by the
 /// resolution and assumes `0 < low < high`).
@@ -66,48 +67,97 @@ fn protocol(
     Ok(p)
 }
 
-fn outcome_dict<'py>(py: Python<'py>, o: &TrialOutcome) -> PyResult<Bound<'py, PyAny>> {
-    let d = PyDict::new(py);
-    d.set_item("heading_deg", o.heading_deg)?;
-    d.set_item("seed", o.seed)?;
-    d.set_item("accel_m_per_s2", o.accel_m_per_s2)?;
-    d.set_item("max_speed_m_per_s", o.max_speed_m_per_s)?;
-    d.set_item("censored", o.censored())?;
-    d.set_item("failure", o.failure.map(PyFailure::from))?;
-    d.set_item("peak_cone_utilisation", o.peak_cone_utilisation)?;
-    d.set_item("min_normal_force_n", o.min_normal_force_n)?;
-    d.set_item("peak_tilt_rad", o.peak_tilt_rad)?;
-    d.set_item("supervisor_stop_secs", o.supervisor_stop_secs)?;
-    d.set_item("happened", super::happened_dict(py, &o.happened)?)?;
-    crate::results::make(py, "TrialOutcome", d)
+/// A trial's outcome as `ballbot._results.TrialOutcome` has it.
+#[derive(Serialize)]
+struct TrialOutcomeView<'a> {
+    heading_deg: f64,
+    seed: u64,
+    accel_m_per_s2: f64,
+    max_speed_m_per_s: f64,
+    censored: bool,
+    failure: Option<FailureParts>,
+    peak_cone_utilisation: f64,
+    min_normal_force_n: f64,
+    peak_tilt_rad: f64,
+    supervisor_stop_secs: Option<f64>,
+    happened: &'a Happened,
 }
 
-fn failing_dict<'py>(py: Python<'py>, f: FailingAccel) -> PyResult<Bound<'py, PyAny>> {
-    let d = PyDict::new(py);
-    d.set_item("heading_deg", f.heading_deg)?;
-    d.set_item("largest_surviving_m_per_s2", f.largest_surviving_m_per_s2)?;
-    d.set_item("smallest_failing_m_per_s2", f.smallest_failing_m_per_s2)?;
-    d.set_item("censored", f.smallest_failing_m_per_s2.is_none())?;
-    d.set_item("text", f.text())?;
-    d.set_item("runs", f.runs)?;
-    let failing = f
-        .failing
-        .as_ref()
-        .map(|o| outcome_dict(py, o))
-        .transpose()?;
-    d.set_item("failing", failing)?;
-    let surviving = f
-        .surviving
-        .as_ref()
-        .map(|o| outcome_dict(py, o))
-        .transpose()?;
-    d.set_item("surviving", surviving)?;
-    let run = f
-        .failing_run
-        .map(|r| crate::results::make(py, "RampRun", ramp_dict(py, r)?))
-        .transpose()?;
-    d.set_item("failing_run", run)?;
-    crate::results::make(py, "FailingAcceleration", d)
+impl<'a> From<&'a TrialOutcome> for TrialOutcomeView<'a> {
+    fn from(o: &'a TrialOutcome) -> Self {
+        Self {
+            heading_deg: o.heading_deg,
+            seed: o.seed,
+            accel_m_per_s2: o.accel_m_per_s2,
+            max_speed_m_per_s: o.max_speed_m_per_s,
+            censored: o.censored(),
+            failure: o.failure.map(FailureParts::from),
+            peak_cone_utilisation: o.peak_cone_utilisation,
+            min_normal_force_n: o.min_normal_force_n,
+            peak_tilt_rad: o.peak_tilt_rad,
+            supervisor_stop_secs: o.supervisor_stop_secs,
+            happened: &o.happened,
+        }
+    }
+}
+
+/// A slow-ramp trial as `ballbot._results.SlowRampTrial` has it: the ramp and its outcome.
+#[derive(Serialize)]
+struct SlowRampTrialView<'a> {
+    #[serde(flatten)]
+    ramp: RampRunView<'a>,
+    outcome: TrialOutcomeView<'a>,
+}
+
+/// A failing-acceleration search as `ballbot._results.FailingAcceleration` has it.
+#[derive(Serialize)]
+struct FailingAccelerationView<'a> {
+    heading_deg: f64,
+    largest_surviving_m_per_s2: Option<f64>,
+    smallest_failing_m_per_s2: Option<f64>,
+    censored: bool,
+    text: String,
+    runs: usize,
+    failing: Option<TrialOutcomeView<'a>>,
+    surviving: Option<TrialOutcomeView<'a>>,
+    failing_run: Option<RampRunView<'a>>,
+}
+
+impl<'a> From<&'a FailingAccel> for FailingAccelerationView<'a> {
+    fn from(f: &'a FailingAccel) -> Self {
+        Self {
+            heading_deg: f.heading_deg,
+            largest_surviving_m_per_s2: f.largest_surviving_m_per_s2,
+            smallest_failing_m_per_s2: f.smallest_failing_m_per_s2,
+            censored: f.smallest_failing_m_per_s2.is_none(),
+            text: f.text(),
+            runs: f.runs,
+            failing: f.failing.as_ref().map(TrialOutcomeView::from),
+            surviving: f.surviving.as_ref().map(TrialOutcomeView::from),
+            failing_run: f.failing_run.as_ref().map(RampRunView::from),
+        }
+    }
+}
+
+/// The maximum-speed study as `ballbot._results.MaxSpeedStudy` has it: the summary's JSON
+/// record (`detail_json`, flattened), the speeds by heading, the table and the first ramp of
+/// each trial heading.
+#[derive(Serialize)]
+struct MaxSpeedStudyView<'a> {
+    #[serde(flatten)]
+    detail: serde_json::Value,
+    max_speed_by_heading: serde_json::Value,
+    table: String,
+    first_runs: FirstRuns<'a>,
+}
+
+/// The first ramp of each trial heading, keyed by the heading (deg).
+struct FirstRuns<'a>(Vec<(f64, RampRunView<'a>)>);
+
+impl Serialize for FirstRuns<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
 }
 
 /// One slow-ramp trial of the maximum-speed study
@@ -130,9 +180,11 @@ pub(crate) fn py_slow_ramp_trial<'py>(
     let (run, outcome) = py
         .detach(|| slow_ramp_trial(params, &protocol, heading_deg, seed))
         .map_err(|e| world_error(py, e))?;
-    let d = ramp_dict(py, run)?;
-    d.set_item("outcome", outcome_dict(py, &outcome)?)?;
-    crate::results::make(py, "SlowRampTrial", d)
+    let view = SlowRampTrialView {
+        ramp: RampRunView::from(&run),
+        outcome: TrialOutcomeView::from(&outcome),
+    };
+    crate::results::build(py, "SlowRampTrial", &view)
 }
 
 /// The failing-acceleration search at `heading_deg`
@@ -169,7 +221,11 @@ pub(crate) fn py_failing_acceleration<'py>(
     let found = py
         .detach(|| failing_acceleration(params, &protocol, heading_deg, seed))
         .map_err(|e| world_error(py, e))?;
-    failing_dict(py, found)
+    crate::results::build(
+        py,
+        "FailingAcceleration",
+        &FailingAccelerationView::from(&found),
+    )
 }
 
 /// The whole maximum-speed study as `ballbot reproduce` runs it
@@ -265,18 +321,17 @@ pub(crate) fn py_max_speed_study<'py>(
     let study = py
         .detach(|| run_study(params, &settings, &|_| {}))
         .map_err(|e| world_error(py, e))?;
-    let detail = json_to_py(py, &study.detail_json())?;
-    let d = detail.cast_into::<PyDict>().map_err(PyErr::from)?;
-    d.set_item(
-        "max_speed_by_heading",
-        json_to_py(py, &study.max_speed_by_heading_json())?,
-    )?;
-    d.set_item("table", study.table())?;
-    let first = PyDict::new(py);
-    for h in study.trials {
-        let run = crate::results::make(py, "RampRun", ramp_dict(py, h.first_run)?)?;
-        first.set_item(h.heading_deg, run)?;
-    }
-    d.set_item("first_runs", first)?;
-    crate::results::make(py, "MaxSpeedStudy", d)
+    let view = MaxSpeedStudyView {
+        detail: study.detail_json(),
+        max_speed_by_heading: study.max_speed_by_heading_json(),
+        table: study.table(),
+        first_runs: FirstRuns(
+            study
+                .trials
+                .iter()
+                .map(|h| (h.heading_deg, RampRunView::from(&h.first_run)))
+                .collect(),
+        ),
+    };
+    crate::results::build(py, "MaxSpeedStudy", &view)
 }

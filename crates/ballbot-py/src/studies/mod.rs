@@ -1,13 +1,12 @@
 //! The paper's experiments in the 3D world, each in Rust without the GIL: the maximum-speed
-//! study, braking, push recovery; and the reliability campaign (`robustness`). Results are built as `ballbot._results` classes.
+//! study, braking, push recovery; and the reliability campaign (`robustness`). Results are built as `ballbot._results` classes
+//! through [`crate::results::build`].
 
 mod braking;
 mod max_speed;
 mod push;
 mod robustness;
 
-use crate::errors::{Kind, error};
-use ballbot_sim::rig::Happened;
 use ballbot_sim::world::StopRules;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
@@ -25,14 +24,6 @@ fn stop_rules(py: Python<'_>, stop_on: &str) -> PyResult<StopRules> {
 #[pyfunction(name = "canonical_stop_rules")]
 fn py_canonical_stop_rules(py: Python<'_>, stop_on: &str) -> PyResult<String> {
     Ok(stop_rules(py, stop_on)?.to_string())
-}
-
-/// What happened in a world run as plain Python objects: `{"outcome": {"kind": ...,
-/// "time_secs": ...}, "events": [...], "events_dropped": n}` (the summary's JSON form).
-fn happened_dict<'py>(py: Python<'py>, happened: &Happened) -> PyResult<Bound<'py, PyAny>> {
-    let value =
-        serde_json::to_value(happened).map_err(|e| error(py, Kind::Other, e.to_string()))?;
-    crate::log::json_to_py(py, &value)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

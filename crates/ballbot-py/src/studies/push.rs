@@ -3,13 +3,14 @@
 
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
-use crate::world::{PyFailure, params_or_default};
+use crate::results::{Columns, FailureParts};
+use crate::world::params_or_default;
+use ballbot_sim::rig::Happened;
 use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSample, PushSearch, PushTrial, push_recovery_limit, push_trial,
 };
-use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use serde::Serialize;
 
 fn push_params(
     push_duration_secs: Option<f64>,
@@ -41,31 +42,53 @@ fn push_params(
     p
 }
 
-fn push_trial_dict<'py>(py: Python<'py>, t: &PushTrial) -> PyResult<Bound<'py, PyAny>> {
-    let d = PyDict::new(py);
-    d.set_item("heading_deg", t.heading_deg)?;
-    d.set_item("impulse_ns", t.impulse_ns)?;
-    d.set_item("outcome", crate::enums::push_outcome(py, &t.outcome)?)?;
-    d.set_item("recovered", t.recovered())?;
-    let failure = match t.outcome {
-        PushOutcome::Failed(f) => Some(PyFailure::from(f)),
-        _ => None,
-    };
-    d.set_item("failure", failure)?;
-    d.set_item("peak_tilt_rad", t.peak_tilt_rad)?;
-    d.set_item("peak_speed_m_per_s", t.peak_speed_m_per_s)?;
-    d.set_item("rest_speed_m_per_s", t.rest_speed_m_per_s)?;
-    let s = &t.samples;
-    let column = |f: fn(&PushSample) -> f64| PyArray1::from_vec(py, s.iter().map(f).collect());
-    d.set_item("time_secs", column(|x| x.time_secs))?;
-    d.set_item("tilt_rad", column(|x| x.tilt_rad))?;
-    d.set_item("speed_m_per_s", column(|x| x.speed_m_per_s))?;
-    d.set_item("max_cone_utilisation", column(|x| x.max_cone_utilisation))?;
-    let v: Vec<[f64; 2]> = s.iter().map(|x| x.ball_velocity_m_per_s).collect();
-    d.set_item("ball_velocity_m_per_s", crate::world::table(py, v)?)?;
-    d.set_item("telemetry_hash", t.telemetry_hash)?;
-    d.set_item("happened", super::happened_dict(py, &t.happened)?)?;
-    crate::results::make(py, "PushTrial", d)
+/// A push trial as `ballbot._results.PushTrial` has it: the failure lifted out of the
+/// outcome, the samples as columns.
+#[derive(Serialize)]
+struct PushTrialView<'a> {
+    heading_deg: f64,
+    impulse_ns: f64,
+    /// `PushOutcome::label`, a `ballbot.PushOutcome`'s value.
+    outcome: &'static str,
+    recovered: bool,
+    failure: Option<FailureParts>,
+    peak_tilt_rad: f64,
+    peak_speed_m_per_s: f64,
+    rest_speed_m_per_s: f64,
+    #[serde(flatten)]
+    samples: Columns<'a, PushSample>,
+    telemetry_hash: u64,
+    happened: &'a Happened,
+}
+
+impl<'a> From<&'a PushTrial> for PushTrialView<'a> {
+    fn from(t: &'a PushTrial) -> Self {
+        Self {
+            heading_deg: t.heading_deg,
+            impulse_ns: t.impulse_ns,
+            outcome: t.outcome.label(),
+            recovered: t.recovered(),
+            failure: match t.outcome {
+                PushOutcome::Failed(f) => Some(f.into()),
+                _ => None,
+            },
+            peak_tilt_rad: t.peak_tilt_rad,
+            peak_speed_m_per_s: t.peak_speed_m_per_s,
+            rest_speed_m_per_s: t.rest_speed_m_per_s,
+            samples: Columns(&t.samples),
+            telemetry_hash: t.telemetry_hash,
+            happened: &t.happened,
+        }
+    }
+}
+
+/// A push-recovery search as `ballbot._results.PushRecovery` has it.
+#[derive(Serialize)]
+struct PushRecoveryView<'a> {
+    heading_deg: f64,
+    largest_recovered_ns: f64,
+    smallest_failing_ns: Option<f64>,
+    trials: Vec<PushTrialView<'a>>,
 }
 
 /// One push-recovery trial (`ballbot_sim::studies::push::push_trial`): the robot stands still
@@ -118,7 +141,7 @@ pub(crate) fn py_push_trial<'py>(
     let trial = py
         .detach(|| push_trial(world, &protocol, heading_deg, impulse_ns))
         .map_err(|e| world_error(py, e))?;
-    push_trial_dict(py, &trial)
+    crate::results::build(py, "PushTrial", &PushTrialView::from(&trial))
 }
 
 /// The largest push recovered at `heading_deg` (`ballbot_sim::studies::push::push_recovery_limit`):
@@ -172,15 +195,11 @@ pub(crate) fn py_push_recovery_limit<'py>(
     let found = py
         .detach(|| push_recovery_limit(world, &protocol, &search, heading_deg, &mut |_| {}))
         .map_err(|e| world_error(py, e))?;
-    let d = PyDict::new(py);
-    d.set_item("heading_deg", found.heading_deg)?;
-    d.set_item("largest_recovered_ns", found.largest_recovered_ns)?;
-    d.set_item("smallest_failing_ns", found.smallest_failing_ns)?;
-    let trials: Vec<Bound<'py, PyAny>> = found
-        .trials
-        .iter()
-        .map(|t| push_trial_dict(py, t))
-        .collect::<PyResult<_>>()?;
-    d.set_item("trials", trials)?;
-    crate::results::make(py, "PushRecovery", d)
+    let view = PushRecoveryView {
+        heading_deg: found.heading_deg,
+        largest_recovered_ns: found.largest_recovered_ns,
+        smallest_failing_ns: found.smallest_failing_ns,
+        trials: found.trials.iter().map(PushTrialView::from).collect(),
+    };
+    crate::results::build(py, "PushRecovery", &view)
 }

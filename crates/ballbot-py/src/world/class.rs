@@ -3,7 +3,7 @@
 
 use super::live::PyLiveView;
 use super::telemetry::{PyFailure, PyMeasurement, PyStepTelemetry, vec_out};
-use super::trace::{RunOptions, Trace, finish_log, finish_run, logger, run_steps};
+use super::trace::{RunOptions, TorqueInput, Trace, finish_log, finish_run, logger, run_steps};
 use super::{Arr, finite, non_negative, params_or_default, step_rows, vec3};
 use crate::errors::world_error;
 use crate::log::log_error;
@@ -279,7 +279,7 @@ world_class! {
         ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, torque_nm, options.n_steps(), "torque_nm")?;
-            let trace = Trace::with_capacity(options.records())?;
+            let trace = Trace::<TorqueInput>::with_capacity(options.records())?;
             let mut log = logger(
                 py,
                 log_path.as_deref(),
@@ -299,9 +299,7 @@ world_class! {
             });
             let (trace, steps) = result.map_err(|e| log_error(py, e))?;
             finish_log(py, log)?;
-            let d = finish_run(py, trace, "torque_nm", steps, self.inner.failure())?;
-            d.set_item("log_path", log_path)?;
-            crate::results::make(py, "WorldRun", d)
+            finish_run(py, "WorldRun", trace, steps, self.inner.failure(), log_path.as_deref())
         }
     }
 }

@@ -24,7 +24,6 @@ pub(crate) use export::*;
 pub(crate) use live::*;
 pub(crate) use ramp::*;
 pub(crate) use telemetry::*;
-pub(crate) use trace::*;
 pub(crate) use world_loop::*;
 
 pub(crate) type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;

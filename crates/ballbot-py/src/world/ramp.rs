@@ -1,49 +1,36 @@
 //! The maximum-speed ramp (`max_speed_ramp`) and its result.
 
-use super::telemetry::PyFailure;
-use super::trace::table;
 use super::world_loop::Shaping;
 use super::{finite, non_negative, params_or_default};
 use crate::errors::world_error;
 use crate::errors::{Kind, error};
 use crate::params::{PyControllerConfig, PyWorldParams};
-use ballbot_sim::studies::ramp::{RampParams, RampResult, max_speed_ramp_with_config};
-use numpy::PyArray1;
+use crate::results::{Columns, FailureParts};
+use ballbot_sim::studies::ramp::{RampParams, RampResult, RampSample, max_speed_ramp_with_config};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use serde::Serialize;
 
-pub fn ramp_dict<'py>(py: Python<'py>, r: RampResult) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("heading_deg", r.heading_deg)?;
-    d.set_item("max_speed_m_per_s", r.max_speed_m_per_s)?;
-    d.set_item("failure", r.failure.map(PyFailure::from))?;
-    d.set_item("supervisor_stop_secs", r.supervisor_stop_secs)?;
-    let column = |f: fn(&ballbot_sim::studies::ramp::RampSample) -> f64| {
-        r.samples.iter().map(f).collect::<Vec<f64>>()
-    };
-    d.set_item("time_secs", PyArray1::from_vec(py, column(|s| s.time_secs)))?;
-    d.set_item(
-        "command_m_per_s",
-        PyArray1::from_vec(py, column(|s| s.command_m_per_s)),
-    )?;
-    d.set_item(
-        "shaped_command_m_per_s",
-        PyArray1::from_vec(py, column(|s| s.shaped_command_m_per_s)),
-    )?;
-    d.set_item(
-        "speed_m_per_s",
-        PyArray1::from_vec(py, column(|s| s.speed_m_per_s)),
-    )?;
-    d.set_item("tilt_rad", PyArray1::from_vec(py, column(|s| s.tilt_rad)))?;
-    d.set_item(
-        "max_cone_utilisation",
-        PyArray1::from_vec(py, column(|s| s.max_cone_utilisation)),
-    )?;
-    let normal: Vec<[f64; 3]> = r.samples.iter().map(|s| s.normal_force_n).collect();
-    d.set_item("normal_force_n", table(py, normal)?)?;
-    let cone: Vec<[f64; 3]> = r.samples.iter().map(|s| s.cone_utilisation).collect();
-    d.set_item("cone_utilisation", table(py, cone)?)?;
-    Ok(d)
+/// A ramp as `ballbot._results.RampRun` has it: the samples as columns.
+#[derive(Serialize)]
+pub struct RampRunView<'a> {
+    heading_deg: f64,
+    max_speed_m_per_s: f64,
+    failure: Option<FailureParts>,
+    supervisor_stop_secs: Option<f64>,
+    #[serde(flatten)]
+    samples: Columns<'a, RampSample>,
+}
+
+impl<'a> From<&'a RampResult> for RampRunView<'a> {
+    fn from(r: &'a RampResult) -> Self {
+        Self {
+            heading_deg: r.heading_deg,
+            max_speed_m_per_s: r.max_speed_m_per_s,
+            failure: r.failure.map(FailureParts::from),
+            supervisor_stop_secs: r.supervisor_stop_secs,
+            samples: Columns(&r.samples),
+        }
+    }
 }
 
 /// The maximum-speed experiment of the paper's Sec. V in the 3D world
@@ -133,5 +120,5 @@ pub(crate) fn max_speed_ramp<'py>(
     let result = py
         .detach(|| max_speed_ramp_with_config(params, config, heading_deg, &ramp))
         .map_err(|e| world_error(py, e))?;
-    crate::results::make(py, "RampRun", ramp_dict(py, result)?)
+    crate::results::build(py, "RampRun", &RampRunView::from(&result))
 }

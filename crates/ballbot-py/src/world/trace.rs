@@ -3,156 +3,133 @@
 
 use super::live::PyLiveView;
 use super::row_at;
-use super::telemetry::PyFailure;
 use crate::arrays::reserve;
 use crate::errors::{Kind, error};
 use crate::log::log_error;
+use crate::results::{Columns, FailureParts};
 use ballbot_sim::log::{LogSink, McapLogger, WorldLogOptions, WorldLogger};
 use ballbot_sim::world::failure::tilt_from_vertical_rad;
 use ballbot_sim::world::{Failure, StepTelemetry, WheelTelemetry, WorldParams};
 use nalgebra::Vector3;
-use numpy::{Element, PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use serde::Serialize;
 use std::path::Path;
 
-/// Per-step records of a run, column by column.
-pub(crate) struct Trace {
-    time_secs: Vec<f64>,
-    input: Vec<[f64; 3]>,
-    normal_force_n: Vec<[f64; 3]>,
-    traction_n: Vec<[f64; 3]>,
-    traction_demand_n: Vec<[f64; 3]>,
-    axle_force_n: Vec<[f64; 3]>,
-    cone_utilisation: Vec<[f64; 3]>,
-    slip_speed_m_per_s: Vec<[f64; 3]>,
-    slipping: Vec<[bool; 3]>,
-    motor_torque_nm: Vec<[f64; 3]>,
-    wheel_speed_rad_per_s: Vec<[f64; 3]>,
-    wheel_angle_rad: Vec<[f64; 3]>,
-    ball_position_m: Vec<[f64; 3]>,
-    ball_velocity_m_per_s: Vec<[f64; 3]>,
-    ball_angular_velocity_rad_per_s: Vec<[f64; 3]>,
-    body_position_m: Vec<[f64; 3]>,
-    body_orientation: Vec<[f64; 4]>,
-    body_rate_rad_per_s: Vec<[f64; 3]>,
-    tilt_rad: Vec<[f64; 2]>,
-    tilt_from_vertical_rad: Vec<f64>,
-    yaw_rad: Vec<f64>,
-    floor_force_n: Vec<f64>,
+/// One recorded step of a run as Python has it: each field is a column of the run's result
+/// (`(n,)` or `(n, k)`, through [`Columns`]), named as the field.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub(crate) struct TraceRow {
+    time_secs: f64,
+    normal_force_n: [f64; 3],
+    traction_n: [f64; 3],
+    traction_demand_n: [f64; 3],
+    axle_force_n: [f64; 3],
+    cone_utilisation: [f64; 3],
+    slip_speed_m_per_s: [f64; 3],
+    slipping: [bool; 3],
+    motor_torque_nm: [f64; 3],
+    wheel_speed_rad_per_s: [f64; 3],
+    wheel_angle_rad: [f64; 3],
+    ball_position_m: [f64; 3],
+    ball_velocity_m_per_s: [f64; 3],
+    ball_angular_velocity_rad_per_s: [f64; 3],
+    body_position_m: [f64; 3],
+    /// `(x, y, z, w)`.
+    body_orientation: [f64; 4],
+    body_rate_rad_per_s: [f64; 3],
+    tilt_rad: [f64; 2],
+    tilt_from_vertical_rad: f64,
+    yaw_rad: f64,
+    floor_force_n: f64,
 }
 
-impl Trace {
+impl From<&StepTelemetry> for TraceRow {
+    fn from(t: &StepTelemetry) -> Self {
+        let wheels = |f: fn(&WheelTelemetry) -> f64| t.wheels.each_ref().map(f);
+        let v = |v: &Vector3<f64>| [v.x, v.y, v.z];
+        let q = &t.body_orientation.coords;
+        Self {
+            time_secs: t.time_secs,
+            normal_force_n: wheels(|w| w.normal_force_n),
+            traction_n: wheels(|w| w.traction_n),
+            traction_demand_n: wheels(|w| w.traction_demand_n),
+            axle_force_n: wheels(|w| w.axle_force_n),
+            cone_utilisation: wheels(|w| w.cone_utilisation),
+            slip_speed_m_per_s: wheels(|w| w.slip_speed_m_per_s),
+            slipping: t.wheels.map(|w| w.slipping),
+            motor_torque_nm: wheels(|w| w.motor_torque_nm),
+            wheel_speed_rad_per_s: wheels(|w| w.speed_rad_per_s),
+            wheel_angle_rad: wheels(|w| w.angle_rad),
+            ball_position_m: v(&t.ball_position_m),
+            ball_velocity_m_per_s: v(&t.ball_velocity_m_per_s),
+            ball_angular_velocity_rad_per_s: v(&t.ball_angular_velocity_rad_per_s),
+            body_position_m: v(&t.body_position_m),
+            body_orientation: [q.x, q.y, q.z, q.w],
+            body_rate_rad_per_s: v(&t.body_rate_rad_per_s),
+            tilt_rad: t.tilt_rad,
+            tilt_from_vertical_rad: tilt_from_vertical_rad(t),
+            yaw_rad: t.body_orientation.euler_angles().2,
+            floor_force_n: t.floor_force_n,
+        }
+    }
+}
+
+/// `World.run`'s input column: the wheel torque commands (N m).
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub(crate) struct TorqueInput {
+    torque_nm: [f64; 3],
+}
+
+impl From<[f64; 3]> for TorqueInput {
+    fn from(torque_nm: [f64; 3]) -> Self {
+        Self { torque_nm }
+    }
+}
+
+/// `WorldLoop.run`'s input column: the velocity commands `(vx, vy, yaw rate)`.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub(crate) struct CommandInput {
+    command: [f64; 3],
+}
+
+impl From<[f64; 3]> for CommandInput {
+    fn from(command: [f64; 3]) -> Self {
+        Self { command }
+    }
+}
+
+/// Per-step records of a run, with the input column `I` ([`TorqueInput`], [`CommandInput`]).
+pub(crate) struct Trace<I> {
+    rows: Vec<TraceRow>,
+    inputs: Vec<I>,
+}
+
+impl<I: From<[f64; 3]>> Trace<I> {
     pub(crate) fn with_capacity(len: usize) -> PyResult<Self> {
         Ok(Self {
-            time_secs: reserve(len)?,
-            input: reserve(len)?,
-            normal_force_n: reserve(len)?,
-            traction_n: reserve(len)?,
-            traction_demand_n: reserve(len)?,
-            axle_force_n: reserve(len)?,
-            cone_utilisation: reserve(len)?,
-            slip_speed_m_per_s: reserve(len)?,
-            slipping: reserve(len)?,
-            motor_torque_nm: reserve(len)?,
-            wheel_speed_rad_per_s: reserve(len)?,
-            wheel_angle_rad: reserve(len)?,
-            ball_position_m: reserve(len)?,
-            ball_velocity_m_per_s: reserve(len)?,
-            ball_angular_velocity_rad_per_s: reserve(len)?,
-            body_position_m: reserve(len)?,
-            body_orientation: reserve(len)?,
-            body_rate_rad_per_s: reserve(len)?,
-            tilt_rad: reserve(len)?,
-            tilt_from_vertical_rad: reserve(len)?,
-            yaw_rad: reserve(len)?,
-            floor_force_n: reserve(len)?,
+            rows: reserve(len)?,
+            inputs: reserve(len)?,
         })
     }
 
     fn push(&mut self, t: &StepTelemetry, input: [f64; 3]) {
-        let wheels = |f: fn(&WheelTelemetry) -> f64| t.wheels.each_ref().map(f);
-        let v = |v: &Vector3<f64>| [v.x, v.y, v.z];
-        self.time_secs.push(t.time_secs);
-        self.input.push(input);
-        self.normal_force_n.push(wheels(|w| w.normal_force_n));
-        self.traction_n.push(wheels(|w| w.traction_n));
-        self.traction_demand_n.push(wheels(|w| w.traction_demand_n));
-        self.axle_force_n.push(wheels(|w| w.axle_force_n));
-        self.cone_utilisation.push(wheels(|w| w.cone_utilisation));
-        self.slip_speed_m_per_s
-            .push(wheels(|w| w.slip_speed_m_per_s));
-        self.slipping.push(t.wheels.map(|w| w.slipping));
-        self.motor_torque_nm.push(wheels(|w| w.motor_torque_nm));
-        self.wheel_speed_rad_per_s
-            .push(wheels(|w| w.speed_rad_per_s));
-        self.wheel_angle_rad.push(wheels(|w| w.angle_rad));
-        self.ball_position_m.push(v(&t.ball_position_m));
-        self.ball_velocity_m_per_s.push(v(&t.ball_velocity_m_per_s));
-        self.ball_angular_velocity_rad_per_s
-            .push(v(&t.ball_angular_velocity_rad_per_s));
-        self.body_position_m.push(v(&t.body_position_m));
-        let q = &t.body_orientation.coords;
-        self.body_orientation.push([q.x, q.y, q.z, q.w]);
-        self.body_rate_rad_per_s.push(v(&t.body_rate_rad_per_s));
-        self.tilt_rad.push(t.tilt_rad);
-        self.tilt_from_vertical_rad.push(tilt_from_vertical_rad(t));
-        self.yaw_rad.push(t.body_orientation.euler_angles().2);
-        self.floor_force_n.push(t.floor_force_n);
-    }
-
-    /// The columns as a dict; the input column is named `input_name`.
-    fn into_dict<'py>(self, py: Python<'py>, input_name: &str) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        d.set_item("time_secs", PyArray1::from_vec(py, self.time_secs))?;
-        d.set_item(input_name, table(py, self.input)?)?;
-        d.set_item("normal_force_n", table(py, self.normal_force_n)?)?;
-        d.set_item("traction_n", table(py, self.traction_n)?)?;
-        d.set_item("traction_demand_n", table(py, self.traction_demand_n)?)?;
-        d.set_item("axle_force_n", table(py, self.axle_force_n)?)?;
-        d.set_item("cone_utilisation", table(py, self.cone_utilisation)?)?;
-        d.set_item("slip_speed_m_per_s", table(py, self.slip_speed_m_per_s)?)?;
-        d.set_item("slipping", table(py, self.slipping)?)?;
-        d.set_item("motor_torque_nm", table(py, self.motor_torque_nm)?)?;
-        d.set_item(
-            "wheel_speed_rad_per_s",
-            table(py, self.wheel_speed_rad_per_s)?,
-        )?;
-        d.set_item("wheel_angle_rad", table(py, self.wheel_angle_rad)?)?;
-        d.set_item("ball_position_m", table(py, self.ball_position_m)?)?;
-        d.set_item(
-            "ball_velocity_m_per_s",
-            table(py, self.ball_velocity_m_per_s)?,
-        )?;
-        d.set_item(
-            "ball_angular_velocity_rad_per_s",
-            table(py, self.ball_angular_velocity_rad_per_s)?,
-        )?;
-        d.set_item("body_position_m", table(py, self.body_position_m)?)?;
-        d.set_item("body_orientation", table(py, self.body_orientation)?)?;
-        d.set_item("body_rate_rad_per_s", table(py, self.body_rate_rad_per_s)?)?;
-        d.set_item("tilt_rad", table(py, self.tilt_rad)?)?;
-        d.set_item(
-            "tilt_from_vertical_rad",
-            PyArray1::from_vec(py, self.tilt_from_vertical_rad),
-        )?;
-        d.set_item("yaw_rad", PyArray1::from_vec(py, self.yaw_rad))?;
-        d.set_item("floor_force_n", PyArray1::from_vec(py, self.floor_force_n))?;
-        Ok(d)
+        self.rows.push(TraceRow::from(t));
+        self.inputs.push(I::from(input));
     }
 }
 
-/// Rows of length `N` as an `(n, N)` numpy array.
-pub fn table<'py, T: Element + Copy, const N: usize>(
-    py: Python<'py>,
-    rows: Vec<[T; N]>,
-) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
-    let n = rows.len();
-    let flat: Vec<T> = rows.into_iter().flatten().collect();
-    Ok(PyArray1::from_vec(py, flat)
-        .reshape([n, N])?
-        .to_dyn()
-        .clone())
+/// A run as `WorldRun` and `WorldLoopRun` have it: the trace's columns, the input column,
+/// `steps`, `failure` and `log_path`.
+#[derive(Serialize)]
+#[serde(bound = "I: Serialize + Default")]
+struct RunView<'a, I> {
+    #[serde(flatten)]
+    trace: Columns<'a, TraceRow>,
+    #[serde(flatten)]
+    input: Columns<'a, I>,
+    steps: usize,
+    failure: Option<FailureParts>,
+    log_path: Option<&'a Path>,
 }
 
 /// How a run is recorded and when it stops.
@@ -204,12 +181,12 @@ impl RunOptions {
 
 /// Runs `step(k, input)` for the options' steps, recording every `record_every`-th step (the
 /// first included) and the failing one. Returns the trace and the number of steps run.
-pub(crate) fn run_steps<E>(
+pub(crate) fn run_steps<I: From<[f64; 3]>, E>(
     options: RunOptions,
     inputs: &[[f64; 3]],
-    mut trace: Trace,
+    mut trace: Trace<I>,
     mut step: impl FnMut([f64; 3]) -> Result<(StepTelemetry, bool), E>,
-) -> Result<(Trace, usize), E> {
+) -> Result<(Trace<I>, usize), E> {
     let mut steps = 0;
     for k in 0..options.n_steps {
         let input = row_at(inputs, k);
@@ -266,16 +243,21 @@ pub(crate) fn finish_log(py: Python<'_>, log: Option<WorldLogger>) -> PyResult<(
     Ok(())
 }
 
-/// The run's dict: the trace's columns plus `steps` and `failure`.
-pub(crate) fn finish_run<'py>(
+/// The run's result, `ballbot._results.<class_name>` (`WorldRun`, `WorldLoopRun`).
+pub(crate) fn finish_run<'py, I: Serialize + Default>(
     py: Python<'py>,
-    trace: Trace,
-    input_name: &str,
+    class_name: &str,
+    trace: Trace<I>,
     steps: usize,
     failure: Option<Failure>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = trace.into_dict(py, input_name)?;
-    d.set_item("steps", steps)?;
-    d.set_item("failure", failure.map(PyFailure::from))?;
-    Ok(d)
+    log_path: Option<&Path>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let view = RunView {
+        trace: Columns(&trace.rows),
+        input: Columns(&trace.inputs),
+        steps,
+        failure: failure.map(FailureParts::from),
+        log_path,
+    };
+    crate::results::build(py, class_name, &view)
 }

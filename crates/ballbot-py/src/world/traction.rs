@@ -1,33 +1,54 @@
 //! Traction-aware control's report and envelope (`ballbot_core::traction`) as result classes:
-//! `WorldLoop.traction` and `WorldLoop.traction_envelope()`.
+//! `WorldLoop.traction` and `WorldLoop.traction_envelope()`, through
+//! [`crate::results::build`].
 
-use super::telemetry::vec_out;
+use crate::results::Array;
 use ballbot_core::traction::{ENVELOPE_DIRECTIONS, TractionControl, TractionStatus};
-use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use serde::Serialize;
+
+/// The core's report of one outer step as `ballbot._results.TractionStatus` has it: the slip
+/// monitor's fields beside the envelope's.
+#[derive(Serialize)]
+struct TractionStatusView {
+    accel_limit_m_per_s2: Option<f64>,
+    limited: bool,
+    limited_steps: u32,
+    slip_speed_m_per_s: Array,
+    slipping: [bool; 3],
+    predicted_normal_force_n: Array,
+    lift_off_imminent: bool,
+    accel_scale: f64,
+    friction_estimate: f64,
+    slip_events: u32,
+}
 
 /// `TractionStatus` of `ballbot._results` from the core's report of one outer step.
 pub(crate) fn status<'py>(
     py: Python<'py>,
     status: &TractionStatus<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let d = PyDict::new(py);
     let slip = &status.slip;
-    d.set_item("accel_limit_m_per_s2", status.accel_limit_m_per_s2)?;
-    d.set_item("limited", status.limited)?;
-    d.set_item("limited_steps", status.limited_steps)?;
-    d.set_item("slip_speed_m_per_s", vec_out(py, &slip.slip_speed_m_per_s))?;
-    d.set_item("slipping", PyTuple::new(py, slip.slipping)?)?;
-    d.set_item(
-        "predicted_normal_force_n",
-        vec_out(py, &slip.predicted_normal_force_n),
-    )?;
-    d.set_item("lift_off_imminent", slip.lift_off_imminent)?;
-    d.set_item("accel_scale", slip.accel_scale)?;
-    d.set_item("friction_estimate", slip.friction_estimate)?;
-    d.set_item("slip_events", slip.slip_events)?;
-    crate::results::make(py, "TractionStatus", d)
+    let view = TractionStatusView {
+        accel_limit_m_per_s2: status.accel_limit_m_per_s2,
+        limited: status.limited,
+        limited_steps: status.limited_steps,
+        slip_speed_m_per_s: Array::column(slip.slip_speed_m_per_s.iter().copied()),
+        slipping: slip.slipping,
+        predicted_normal_force_n: Array::column(slip.predicted_normal_force_n.iter().copied()),
+        lift_off_imminent: slip.lift_off_imminent,
+        accel_scale: slip.accel_scale,
+        friction_estimate: slip.friction_estimate,
+        slip_events: slip.slip_events,
+    };
+    crate::results::build(py, "TractionStatus", &view)
+}
+
+/// The envelope as `ballbot._results.TractionEnvelope` has it.
+#[derive(Serialize)]
+struct TractionEnvelopeView {
+    heading_rad: Array,
+    accel_m_per_s2: Array,
 }
 
 /// `TractionEnvelope` of `ballbot._results`: the controller's table over direction.
@@ -36,14 +57,9 @@ pub(crate) fn envelope<'py>(
     control: &TractionControl<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let e = control.envelope();
-    let headings: Vec<f64> = (0..ENVELOPE_DIRECTIONS)
-        .map(|k| e.table_heading_rad(k))
-        .collect();
-    let d = PyDict::new(py);
-    d.set_item("heading_rad", PyArray1::from_vec(py, headings))?;
-    d.set_item(
-        "accel_m_per_s2",
-        PyArray1::from_slice(py, e.table_m_per_s2()),
-    )?;
-    crate::results::make(py, "TractionEnvelope", d)
+    let view = TractionEnvelopeView {
+        heading_rad: Array::column((0..ENVELOPE_DIRECTIONS).map(|k| e.table_heading_rad(k))),
+        accel_m_per_s2: Array::column(e.table_m_per_s2().iter().copied()),
+    };
+    crate::results::build(py, "TractionEnvelope", &view)
 }

@@ -4,7 +4,7 @@
 use super::class::world_class;
 use super::live::PyLiveView;
 use super::telemetry::{PyFailure, PyMeasurement, PyStepTelemetry, vec_out};
-use super::trace::{RunOptions, Trace, finish_log, finish_run, logger, run_steps};
+use super::trace::{CommandInput, RunOptions, Trace, finish_log, finish_run, logger, run_steps};
 use super::{Arr, finite, non_negative, params_or_default, step_rows, vec3};
 use crate::errors::world_error;
 use crate::errors::{Kind, core_error, error};
@@ -315,7 +315,7 @@ world_class! {
         ) -> PyResult<Bound<'py, PyAny>> {
             let options = RunOptions::new(py, n_steps, record_every, stop_on_failure)?;
             let inputs = step_rows(py, command, options.n_steps(), "command")?;
-            let trace = Trace::with_capacity(options.records())?;
+            let trace = Trace::<CommandInput>::with_capacity(options.records())?;
             let params = *self.inner.world().params();
             let mut log = logger(py, log_path.as_deref(), live.as_deref(), &params, log_compact)?;
             let sim = &mut self.inner;
@@ -334,9 +334,7 @@ world_class! {
             });
             let (trace, steps) = result.map_err(|e| log_error(py, e))?;
             finish_log(py, log)?;
-            let d = finish_run(py, trace, "command", steps, self.inner.world().failure())?;
-            d.set_item("log_path", log_path)?;
-            crate::results::make(py, "WorldLoopRun", d)
+            finish_run(py, "WorldLoopRun", trace, steps, self.inner.world().failure(), log_path.as_deref())
         }
     }
 }

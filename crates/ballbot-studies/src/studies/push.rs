@@ -158,7 +158,7 @@ impl PushOutcome {
 }
 
 /// One sample of a push trial.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize)]
 pub struct PushSample {
     /// Time since the push (s; negative before it).
     pub time_secs: f64,

@@ -296,7 +296,7 @@ pub fn braking_problem(
 pub const AFTER_FAILURE_SECS: f64 = 0.25;
 
 /// One sample of a braking run.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize)]
 pub struct BrakingSample {
     /// Time since the start of the run (s).
     pub time_secs: f64,
@@ -319,7 +319,7 @@ pub struct BrakingSample {
 }
 
 /// Extremes of the braking phase (from the start of braking to the end of the run).
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize)]
 pub struct BrakingPeaks {
     /// Largest friction-cone utilisation of each omniwheel.
     pub cone_utilisation: [f64; 3],
