@@ -32,6 +32,7 @@ fn text(bytes: &[u8]) -> String {
 fn the_shipped_files_are_valid_and_say_ok_in_one_line() {
     let files = [
         "examples/params/miapure_60kg.toml",
+        "examples/params/traction_study_on.toml",
         "scenarios/piptb_lqr_pi.toml",
         "scenarios/balance_stiction_lqr.toml",
         "scenarios/trapezoid_pi_pd.toml",
