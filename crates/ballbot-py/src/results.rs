@@ -344,6 +344,76 @@ impl<'t> SerializeStruct for RowSerializer<'t> {
     }
 }
 
+/// The [`Serializer`] methods both column serializers share: they refuse what a time-series
+/// column cannot hold, and see through a newtype struct.
+macro_rules! refuse_non_columns {
+    () => {
+        fn serialize_char(self, _: char) -> Result<(), ColumnError> {
+            unsupported("a char")
+        }
+        fn serialize_str(self, _: &str) -> Result<(), ColumnError> {
+            unsupported("a string")
+        }
+        fn serialize_bytes(self, _: &[u8]) -> Result<(), ColumnError> {
+            unsupported("bytes")
+        }
+        fn serialize_none(self) -> Result<(), ColumnError> {
+            unsupported("an option")
+        }
+        fn serialize_some<V: ?Sized + Serialize>(self, _: &V) -> Result<(), ColumnError> {
+            unsupported("an option")
+        }
+        fn serialize_unit(self) -> Result<(), ColumnError> {
+            unsupported("a unit")
+        }
+        fn serialize_unit_struct(self, _: &'static str) -> Result<(), ColumnError> {
+            unsupported("a unit struct")
+        }
+        fn serialize_unit_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+        ) -> Result<(), ColumnError> {
+            unsupported("an enum")
+        }
+        fn serialize_newtype_struct<V: ?Sized + Serialize>(
+            self,
+            _: &'static str,
+            value: &V,
+        ) -> Result<(), ColumnError> {
+            value.serialize(self)
+        }
+        fn serialize_newtype_variant<V: ?Sized + Serialize>(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: &V,
+        ) -> Result<(), ColumnError> {
+            unsupported("an enum")
+        }
+        fn serialize_tuple_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: usize,
+        ) -> Result<Self::SerializeTupleVariant, ColumnError> {
+            unsupported("an enum")
+        }
+        fn serialize_struct_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: usize,
+        ) -> Result<Self::SerializeStructVariant, ColumnError> {
+            unsupported("an enum")
+        }
+    };
+}
+
 impl<'t> Serializer for RowSerializer<'t> {
     type Ok = ();
     type Error = ColumnError;
@@ -392,51 +462,6 @@ impl<'t> Serializer for RowSerializer<'t> {
     fn serialize_f64(self, _: f64) -> Result<(), ColumnError> {
         unsupported("a float row")
     }
-    fn serialize_char(self, _: char) -> Result<(), ColumnError> {
-        unsupported("a char")
-    }
-    fn serialize_str(self, _: &str) -> Result<(), ColumnError> {
-        unsupported("a string")
-    }
-    fn serialize_bytes(self, _: &[u8]) -> Result<(), ColumnError> {
-        unsupported("bytes")
-    }
-    fn serialize_none(self) -> Result<(), ColumnError> {
-        unsupported("an option")
-    }
-    fn serialize_some<V: ?Sized + Serialize>(self, _: &V) -> Result<(), ColumnError> {
-        unsupported("an option")
-    }
-    fn serialize_unit(self) -> Result<(), ColumnError> {
-        unsupported("a unit")
-    }
-    fn serialize_unit_struct(self, _: &'static str) -> Result<(), ColumnError> {
-        unsupported("a unit struct")
-    }
-    fn serialize_unit_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-    ) -> Result<(), ColumnError> {
-        unsupported("an enum")
-    }
-    fn serialize_newtype_struct<V: ?Sized + Serialize>(
-        self,
-        _: &'static str,
-        value: &V,
-    ) -> Result<(), ColumnError> {
-        value.serialize(self)
-    }
-    fn serialize_newtype_variant<V: ?Sized + Serialize>(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: &V,
-    ) -> Result<(), ColumnError> {
-        unsupported("an enum")
-    }
     fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, ColumnError> {
         unsupported("a sequence row")
     }
@@ -450,27 +475,10 @@ impl<'t> Serializer for RowSerializer<'t> {
     ) -> Result<Self::SerializeTupleStruct, ColumnError> {
         unsupported("a tuple struct row")
     }
-    fn serialize_tuple_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleVariant, ColumnError> {
-        unsupported("an enum")
-    }
     fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, ColumnError> {
         unsupported("a map row")
     }
-    fn serialize_struct_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStructVariant, ColumnError> {
-        unsupported("an enum")
-    }
+    refuse_non_columns!();
 }
 
 impl<'a, 'c> ser::SerializeTuple for &'a mut CellSerializer<'c> {
@@ -538,51 +546,6 @@ impl<'a, 'c> Serializer for &'a mut CellSerializer<'c> {
     fn serialize_f32(self, _: f32) -> Result<(), ColumnError> {
         unsupported("an f32")
     }
-    fn serialize_char(self, _: char) -> Result<(), ColumnError> {
-        unsupported("a char")
-    }
-    fn serialize_str(self, _: &str) -> Result<(), ColumnError> {
-        unsupported("a string")
-    }
-    fn serialize_bytes(self, _: &[u8]) -> Result<(), ColumnError> {
-        unsupported("bytes")
-    }
-    fn serialize_none(self) -> Result<(), ColumnError> {
-        unsupported("an option")
-    }
-    fn serialize_some<V: ?Sized + Serialize>(self, _: &V) -> Result<(), ColumnError> {
-        unsupported("an option")
-    }
-    fn serialize_unit(self) -> Result<(), ColumnError> {
-        unsupported("a unit")
-    }
-    fn serialize_unit_struct(self, _: &'static str) -> Result<(), ColumnError> {
-        unsupported("a unit struct")
-    }
-    fn serialize_unit_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-    ) -> Result<(), ColumnError> {
-        unsupported("an enum")
-    }
-    fn serialize_newtype_struct<V: ?Sized + Serialize>(
-        self,
-        _: &'static str,
-        value: &V,
-    ) -> Result<(), ColumnError> {
-        value.serialize(self)
-    }
-    fn serialize_newtype_variant<V: ?Sized + Serialize>(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: &V,
-    ) -> Result<(), ColumnError> {
-        unsupported("an enum")
-    }
     fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, ColumnError> {
         unsupported("a variable-length sequence")
     }
@@ -592,15 +555,6 @@ impl<'a, 'c> Serializer for &'a mut CellSerializer<'c> {
         _: usize,
     ) -> Result<Self::SerializeTupleStruct, ColumnError> {
         unsupported("a tuple struct")
-    }
-    fn serialize_tuple_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeTupleVariant, ColumnError> {
-        unsupported("an enum")
     }
     fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, ColumnError> {
         unsupported("a map")
@@ -612,13 +566,5 @@ impl<'a, 'c> Serializer for &'a mut CellSerializer<'c> {
     ) -> Result<Self::SerializeStruct, ColumnError> {
         unsupported("a nested struct")
     }
-    fn serialize_struct_variant(
-        self,
-        _: &'static str,
-        _: u32,
-        _: &'static str,
-        _: usize,
-    ) -> Result<Self::SerializeStructVariant, ColumnError> {
-        unsupported("an enum")
-    }
+    refuse_non_columns!();
 }
