@@ -536,8 +536,11 @@ impl<T: RealField + Copy> BallbotController<T> {
     }
 
     /// The shaped command: the application's while balancing, "come to rest" in every other
-    /// mode; within the traction envelope when traction control is on (a flagged slip also
-    /// bounds the reference filter's pending acceleration, not only what comes).
+    /// mode; within the traction envelope when traction control is on. A slip reaction's
+    /// lower envelope is reached within the shaper's jerk limit
+    /// ([`CommandShaper::step_within`]): cut at once, the lean cut with it made the ball
+    /// accelerate harder to right the body, and on the diagonals the least-loaded wheel lifted
+    /// off.
     #[inline(always)]
     fn shape(
         &mut self,
@@ -557,9 +560,6 @@ impl<T: RealField + Copy> BallbotController<T> {
             return self.shaper.step(command, dt);
         };
         let limit = traction.step_limit(wheel_speeds_rad_per_s);
-        if traction.monitor().status().any_slipping() {
-            self.shaper.bound_pending_acceleration(&limit);
-        }
         self.shaper.step_within(command, dt, &limit)
     }
 

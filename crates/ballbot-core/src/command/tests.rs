@@ -381,3 +381,51 @@ fn a_feasible_trajectory_passes_the_limiter_unchanged() {
     assert!(worst < 1.5e-3, "worst deviation {worst} m/s");
     assert!(s.velocity().vx_m_per_s.abs() < 1e-9);
 }
+
+/// A fixed acceleration limit (m/s^2) in every direction.
+struct Cap(f64);
+
+impl AccelLimit<f64> for Cap {
+    fn accel_limit_m_per_s2(&self, _dir_x: f64, _dir_y: f64, _braking: bool) -> f64 {
+        self.0
+    }
+}
+
+/// An envelope that falls below the present acceleration (a slip reaction, a lower friction
+/// estimate) is reached within the jerk limit, not in one step: on the diagonal, at 1 m/s^2
+/// under a limit of 1, the limit drops to 0.25 and the acceleration falls by at most the jerk
+/// step each step, reaching 0.25 after (1 - 0.25) / 2 m/s^3 = 0.375 s; without a jerk limit
+/// it takes effect at once. Checked by mutation: without the easing (the bound taken as it
+/// comes) the first step after the drop falls by 0.75 m/s^2.
+#[test]
+fn a_falling_envelope_is_reached_within_the_jerk_limit() {
+    for jerk in [2.0, f64::INFINITY] {
+        let mut params = CommandShaperParams::miapure();
+        params.translation.max_jerk_per_s2 = jerk;
+        let mut shaper = CommandShaper::new(params, &BallbotParams::miapure_60kg()).unwrap();
+        let go = velocity(1.5, 1.5, 0.0);
+        let accel = |s: &CommandShaper<f64>| s.vx.rate_per_s().hypot(s.vy.rate_per_s());
+        for _ in 0..400 {
+            shaper.step_within(&go, DT, &Cap(1.0));
+        }
+        assert_relative_eq!(accel(&shaper), 1.0, epsilon = 1e-9);
+        let mut previous = accel(&shaper);
+        let mut steps = 0;
+        while accel(&shaper) > 0.25 + 1e-9 {
+            shaper.step_within(&go, DT, &Cap(0.25));
+            let now = accel(&shaper);
+            assert!(
+                previous - now <= jerk * DT + 1e-9,
+                "{jerk}: {previous} -> {now}"
+            );
+            previous = now;
+            steps += 1;
+            assert!(steps < 1000, "{jerk}: never reached the envelope");
+        }
+        let expected = if jerk.is_finite() { 150 } else { 1 };
+        assert!(
+            (expected..=expected + 1).contains(&steps),
+            "{jerk}: {steps} steps"
+        );
+    }
+}

@@ -17,8 +17,8 @@
 //!    [`TractionParams::min_braking_decel_m_per_s2`].
 //! 3. [`SlipMonitor`]: slip of each wheel from the sensors' redundancy (two momentum observers
 //!    and the ball's no-spin condition), imminent lift-off from the predicted normal forces,
-//!    and the reaction of a traction control: less acceleration (also what the reference filter
-//!    has pending), the slip taken off the ball-rate estimate, balancing on, a controlled stop
+//!    and the reaction of a traction control: less acceleration (reached within the shaper's
+//!    jerk limit), the slip taken off the ball-rate estimate, balancing on, a controlled stop
 //!    ([`Fault::WheelSlip`]) if the slip persists, and a friction estimate.
 //!
 //! `with_traction_control` also turns on the shaper's 0.3 s reference filter, without which
