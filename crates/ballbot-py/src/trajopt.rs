@@ -11,6 +11,7 @@ use ballbot_sim::trajopt::{
 use numpy::{AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use schemars::JsonSchema;
 
 type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 type Out<'py> = PyResult<Bound<'py, PyArrayDyn<f64>>>;
@@ -578,20 +579,36 @@ fn py_min_braking_time<'py>(
     let result = py
         .detach(|| min_braking_time(&p, &options, &search))
         .map_err(|e| trajopt_error(py, e))?;
-    let d = PyDict::new(py);
-    d.set_item("min_duration_secs", result.min_duration_secs)?;
-    d.set_item("infeasible_below_secs", result.infeasible_below_secs)?;
-    d.set_item(
-        "solution",
-        Bound::new(
+    let view = MinBrakingTimeView {
+        min_duration_secs: result.min_duration_secs,
+        infeasible_below_secs: result.infeasible_below_secs,
+        solution: Bound::new(
             py,
             PyBrakingSolution {
                 inner: result.solution,
             },
         )?,
-    )?;
-    d.set_item("solves", result.solves)?;
-    crate::results::make(py, "MinBrakingTime", d)
+        solves: result.solves,
+    };
+    crate::results::build_objects(py, view)
+}
+
+/// The shortest feasible braking time (`min_braking_time`).
+#[derive(IntoPyObject, JsonSchema)]
+#[schemars(rename = "MinBrakingTime")]
+pub(crate) struct MinBrakingTimeView<'py> {
+    /// Shortest feasible duration (s), `None` if none in the bracket.
+    min_duration_secs: Option<f64>,
+    /// Longest infeasible duration below it (s).
+    infeasible_below_secs: Option<f64>,
+    /// The `BrakingSolution` at `min_duration_secs`.
+    #[schemars(
+        with = "serde_json::Value",
+        extend("x-python-type" = "ballbot._core.BrakingSolution")
+    )]
+    solution: Bound<'py, PyBrakingSolution>,
+    /// Solves run.
+    solves: usize,
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -7,6 +7,12 @@ mod max_speed;
 mod push;
 mod robustness;
 
+pub(crate) use braking::{BrakingRunView, BrakingStudyView};
+pub(crate) use max_speed::{
+    FailingAccelerationView, MaxSpeedStudyView, SlowRampTrialView, TrialOutcomeView,
+};
+pub(crate) use push::{PushRecoveryView, PushTrialView};
+
 use ballbot_sim::world::StopRules;
 use pyo3::prelude::*;
 use pyo3::types::PyString;

@@ -10,6 +10,7 @@ use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSample, PushSearch, PushTrial, push_recovery_limit, push_trial,
 };
 use pyo3::prelude::*;
+use schemars::JsonSchema;
 use serde::Serialize;
 
 fn push_params(
@@ -42,22 +43,36 @@ fn push_params(
     p
 }
 
-/// A push trial as `ballbot._results.PushTrial` has it: the failure lifted out of the
-/// outcome, the samples as columns.
-#[derive(Serialize)]
-struct PushTrialView<'a> {
+/// One push-recovery trial (`push_trial`).
+// The failure lifted out of the outcome, the samples as columns.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "PushTrial")]
+pub(crate) struct PushTrialView<'a> {
+    /// Push heading (deg).
     heading_deg: f64,
+    /// Impulse (N s).
     impulse_ns: f64,
-    /// `PushOutcome::label`, a `ballbot.PushOutcome`'s value.
+    /// How the trial ended.
+    // `PushOutcome::label`, a `ballbot.PushOutcome`'s value.
+    #[schemars(extend("x-python-type" = "ballbot._enums.PushOutcome"))]
     outcome: &'static str,
+    /// Whether it recovered.
     recovered: bool,
+    /// The failure, for `PushOutcome.FAILED`.
     failure: Option<FailureParts>,
+    /// Peak tilt (rad).
     peak_tilt_rad: f64,
+    /// Peak ball speed (m/s).
     peak_speed_m_per_s: f64,
+    /// Ball speed at the end (m/s).
     rest_speed_m_per_s: f64,
     #[serde(flatten)]
     samples: Columns<'a, PushSample>,
+    /// Hash of the run's telemetry (determinism checks).
     telemetry_hash: u64,
+    /// How the run ended and its contact events, whatever the stop rules (the form of
+    /// `BrakingRun.happened`).
+    #[schemars(with = "serde_json::Map<String, serde_json::Value>")]
     happened: &'a Happened,
 }
 
@@ -82,12 +97,17 @@ impl<'a> From<&'a PushTrial> for PushTrialView<'a> {
     }
 }
 
-/// A push-recovery search as `ballbot._results.PushRecovery` has it.
-#[derive(Serialize)]
-struct PushRecoveryView<'a> {
+/// The push-recovery limit at one heading (`push_recovery_limit`).
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "PushRecovery")]
+pub(crate) struct PushRecoveryView<'a> {
+    /// Heading (deg).
     heading_deg: f64,
+    /// Largest impulse recovered (N s).
     largest_recovered_ns: f64,
+    /// Smallest impulse not recovered (N s), `None` if the upper end recovered.
     smallest_failing_ns: Option<f64>,
+    /// The trials of the search.
     trials: Vec<PushTrialView<'a>>,
 }
 
@@ -141,7 +161,7 @@ pub(crate) fn py_push_trial<'py>(
     let trial = py
         .detach(|| push_trial(world, &protocol, heading_deg, impulse_ns))
         .map_err(|e| world_error(py, e))?;
-    crate::results::build(py, "PushTrial", &PushTrialView::from(&trial))
+    crate::results::build(py, &PushTrialView::from(&trial))
 }
 
 /// The largest push recovered at `heading_deg` (`ballbot_sim::studies::push::push_recovery_limit`):
@@ -201,5 +221,5 @@ pub(crate) fn py_push_recovery_limit<'py>(
         smallest_failing_ns: found.smallest_failing_ns,
         trials: found.trials.iter().map(PushTrialView::from).collect(),
     };
-    crate::results::build(py, "PushRecovery", &view)
+    crate::results::build(py, &view)
 }

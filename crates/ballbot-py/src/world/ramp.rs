@@ -8,14 +8,21 @@ use crate::params::{PyControllerConfig, PyWorldParams};
 use crate::results::{Columns, FailureParts};
 use ballbot_sim::studies::ramp::{RampParams, RampResult, RampSample, max_speed_ramp_with_config};
 use pyo3::prelude::*;
+use schemars::JsonSchema;
 use serde::Serialize;
 
-/// A ramp as `ballbot._results.RampRun` has it: the samples as columns.
-#[derive(Serialize)]
+/// A maximum-speed ramp in the 3D world (`max_speed_ramp`).
+// The ramp's samples as columns.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "RampRun")]
 pub struct RampRunView<'a> {
+    /// Ramp heading in the body frame (deg; 0 towards OW1).
     heading_deg: f64,
+    /// Highest ball speed along the heading before failure (m/s).
     max_speed_m_per_s: f64,
+    /// The failure that ended the ramp, or `None`.
     failure: Option<FailureParts>,
+    /// When the safety supervisor stopped balancing (s), or `None`.
     supervisor_stop_secs: Option<f64>,
     #[serde(flatten)]
     samples: Columns<'a, RampSample>,
@@ -120,5 +127,5 @@ pub(crate) fn max_speed_ramp<'py>(
     let result = py
         .detach(|| max_speed_ramp_with_config(params, config, heading_deg, &ramp))
         .map_err(|e| world_error(py, e))?;
-    crate::results::build(py, "RampRun", &RampRunView::from(&result))
+    crate::results::build(py, &RampRunView::from(&result))
 }
