@@ -10,7 +10,7 @@ use ballbot_sim::trajopt::{
 };
 use numpy::{AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 use schemars::JsonSchema;
 
 type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
@@ -523,20 +523,15 @@ impl PyBrakingSolution {
             ));
         }
         let samples = self.inner.trajectory.sample(dt_secs);
-        let d = PyDict::new(py);
-        d.set_item(
-            "time_secs",
-            PyArray1::from_vec(py, samples.iter().map(|s| s.0).collect()),
-        )?;
-        d.set_item(
-            "state",
-            rows_out::<4>(py, samples.iter().map(|s| s.1.into()).collect(), false)?,
-        )?;
-        d.set_item(
-            "torque_nm",
-            PyArray1::from_vec(py, samples.iter().map(|s| s.2).collect()),
-        )?;
-        Ok(d)
+        let time = PyArray1::from_vec(py, samples.iter().map(|s| s.0).collect());
+        let state = rows_out::<4>(py, samples.iter().map(|s| s.1.into()).collect(), false)?;
+        let torque = PyArray1::from_vec(py, samples.iter().map(|s| s.2).collect());
+        [
+            ("time_secs", time.into_any()),
+            ("state", state.into_any()),
+            ("torque_nm", torque.into_any()),
+        ]
+        .into_py_dict(py)
     }
 
     fn __repr__(&self) -> String {
