@@ -1,5 +1,6 @@
 //! The Python mirror's schema: one JSON Schema bundle of every result class of
-//! `ballbot._results` and every status enum of `ballbot._enums`, from the Rust types
+//! `ballbot._results`, every status enum of `ballbot._enums` and every settings class of
+//! `ballbot._settings`, from the Rust types
 //! (schemars; the doc comments are the descriptions).
 //!
 //! `scripts/gen-python-mirror.py` (stdlib only) writes `python/ballbot/_results.py` and
@@ -11,7 +12,8 @@
 //! other than the JSON type's: `numpy.ndarray`, `ballbot._core.Failure`, an enum class),
 //! `x-python-dtype` and `x-python-shape` (a numpy array's; `"n"` for the rows of a run),
 //! `x-python-base` (the class a result class extends), `x-python-enum` (an enum class's
-//! members, in [`crate::enums`]).
+//! members, in [`crate::enums`]), `x-python-settings` (a settings class), `x-python-check`
+//! (how a settings field is checked) and `x-python-default` (a default as Python source).
 
 use crate::results::PyResultClass;
 use pyo3::prelude::*;
@@ -33,6 +35,23 @@ macro_rules! result_classes {
             $(generator.subschema_for::<$ty>();)*
         }
     };
+}
+
+/// The settings classes of `ballbot._settings`, in the order the module lists them.
+fn settings_schemas(generator: &mut SchemaGenerator) -> Vec<Value> {
+    use crate::studies::settings::{BrakingSettings, MaxSpeedSettings, PushSettings, RampSettings};
+    [
+        generator.subschema_for::<MaxSpeedSettings>(),
+        generator.subschema_for::<BrakingSettings>(),
+        generator.subschema_for::<PushSettings>(),
+        generator.subschema_for::<RampSettings>(),
+    ]
+    .into_iter()
+    .filter_map(|s| {
+        let name = s.get("$ref")?.as_str()?.rsplit('/').next()?.to_owned();
+        Some(json!(name))
+    })
+    .collect()
 }
 
 result_classes![
@@ -61,6 +80,7 @@ result_classes![
 pub fn bundle() -> Value {
     let mut generator = SchemaSettings::draft07().for_serialize().into_generator();
     result_schemas(&mut generator);
+    let settings = settings_schemas(&mut generator);
     let mut definitions = generator.take_definitions(true);
     let enums = crate::enums::schemas();
     let enum_names: Vec<Value> = enums.iter().map(|(name, _)| json!(name)).collect();
@@ -69,7 +89,11 @@ pub fn bundle() -> Value {
     }
     let results: Vec<Value> = definitions
         .iter()
-        .filter(|(_, d)| d.get("x-python-type").is_none() && d.get("x-python-enum").is_none())
+        .filter(|(_, d)| {
+            ["x-python-type", "x-python-enum", "x-python-settings"]
+                .iter()
+                .all(|key| d.get(key).is_none())
+        })
         .map(|(name, _)| json!(name))
         .collect();
     let mut root = Map::new();
@@ -86,6 +110,7 @@ pub fn bundle() -> Value {
     );
     root.insert("x-python-results".into(), Value::Array(results));
     root.insert("x-python-enums".into(), Value::Array(enum_names));
+    root.insert("x-python-settings".into(), Value::Array(settings));
     root.insert("definitions".into(), Value::Object(definitions));
     Value::Object(root)
 }

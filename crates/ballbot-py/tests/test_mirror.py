@@ -42,3 +42,15 @@ def test_enum_members_are_the_rust_names() -> None:
     for name in bundle["x-python-enums"]:
         members = [m["name"] for m in bundle["definitions"][name]["x-python-enum"]]
         assert [m.value for m in getattr(_enums, name)] == members
+
+
+def test_every_settings_class_is_generated() -> None:
+    from ballbot import _settings
+
+    bundle = json.loads(SCHEMA.read_text())
+    assert sorted(bundle["x-python-settings"]) == sorted(_settings.__all__)
+    for name in bundle["x-python-settings"]:
+        fields = bundle["definitions"][name]["required"]
+        cls = getattr(_settings, name)
+        assert [f for f in cls.__dataclass_fields__] == fields
+        assert getattr(ballbot, name) is cls

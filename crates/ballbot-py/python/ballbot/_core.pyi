@@ -2042,6 +2042,6 @@ def push_recovery_limit(
 # ---- the Python mirror ---------------------------------------------------------------------
 
 def _mirror_schema() -> str:
-    """The JSON Schema bundle of the result classes and enums (what
+    """The JSON Schema bundle of the result, enum and settings classes (what
     ``schemas/python-mirror.schema.json`` must be; ``scripts/gen-python-mirror.py``)."""
     ...

@@ -1,6 +1,7 @@
 //! The braking experiments (`ballbot_sim::studies::world_braking`): one braking run and the
 //! minimum-braking-time study.
 
+use super::settings::BrakingSettings;
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::results::{Columns, FailureParts};
@@ -21,20 +22,19 @@ fn braking_error(py: Python<'_>, e: BrakingError) -> PyErr {
     }
 }
 
-/// The braking protocol with keyword overrides (validated by the run).
-#[allow(clippy::too_many_arguments)]
-fn braking_params(
-    py: Python<'_>,
-    cruise_speed_m_per_s: Option<f64>,
-    approach_accel_m_per_s2: Option<f64>,
-    settle_secs: Option<f64>,
-    cruise_secs: Option<f64>,
-    trajectory_tilt_limit_rad: Option<f64>,
-    intervals: Option<usize>,
-    sample_every_secs: Option<f64>,
-    feedforward: &str,
-    stop_on: &str,
-) -> PyResult<BrakingParams> {
+/// The braking protocol with the settings' overrides (validated by the run).
+fn braking_params(py: Python<'_>, settings: &BrakingSettings) -> PyResult<BrakingParams> {
+    let BrakingSettings {
+        cruise_speed_m_per_s,
+        approach_accel_m_per_s2,
+        settle_secs,
+        cruise_secs,
+        trajectory_tilt_limit_rad,
+        intervals,
+        sample_every_secs,
+        ref feedforward,
+        ref stop_on,
+    } = *settings;
     let mut p = BrakingParams::default();
     if let Some(v) = settle_secs {
         p.settle_secs = v;
@@ -57,7 +57,7 @@ fn braking_params(
     if let Some(v) = sample_every_secs {
         p.sample_every_secs = v;
     }
-    p.feedforward = match feedforward {
+    p.feedforward = match feedforward.as_str() {
         "full" => TrajectoryFeedforward::Full,
         "core" => TrajectoryFeedforward::Core,
         _ => {
@@ -206,8 +206,7 @@ pub(crate) fn py_braking_run<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = braking_params(
-        py,
+    let settings = BrakingSettings {
         cruise_speed_m_per_s,
         approach_accel_m_per_s2,
         settle_secs,
@@ -215,9 +214,10 @@ pub(crate) fn py_braking_run<'py>(
         trajectory_tilt_limit_rad,
         intervals,
         sample_every_secs,
-        feedforward,
-        stop_on,
-    )?;
+        feedforward: feedforward.to_owned(),
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = braking_params(py, &settings)?;
     let run = py
         .detach(|| braking_run(world, &protocol, heading_deg, duration_secs, None))
         .map_err(|e| braking_error(py, e))?;
@@ -260,8 +260,7 @@ pub(crate) fn py_braking_study<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = braking_params(
-        py,
+    let settings = BrakingSettings {
         cruise_speed_m_per_s,
         approach_accel_m_per_s2,
         settle_secs,
@@ -269,9 +268,10 @@ pub(crate) fn py_braking_study<'py>(
         trajectory_tilt_limit_rad,
         intervals,
         sample_every_secs,
-        feedforward,
-        stop_on,
-    )?;
+        feedforward: feedforward.to_owned(),
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = braking_params(py, &settings)?;
     let mut study = BrakingStudyParams::paper();
     if let Some(d) = durations_secs {
         study.durations_secs = d;

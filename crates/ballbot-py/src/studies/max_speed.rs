@@ -2,6 +2,7 @@
 //! the paper's Sec. V): seeded slow-ramp trials per heading, the failing ramp acceleration per
 //! heading, the capability map and the mu / COM-height sensitivity.
 
+use super::settings::MaxSpeedSettings;
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::results::FailureParts;
@@ -314,42 +315,22 @@ pub(crate) fn py_failing_acceleration<'py>(
     crate::results::build(py, &FailingAccelerationView::from(&found))
 }
 
-/// The whole maximum-speed study as `ballbot reproduce` runs it
-/// (`ballbot_sim::studies::max_speed::run_study`), on Rust worker threads (`threads`, 0: every
-/// core) without the GIL. `quick` starts from the CI variant (one trial at 0 and 180 deg, a
-/// coarse search, no sensitivity) instead of the paper's (3 seeds at 0, 90, 180 deg, the map
-/// every 15 deg, mu 0.4/0.6/0.8 and COM height 0.4/0.5/0.7 m; a few minutes on two cores); the
-/// other keywords override its lists and the search.
-///
-/// Returns a `MaxSpeedStudy`: the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
-/// `wheel_ball_friction`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
-/// plus `max_speed_by_heading` (mean slow-ramp maximum speed per heading), `table` (the text
-/// table `reproduce` prints) and `first_runs` (per trial heading, the first trial's series as
-/// `max_speed_ramp` returns them, for the paper's Fig. "acc").
-#[pyfunction(name = "max_speed_study")]
-#[pyo3(signature = (
-    params = None, *, quick = false, trial_headings_deg = None, seeds = None,
-    map_headings_deg = None, sensitivity_headings_deg = None, sensitivity_wheel_ball_friction = None,
-    sensitivity_com_height_m = None, threads = 0, fast_top_m_per_s = None,
-    accel_bracket_m_per_s2 = None, accel_resolution_m_per_s2 = None,
-))]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn py_max_speed_study<'py>(
-    py: Python<'py>,
-    params: Option<PyWorldParams>,
-    quick: bool,
-    trial_headings_deg: Option<Vec<f64>>,
-    seeds: Option<Vec<u64>>,
-    map_headings_deg: Option<Vec<f64>>,
-    sensitivity_headings_deg: Option<Vec<f64>>,
-    sensitivity_wheel_ball_friction: Option<Vec<f64>>,
-    sensitivity_com_height_m: Option<Vec<f64>>,
-    threads: usize,
-    fast_top_m_per_s: Option<f64>,
-    accel_bracket_m_per_s2: Option<(f64, f64)>,
-    accel_resolution_m_per_s2: Option<f64>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let params = params_or_default(params);
+/// The study's settings: the paper's or the CI variant's (`quick`), with the settings'
+/// overrides.
+fn study_settings(py: Python<'_>, s: MaxSpeedSettings) -> PyResult<MaxSpeedStudySettings> {
+    let MaxSpeedSettings {
+        quick,
+        trial_headings_deg,
+        seeds,
+        map_headings_deg,
+        sensitivity_headings_deg,
+        sensitivity_wheel_ball_friction,
+        sensitivity_com_height_m,
+        threads,
+        fast_top_m_per_s,
+        accel_bracket_m_per_s2,
+        accel_resolution_m_per_s2,
+    } = s;
     let mut settings = if quick {
         MaxSpeedStudySettings::quick()
     } else {
@@ -404,6 +385,61 @@ pub(crate) fn py_max_speed_study<'py>(
         settings.seeds = seeds;
     }
     settings.threads = threads;
+    Ok(settings)
+}
+
+/// The whole maximum-speed study as `ballbot reproduce` runs it
+/// (`ballbot_sim::studies::max_speed::run_study`), on Rust worker threads (`threads`, 0: every
+/// core) without the GIL. `quick` starts from the CI variant (one trial at 0 and 180 deg, a
+/// coarse search, no sensitivity) instead of the paper's (3 seeds at 0, 90, 180 deg, the map
+/// every 15 deg, mu 0.4/0.6/0.8 and COM height 0.4/0.5/0.7 m; a few minutes on two cores); the
+/// other keywords override its lists and the search.
+///
+/// Returns a `MaxSpeedStudy`: the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
+/// `wheel_ball_friction`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
+/// plus `max_speed_by_heading` (mean slow-ramp maximum speed per heading), `table` (the text
+/// table `reproduce` prints) and `first_runs` (per trial heading, the first trial's series as
+/// `max_speed_ramp` returns them, for the paper's Fig. "acc").
+#[pyfunction(name = "max_speed_study")]
+#[pyo3(signature = (
+    params = None, *, quick = false, trial_headings_deg = None, seeds = None,
+    map_headings_deg = None, sensitivity_headings_deg = None, sensitivity_wheel_ball_friction = None,
+    sensitivity_com_height_m = None, threads = 0, fast_top_m_per_s = None,
+    accel_bracket_m_per_s2 = None, accel_resolution_m_per_s2 = None,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn py_max_speed_study<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    quick: bool,
+    trial_headings_deg: Option<Vec<f64>>,
+    seeds: Option<Vec<u64>>,
+    map_headings_deg: Option<Vec<f64>>,
+    sensitivity_headings_deg: Option<Vec<f64>>,
+    sensitivity_wheel_ball_friction: Option<Vec<f64>>,
+    sensitivity_com_height_m: Option<Vec<f64>>,
+    threads: usize,
+    fast_top_m_per_s: Option<f64>,
+    accel_bracket_m_per_s2: Option<(f64, f64)>,
+    accel_resolution_m_per_s2: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params_or_default(params);
+    let settings = study_settings(
+        py,
+        MaxSpeedSettings {
+            quick,
+            trial_headings_deg,
+            seeds,
+            map_headings_deg,
+            sensitivity_headings_deg,
+            sensitivity_wheel_ball_friction,
+            sensitivity_com_height_m,
+            threads,
+            fast_top_m_per_s,
+            accel_bracket_m_per_s2,
+            accel_resolution_m_per_s2,
+        },
+    )?;
     let study = py
         .detach(|| run_study(params, &settings, &|_| {}))
         .map_err(|e| world_error(py, e))?;

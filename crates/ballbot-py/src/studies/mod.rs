@@ -6,6 +6,7 @@ mod braking;
 mod max_speed;
 mod push;
 mod robustness;
+pub(crate) mod settings;
 
 pub(crate) use braking::{BrakingRunView, BrakingStudyView};
 pub(crate) use max_speed::{

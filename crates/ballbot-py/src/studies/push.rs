@@ -1,6 +1,7 @@
 //! The push-recovery experiments (`ballbot_sim::studies::push`): one trial and the recovery
 //! limit.
 
+use super::settings::PushSettings;
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::results::{Columns, FailureParts};
@@ -13,14 +14,18 @@ use pyo3::prelude::*;
 use schemars::JsonSchema;
 use serde::Serialize;
 
-fn push_params(
-    push_duration_secs: Option<f64>,
-    settle_secs: Option<f64>,
-    observe_secs: Option<f64>,
-    rest_within_secs: Option<f64>,
-    sample_every_secs: Option<f64>,
-    stop_rules: ballbot_sim::world::StopRules,
-) -> PushParams {
+/// The push protocol with the settings' overrides and the world's stop rules (parsed from
+/// `settings.stop_on`).
+fn push_params(py: Python<'_>, settings: &PushSettings) -> PyResult<PushParams> {
+    let PushSettings {
+        push_duration_secs,
+        settle_secs,
+        observe_secs,
+        rest_within_secs,
+        sample_every_secs,
+        ref stop_on,
+    } = *settings;
+    let stop_rules = super::stop_rules(py, stop_on)?;
     let mut p = PushParams {
         stop_rules,
         ..PushParams::default()
@@ -40,7 +45,7 @@ fn push_params(
     if let Some(v) = sample_every_secs {
         p.sample_every_secs = v;
     }
-    p
+    Ok(p)
 }
 
 /// One push-recovery trial (`push_trial`).
@@ -142,14 +147,15 @@ pub(crate) fn py_push_trial<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = push_params(
+    let settings = PushSettings {
         push_duration_secs,
         settle_secs,
         observe_secs,
         rest_within_secs,
         sample_every_secs,
-        super::stop_rules(py, stop_on)?,
-    );
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = push_params(py, &settings)?;
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(impulse_ns.is_finite() && heading_deg.is_finite()) {
         return Err(error(
@@ -190,14 +196,15 @@ pub(crate) fn py_push_recovery_limit<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = push_params(
+    let settings = PushSettings {
         push_duration_secs,
         settle_secs,
         observe_secs,
         rest_within_secs,
         sample_every_secs,
-        super::stop_rules(py, stop_on)?,
-    );
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = push_params(py, &settings)?;
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(resolution_ns.is_finite() && resolution_ns > 0.0 && upper_ns / resolution_ns <= 1e9) {
         return Err(error(
