@@ -139,12 +139,15 @@ def clean_doc(doc: Optional[str]) -> str:
 def docstring(text: str, indent: str) -> List[str]:
     """``text`` as a docstring's lines at ``indent``, wrapped at WIDTH."""
     text = text.replace("\\", "\\\\").replace('"""', '\\"\\"\\"')
+    # A literal (``...``) is not broken across lines: its spaces are held while wrapping.
+    held = re.sub(r"``[^`]+``", lambda m: m.group(0).replace(" ", "\0"), text)
     lines: List[str] = []
-    for k, paragraph in enumerate(text.split("\n\n")):
+    for k, paragraph in enumerate(held.split("\n\n")):
         if k:
             lines.append("")
-        lines.extend(textwrap.wrap(paragraph, WIDTH - len(indent) - 6, break_on_hyphens=False,
-                                   break_long_words=False) or [""])
+        wrapped = textwrap.wrap(paragraph, WIDTH - len(indent) - 6, break_on_hyphens=False,
+                                break_long_words=False) or [""]
+        lines.extend(line.replace("\0", " ") for line in wrapped)
     lines[0] = '"""' + lines[0]
     lines[-1] = lines[-1] + '"""'
     return [indent + line if line else "" for line in lines]
@@ -486,6 +489,9 @@ def self_test(root: Path) -> int:
         "Uses ``Foo::bar`` and ``x``.\n\nNext."
     ):
         failures.append("clean_doc")
+    long_literal = "x " * 40 + "``(n, n_steps + 1, 4)``."
+    if any(line.count("``") % 2 for line in docstring(long_literal, "    ")):
+        failures.append("docstring breaks a literal across lines")
     for failure in failures:
         print(f"self-test: {failure}", file=sys.stderr)
     if not failures:

@@ -96,10 +96,10 @@ class BrakingRun(_Result):
     telemetry_hash: int
     """Hash of the run's telemetry (determinism checks)."""
     happened: Optional[dict[str, Any]]
-    """How the flown run ended and its contact events, whatever the stop rules: ``{"outcome":
-    {"kind": "at_rest", "time_secs": ...}, "events": [...], "events_dropped": 0}`` (kinds
-    ``fell``, ``ended_by_stop_rule``, ``stopped``, ``at_rest``, ``recovered``, ``unsettled``);
-    ``None`` when no trajectory was flown."""
+    """How the flown run ended and its contact events, whatever the stop rules:
+    ``{"outcome": {"kind": "at_rest", "time_secs": ...}, "events": [...], "events_dropped": 0}``
+    (kinds ``fell``, ``ended_by_stop_rule``, ``stopped``, ``at_rest``, ``recovered``,
+    ``unsettled``); ``None`` when no trajectory was flown."""
 
 
 @_register
@@ -306,8 +306,8 @@ class Rollout(_Result):
     time_secs: npt.NDArray[np.float64]
     """Time of each state (s), ``(n_steps + 1,)``."""
     state: npt.NDArray[np.float64]
-    """States ``[theta, phi, theta_dot, phi_dot]``, ``(n_steps + 1, 4)`` or ``(n, n_steps + 1,
-    4)``."""
+    """States ``[theta, phi, theta_dot, phi_dot]``, ``(n_steps + 1, 4)`` or
+    ``(n, n_steps + 1, 4)``."""
     torque_nm: npt.NDArray[np.float64]
     """Mean torque applied over each period (N m), ``(n_steps,)`` or ``(n, n_steps)``."""
     status: npt.NDArray[np.int8]
