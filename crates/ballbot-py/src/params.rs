@@ -19,7 +19,7 @@ use ballbot_sim::world::{
 };
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList};
+use pyo3::types::{IntoPyDict, PyBool, PyDict, PyList};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use toml::{Table, Value};
@@ -131,8 +131,7 @@ fn overlay(
                     ),
                 ));
             };
-            let one = PyDict::new(py);
-            one.set_item(rest, &value)?;
+            let one = [(rest, &value)].into_py_dict(py)?;
             overlay(py, inner, &one, owner, &format!("{prefix}{head}."))?;
             continue;
         }
