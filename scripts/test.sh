@@ -37,6 +37,11 @@ python3 scripts/check-function-length.py --self-test && python3 scripts/check-fu
 step "the docs' rendered numbers agree with the committed run summaries"
 python3 scripts/render-docs.py --self-test && python3 scripts/render-docs.py --check
 
+step "the Python mirror (ballbot._results, ballbot._enums) is what the committed schema generates"
+# The other half, the committed schema against the Rust types, is test_mirror.py (it needs the
+# built extension).
+python3 scripts/gen-python-mirror.py --self-test && python3 scripts/gen-python-mirror.py --check
+
 step "no issue numbers in the code (there is no public tracker to follow them to)"
 python3 scripts/check-no-issue-numbers.py
 

@@ -14,6 +14,7 @@ mod gym;
 mod kinematics;
 mod log;
 mod lqr;
+mod mirror;
 mod models;
 mod params;
 mod pickle;
@@ -46,5 +47,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     world::register(m)?;
     gym::register(m)?;
     studies::register(m)?;
+    mirror::register(m)?;
     Ok(())
 }

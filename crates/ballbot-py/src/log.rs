@@ -4,7 +4,8 @@ use crate::errors::{Kind, error};
 use ballbot_sim::log::{LogError, McapLog};
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{IntoPyDict, PyDict, PyList};
+use serde::Serialize;
 use serde_json::Value;
 
 /// Maps a log error: unreadable or malformed files, and a live view that cannot serve, to
@@ -21,6 +22,16 @@ pub fn log_error(py: Python<'_>, e: LogError) -> PyErr {
 /// an integer as an `int`, any other number as a `float`.
 pub fn json_to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>> {
     Ok(pythonize::pythonize(py, value)?)
+}
+
+/// A channel as `McapLog.channels` lists it.
+#[derive(Serialize)]
+struct ChannelView<'a> {
+    topic: &'a str,
+    schema_name: &'a str,
+    schema_encoding: &'a str,
+    message_encoding: &'a str,
+    message_count: u64,
 }
 
 /// An MCAP log read into memory, complete or recovered from a killed writer.
@@ -82,20 +93,20 @@ impl PyMcapLog {
 
     /// Every channel as a dict: `topic`, `schema_name`, `schema_encoding`,
     /// `message_encoding`, `message_count`.
-    fn channels<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        self.inner
+    fn channels<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let channels: Vec<ChannelView<'_>> = self
+            .inner
             .channels()
             .iter()
-            .map(|c| {
-                let d = PyDict::new(py);
-                d.set_item("topic", &c.topic)?;
-                d.set_item("schema_name", &c.schema_name)?;
-                d.set_item("schema_encoding", &c.schema_encoding)?;
-                d.set_item("message_encoding", &c.message_encoding)?;
-                d.set_item("message_count", c.message_count)?;
-                Ok(d)
+            .map(|c| ChannelView {
+                topic: &c.topic,
+                schema_name: &c.schema_name,
+                schema_encoding: &c.schema_encoding,
+                message_encoding: &c.message_encoding,
+                message_count: c.message_count,
             })
-            .collect()
+            .collect();
+        Ok(pythonize::pythonize(py, &channels)?)
     }
 
     /// A channel's numeric fields (JSON, or Foxglove's protobuf messages) as `(n,)` float
@@ -106,12 +117,16 @@ impl PyMcapLog {
         let series = py
             .detach(|| self.inner.numeric_series(topic))
             .map_err(|e| log_error(py, e))?;
-        let d = PyDict::new(py);
-        d.set_item("time_secs", PyArray1::from_vec(py, series.time_secs))?;
-        for (name, column) in series.columns {
-            d.set_item(name, PyArray1::from_vec(py, column))?;
-        }
-        Ok(d)
+        // The columns made numpy arrays from the Rust buffers (no copy), in file order.
+        let time = (
+            "time_secs".to_owned(),
+            PyArray1::from_vec(py, series.time_secs),
+        );
+        let columns = series
+            .columns
+            .into_iter()
+            .map(|(name, column)| (name, PyArray1::from_vec(py, column)));
+        std::iter::once(time).chain(columns).into_py_dict(py)
     }
 
     /// A channel's messages (JSON, or Foxglove's protobuf messages with their schema's field

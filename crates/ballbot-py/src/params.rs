@@ -19,7 +19,7 @@ use ballbot_sim::world::{
 };
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList};
+use pyo3::types::{IntoPyDict, PyBool, PyDict, PyList};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use toml::{Table, Value};
@@ -55,33 +55,6 @@ core_params! {
 /// The serde table of `params` (the TOML file's content).
 fn to_table<P: CoreParams>(py: Python<'_>, params: &P) -> PyResult<Table> {
     Table::try_from(params).map_err(|e| error(py, Kind::Other, format!("{}: {e}", P::NAME)))
-}
-
-/// A TOML value as plain Python objects (floats, lists, dicts).
-fn value_to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match value {
-        Value::Float(x) => x.into_pyobject(py)?.into_any(),
-        Value::Integer(i) => i.into_pyobject(py)?.into_any(),
-        Value::Boolean(b) => PyBool::new(py, *b).to_owned().into_any(),
-        Value::String(s) => s.into_pyobject(py)?.into_any(),
-        Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any(),
-        Value::Array(items) => {
-            let list = PyList::empty(py);
-            for item in items {
-                list.append(value_to_py(py, item)?)?;
-            }
-            list.into_any()
-        }
-        Value::Table(table) => table_to_dict(py, table)?.into_any(),
-    })
-}
-
-fn table_to_dict<'py>(py: Python<'py>, table: &Table) -> PyResult<Bound<'py, PyDict>> {
-    let dict = PyDict::new(py);
-    for (key, value) in table {
-        dict.set_item(key, value_to_py(py, value)?)?;
-    }
-    Ok(dict)
 }
 
 /// A number that is not a bool.
@@ -158,8 +131,7 @@ fn overlay(
                     ),
                 ));
             };
-            let one = PyDict::new(py);
-            one.set_item(rest, &value)?;
+            let one = [(rest, &value)].into_py_dict(py)?;
             overlay(py, inner, &one, owner, &format!("{prefix}{head}."))?;
             continue;
         }
@@ -281,9 +253,11 @@ pub fn with_fields<P: CoreParams>(
     Ok(params)
 }
 
-/// The fields of `params` as a dict of plain Python values (nested dicts, lists of floats).
+/// The fields of `params` as a dict of plain Python values (nested dicts, lists of floats):
+/// its TOML table through `pythonize`, as every serde value the bindings hand over.
 pub fn to_dict<'py, P: CoreParams>(py: Python<'py>, params: &P) -> PyResult<Bound<'py, PyDict>> {
-    table_to_dict(py, &to_table(py, params)?)
+    let table = to_table(py, params)?;
+    Ok(pythonize::pythonize(py, &table)?.cast_into::<PyDict>()?)
 }
 
 /// Writes `params` to a TOML file.

@@ -15,14 +15,21 @@
 //! field. `pythonize` makes a fixed-size array (`[T; N]`, a serde tuple) a Python `tuple` and
 //! a `Vec` a `list`; `_build` turns either into what the annotation says (`list[float]`,
 //! `tuple[bool, bool, bool]`), but inside a field typed `dict[str, Any]` a `[T; N]` would stay
-//! a tuple. [`make`] is the older path (a dict of Python objects filled by hand) that the
-//! families not yet moved still use.
+//! a tuple; an [`Array`] inside such a field (a PIPTB trial's `series`) is still an array.
+//! [`build_objects`] is the same path for a view whose fields are Python objects already (a
+//! rollout's arrays, made from the Rust buffers without a copy).
+//!
+//! The classes are generated from the views' schemas ([`crate::mirror`], [`PyResultClass`]):
+//! the view's schema name is the class's name, so the two cannot disagree.
 
+use pyo3::BoundObject;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::PyDict;
+use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 use serde::ser::{self, Impossible, SerializeMap, SerializeStruct};
 use serde::{Serialize, Serializer};
+use serde_json::{Map, Value, json};
+use std::borrow::Cow;
 use std::fmt;
 
 static RESULTS_MODULE: PyOnceLock<Py<PyModule>> = PyOnceLock::new();
@@ -33,27 +40,41 @@ fn results_module(py: Python<'_>) -> PyResult<&Bound<'_, PyModule>> {
         .bind(py))
 }
 
-/// An instance of `ballbot._results.<class_name>` with `fields` as keyword arguments (the
-/// class's constructor checks that every field is given, and no other).
-pub fn make<'py>(
-    py: Python<'py>,
-    class_name: &str,
-    fields: Bound<'py, PyDict>,
-) -> PyResult<Bound<'py, PyAny>> {
-    results_module(py)?
-        .getattr(class_name)?
-        .call((), Some(&fields))
-}
+/// A Rust result (or the binding's view of it) that has a generated class in
+/// `ballbot._results`: its schema's name (`#[schemars(rename = "...")]`) is the class's name,
+/// and `scripts/gen-python-mirror.py` writes the class from its schema in the mirror's bundle
+/// ([`crate::mirror`]). Implemented by the bundle's list only, so that [`build`] and
+/// [`build_objects`] take no type whose class was not generated.
+pub trait PyResultClass: JsonSchema {}
 
-/// An instance of `ballbot._results.<class_name>` from `value`, through `pythonize` and
-/// `ballbot._results._build` (see the module's doc): the fields of `value`'s serde form are
-/// the class's fields, by name.
-pub fn build<'py, T: Serialize + ?Sized>(
+/// An instance of the generated class of `T` (in `ballbot._results`) from `value`, through
+/// `pythonize` and `ballbot._results._build` (see the module's doc): the fields of `value`'s
+/// serde form are the class's fields, by name.
+pub fn build<'py, T: PyResultClass + Serialize>(
     py: Python<'py>,
-    class_name: &str,
     value: &T,
 ) -> PyResult<Bound<'py, PyAny>> {
     let data = pythonize::pythonize(py, value)?;
+    build_from(py, T::schema_name(), data)
+}
+
+/// [`build`] for a view whose fields are Python objects already (numpy arrays made from the
+/// Rust buffers without a copy, native classes): `#[derive(IntoPyObject)]` makes the dict of
+/// them, `_build` takes such fields as they are.
+pub fn build_objects<'py, T>(py: Python<'py>, value: T) -> PyResult<Bound<'py, PyAny>>
+where
+    T: PyResultClass + IntoPyObject<'py>,
+    PyErr: From<T::Error>,
+{
+    let data = value.into_pyobject(py)?.into_any().into_bound();
+    build_from(py, T::schema_name(), data)
+}
+
+fn build_from<'py>(
+    py: Python<'py>,
+    class_name: Cow<'static, str>,
+    data: Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyAny>> {
     results_module(py)?
         .getattr("_build")?
         .call1((class_name, data))
@@ -150,9 +171,26 @@ impl Serialize for Array {
     }
 }
 
+/// In the mirror's schema, an array (`x-python-type`); its dtype and shape are the field's
+/// (`#[schemars(extend("x-python-dtype" = "f8", "x-python-shape" = [3]))]`).
+impl JsonSchema for Array {
+    fn schema_name() -> Cow<'static, str> {
+        "Array".into()
+    }
+
+    fn inline_schema() -> bool {
+        true
+    }
+
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({ "type": "object", "x-python-type": "numpy.ndarray" })
+    }
+}
+
 /// A failure's parts, the form `Failure._from_parts` takes (and pickling uses): the kind's
 /// canonical name, the wheel index, the tilt, the time.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, JsonSchema)]
+#[schemars(rename = "Failure", extend("x-python-type" = "ballbot._core.Failure"))]
 pub struct FailureParts {
     /// `FailureKind::as_str`.
     pub kind: &'static str,
@@ -215,6 +253,51 @@ impl<T: Serialize + Default> Serialize for Columns<'_, T> {
             map.serialize_entry(column.name, &array)?;
         }
         map.end()
+    }
+}
+
+/// In the mirror's schema, one array per field of the row type `T`, described by the field's
+/// doc comment: dtype `f8`, `?` or `i1`, shape `["n"]` or `["n", k]`.
+impl<T: JsonSchema> JsonSchema for Columns<'_, T> {
+    fn schema_name() -> Cow<'static, str> {
+        format!("Columns_of_{}", T::schema_name()).into()
+    }
+
+    fn inline_schema() -> bool {
+        true
+    }
+
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let row = T::json_schema(generator);
+        let mut properties = Map::new();
+        let fields = row.get("properties").and_then(Value::as_object);
+        for (name, field) in fields.into_iter().flatten() {
+            let (item, width) = match field.get("items") {
+                Some(item) => (item, field.get("maxItems").cloned()),
+                None => (field, None),
+            };
+            let dtype = match item.get("type").and_then(Value::as_str) {
+                Some("boolean") => "?",
+                Some("integer") => "i1",
+                _ => "f8",
+            };
+            let shape = match width {
+                Some(k) => json!(["n", k]),
+                None => json!(["n"]),
+            };
+            let mut column = json!({
+                "type": "object",
+                "x-python-type": "numpy.ndarray",
+                "x-python-dtype": dtype,
+                "x-python-shape": shape,
+            });
+            if let (Some(doc), Some(map)) = (field.get("description"), column.as_object_mut()) {
+                map.insert("description".into(), doc.clone());
+            }
+            properties.insert(name.clone(), column);
+        }
+        let required = row.get("required").cloned().unwrap_or_else(|| json!([]));
+        json_schema!({ "type": "object", "properties": properties, "required": required })
     }
 }
 

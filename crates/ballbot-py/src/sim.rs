@@ -1,11 +1,10 @@
 //! The planar simulator (`ballbot_sim::planar`, `ballbot_sim::studies::scenario`) and the PIPTB
 //! controller comparison (`ballbot_sim::studies::piptb`, what `ballbot reproduce` runs).
 //! Runs release the GIL; a scenario's run comes back through [`crate::results::build`], the
-//! PIPTB comparison as a hand-filled dict.
+//! PIPTB comparison too (its trials' series as numpy arrays inside the JSON records).
 
 use crate::errors::{Kind, error};
-use crate::log::json_to_py;
-use crate::results::Columns;
+use crate::results::{Array, Columns};
 use ballbot_sim::log::planar::McapRecorder;
 use ballbot_sim::log::{LoggerOptions, McapLogger};
 use ballbot_sim::planar::{ControllerKind, Fault, Observer, OuterTick};
@@ -13,9 +12,8 @@ use ballbot_sim::studies::piptb::{
     self, ControllerResult, ExperimentError, PiptbSettings, TrialSeries,
 };
 use ballbot_sim::studies::scenario::{Scenario, ScenarioError};
-use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use schemars::JsonSchema;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -45,16 +43,19 @@ struct Recorder {
 }
 
 /// One tick as `ScenarioRun`'s columns have it (through [`Columns`], named as the fields).
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+#[derive(Clone, Copy, Debug, Default, Serialize, JsonSchema)]
 struct Tick {
+    /// Tick times (s).
     time_secs: f64,
     /// True `[theta, phi, theta_dot, phi_dot]`.
     state: [f64; 4],
     /// `[theta_c, theta_dot_c, phi_dot_c]`.
     command: [f64; 3],
+    /// Torque the controller requested (N m).
     requested_torque_nm: f64,
-    /// Delivered.
+    /// Torque delivered (N m).
     torque_nm: f64,
+    /// Transmission friction torque (N m).
     friction_torque_nm: f64,
     /// 1.0 when saturated, else 0.0.
     saturated: f64,
@@ -82,13 +83,18 @@ impl Observer for Recorder {
     }
 }
 
-/// A scenario's run as `ballbot._results.ScenarioRun` has it.
-#[derive(Serialize)]
-struct ScenarioRunView<'a> {
+/// A planar scenario's run (`Scenario.run`), sampled at the main controller's ticks.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "ScenarioRun")]
+pub(crate) struct ScenarioRunView<'a> {
     #[serde(flatten)]
     ticks: Columns<'a, Tick>,
+    /// When the run ended (s).
     end_time_secs: f64,
+    /// Why the run stopped early, or `None`.
     fault: Option<&'a str>,
+    /// The MCAP log written, or `None`.
+    #[schemars(extend("x-python-type" = "pathlib.Path"))]
     log_path: Option<&'a Path>,
 }
 
@@ -173,7 +179,7 @@ impl PyScenario {
             fault: rec.fault.as_deref(),
             log_path: log_path.as_deref(),
         };
-        crate::results::build(py, "ScenarioRun", &view)
+        crate::results::build(py, &view)
     }
 }
 
@@ -220,42 +226,121 @@ fn parse_kind(py: Python<'_>, key: &str) -> PyResult<ControllerKind> {
         })
 }
 
-fn series_dict<'py>(py: Python<'py>, s: TrialSeries) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("time_secs", PyArray1::from_vec(py, s.time_secs))?;
-    d.set_item("tilt_rad", PyArray1::from_vec(py, s.tilt_rad))?;
-    d.set_item("speed_m_per_s", PyArray1::from_vec(py, s.speed_m_per_s))?;
-    d.set_item(
-        "command_speed_m_per_s",
-        PyArray1::from_vec(py, s.command_speed_m_per_s),
-    )?;
-    d.set_item("torque_nm", PyArray1::from_vec(py, s.torque_nm))?;
-    d.set_item(
-        "friction_torque_nm",
-        PyArray1::from_vec(py, s.friction_torque_nm),
-    )?;
-    d.set_item("effort_n2m2s", PyArray1::from_vec(py, s.effort_n2m2s))?;
-    Ok(d)
+/// A JSON object as Python has it (`dict[str, Any]`).
+type JsonObject = serde_json::Map<String, serde_json::Value>;
+
+/// The PIPTB controller comparison (`piptb_experiment`).
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "PiptbExperiment")]
+pub(crate) struct PiptbExperimentView {
+    /// When braking starts (s).
+    brake_start_secs: f64,
+    /// When braking ends (s).
+    brake_end_secs: f64,
+    /// The braking reference: effort, peak tilt, duration, source.
+    #[schemars(with = "JsonObject")]
+    reference: serde_json::Value,
+    /// Per controller key: the metrics and the trials (each with `series`), braking phase
+    /// `[t2, t2 + 1.4 s]` (the fixed window).
+    #[schemars(with = "std::collections::BTreeMap<String, JsonObject>")]
+    controllers: ControllersView,
+    /// The same shape, braking phase `[t2, t3]` with `t3` when the testbed stopped (the speed
+    /// within the stop band for the stop hold; `t3_capped` when it never did).
+    #[schemars(with = "std::collections::BTreeMap<String, JsonObject>")]
+    controllers_until_stopped: ControllersView,
 }
 
-/// Per controller key: its result as a dict, each trial with its `series`.
-fn controllers_dict<'py>(
-    py: Python<'py>,
-    controllers: Vec<ControllerResult>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let by_kind = PyDict::new(py);
-    for c in controllers {
-        let series: Vec<TrialSeries> = c.trials.iter().map(|t| t.series.clone()).collect();
-        let value = serde_json::to_value(&c).map_err(|e| error(py, Kind::Other, e.to_string()))?;
-        let entry = json_to_py(py, &value)?;
-        if let Ok(list) = entry.get_item("trials") {
-            for (i, s) in series.into_iter().enumerate() {
-                list.get_item(i)?.set_item("series", series_dict(py, s)?)?;
+/// Per controller key: its result's JSON record, each trial with its `series` (numpy arrays
+/// at the controller's ticks, as [`Array`]s).
+struct ControllersView(Vec<(&'static str, serde_json::Value, Vec<SeriesView>)>);
+
+impl ControllersView {
+    fn new(py: Python<'_>, controllers: Vec<ControllerResult>) -> PyResult<Self> {
+        let mut out = Vec::with_capacity(controllers.len());
+        for c in controllers {
+            let series = c
+                .trials
+                .iter()
+                .map(|t| SeriesView::from(&t.series))
+                .collect();
+            let record =
+                serde_json::to_value(&c).map_err(|e| error(py, Kind::Other, e.to_string()))?;
+            out.push((c.kind.key(), record, series));
+        }
+        Ok(Self(out))
+    }
+}
+
+impl Serialize for ControllersView {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(key, record, series)| {
+            let entry = ControllerView { record, series };
+            (key, entry)
+        }))
+    }
+}
+
+/// One controller's record with `series` added to each of its `trials`.
+struct ControllerView<'a> {
+    record: &'a serde_json::Value,
+    series: &'a [SeriesView],
+}
+
+impl Serialize for ControllerView<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let fields = self.record.as_object().into_iter().flatten();
+        let mut map = s.serialize_map(None)?;
+        for (key, value) in fields {
+            match (key.as_str(), value.as_array()) {
+                ("trials", Some(trials)) => {
+                    let trials: Vec<TrialView<'_>> = trials
+                        .iter()
+                        .zip(self.series)
+                        .map(|(record, series)| TrialView { record, series })
+                        .collect();
+                    map.serialize_entry(key, &trials)?;
+                }
+                _ => map.serialize_entry(key, value)?,
             }
         }
-        by_kind.set_item(c.kind.key(), entry)?;
+        map.end()
     }
-    Ok(by_kind)
+}
+
+/// A trial's record and its series.
+#[derive(Serialize)]
+struct TrialView<'a> {
+    #[serde(flatten)]
+    record: &'a serde_json::Value,
+    series: &'a SeriesView,
+}
+
+/// A trial's time series as arrays.
+#[derive(Serialize)]
+struct SeriesView {
+    time_secs: Array,
+    tilt_rad: Array,
+    speed_m_per_s: Array,
+    command_speed_m_per_s: Array,
+    torque_nm: Array,
+    friction_torque_nm: Array,
+    effort_n2m2s: Array,
+}
+
+impl From<&TrialSeries> for SeriesView {
+    fn from(s: &TrialSeries) -> Self {
+        let column = |v: &[f64]| Array::column(v.iter().copied());
+        Self {
+            time_secs: column(&s.time_secs),
+            tilt_rad: column(&s.tilt_rad),
+            speed_m_per_s: column(&s.speed_m_per_s),
+            command_speed_m_per_s: column(&s.command_speed_m_per_s),
+            torque_nm: column(&s.torque_nm),
+            friction_torque_nm: column(&s.friction_torque_nm),
+            effort_n2m2s: column(&s.effort_n2m2s),
+        }
+    }
 }
 
 /// The PIPTB controller comparison of the paper (Sec. IV-C), as `ballbot reproduce` runs it:
@@ -337,18 +422,15 @@ fn piptb_experiment<'py>(
         })
         .map_err(|e| experiment_error(py, e))?;
 
-    let out = PyDict::new(py);
-    out.set_item("brake_start_secs", settings.brake_start_secs())?;
-    out.set_item("brake_end_secs", settings.brake_end_secs())?;
-    let reference = serde_json::to_value(&report.reference)
-        .map_err(|e| error(py, Kind::Other, e.to_string()))?;
-    out.set_item("reference", json_to_py(py, &reference)?)?;
-    out.set_item("controllers", controllers_dict(py, report.controllers)?)?;
-    out.set_item(
-        "controllers_until_stopped",
-        controllers_dict(py, until.controllers)?,
-    )?;
-    crate::results::make(py, "PiptbExperiment", out)
+    let view = PiptbExperimentView {
+        brake_start_secs: settings.brake_start_secs(),
+        brake_end_secs: settings.brake_end_secs(),
+        reference: serde_json::to_value(&report.reference)
+            .map_err(|e| error(py, Kind::Other, e.to_string()))?,
+        controllers: ControllersView::new(py, report.controllers)?,
+        controllers_until_stopped: ControllersView::new(py, until.controllers)?,
+    };
+    crate::results::build(py, &view)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -10,7 +10,8 @@ use ballbot_sim::trajopt::{
 };
 use numpy::{AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
+use schemars::JsonSchema;
 
 type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 type Out<'py> = PyResult<Bound<'py, PyArrayDyn<f64>>>;
@@ -522,20 +523,15 @@ impl PyBrakingSolution {
             ));
         }
         let samples = self.inner.trajectory.sample(dt_secs);
-        let d = PyDict::new(py);
-        d.set_item(
-            "time_secs",
-            PyArray1::from_vec(py, samples.iter().map(|s| s.0).collect()),
-        )?;
-        d.set_item(
-            "state",
-            rows_out::<4>(py, samples.iter().map(|s| s.1.into()).collect(), false)?,
-        )?;
-        d.set_item(
-            "torque_nm",
-            PyArray1::from_vec(py, samples.iter().map(|s| s.2).collect()),
-        )?;
-        Ok(d)
+        let time = PyArray1::from_vec(py, samples.iter().map(|s| s.0).collect());
+        let state = rows_out::<4>(py, samples.iter().map(|s| s.1.into()).collect(), false)?;
+        let torque = PyArray1::from_vec(py, samples.iter().map(|s| s.2).collect());
+        [
+            ("time_secs", time.into_any()),
+            ("state", state.into_any()),
+            ("torque_nm", torque.into_any()),
+        ]
+        .into_py_dict(py)
     }
 
     fn __repr__(&self) -> String {
@@ -578,20 +574,36 @@ fn py_min_braking_time<'py>(
     let result = py
         .detach(|| min_braking_time(&p, &options, &search))
         .map_err(|e| trajopt_error(py, e))?;
-    let d = PyDict::new(py);
-    d.set_item("min_duration_secs", result.min_duration_secs)?;
-    d.set_item("infeasible_below_secs", result.infeasible_below_secs)?;
-    d.set_item(
-        "solution",
-        Bound::new(
+    let view = MinBrakingTimeView {
+        min_duration_secs: result.min_duration_secs,
+        infeasible_below_secs: result.infeasible_below_secs,
+        solution: Bound::new(
             py,
             PyBrakingSolution {
                 inner: result.solution,
             },
         )?,
-    )?;
-    d.set_item("solves", result.solves)?;
-    crate::results::make(py, "MinBrakingTime", d)
+        solves: result.solves,
+    };
+    crate::results::build_objects(py, view)
+}
+
+/// The shortest feasible braking time (`min_braking_time`).
+#[derive(IntoPyObject, JsonSchema)]
+#[schemars(rename = "MinBrakingTime")]
+pub(crate) struct MinBrakingTimeView<'py> {
+    /// Shortest feasible duration (s), `None` if none in the bracket.
+    min_duration_secs: Option<f64>,
+    /// Longest infeasible duration below it (s).
+    infeasible_below_secs: Option<f64>,
+    /// The `BrakingSolution` at `min_duration_secs`.
+    #[schemars(
+        with = "serde_json::Value",
+        extend("x-python-type" = "ballbot._core.BrakingSolution")
+    )]
+    solution: Bound<'py, PyBrakingSolution>,
+    /// Solves run.
+    solves: usize,
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -29,7 +29,8 @@ use ballbot_core::WipState;
 use std::time::Instant;
 
 /// How a solve ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, schemars::JsonSchema)]
+#[schemars(rename_all = "snake_case")]
 #[non_exhaustive]
 pub enum SolveStatus {
     /// The KKT residuals are within the tolerances.

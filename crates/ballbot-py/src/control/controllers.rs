@@ -15,7 +15,7 @@ use ballbot_core::rates::{INNER_LOOP_DT_SECS, OUTER_LOOP_DT_SECS};
 use nalgebra::Vector4;
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 
 type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
@@ -355,11 +355,11 @@ where
             }
         });
     }
-    let d = PyDict::new(py);
-    for (name, values) in names.iter().zip(columns) {
-        d.set_item(*name, PyArray1::from_vec(py, values))?;
-    }
     let status = outs.iter().map(|o| step_status_code(o.status())).collect();
-    d.set_item("status", PyArray1::from_vec(py, status))?;
-    Ok(d)
+    let terms = names
+        .iter()
+        .zip(columns)
+        .map(|(name, values)| (*name, PyArray1::from_vec(py, values).into_any()));
+    let status = ("status", PyArray1::<i8>::from_vec(py, status).into_any());
+    terms.chain(std::iter::once(status)).into_py_dict(py)
 }

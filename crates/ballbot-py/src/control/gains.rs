@@ -6,8 +6,9 @@ use ballbot_core::control::{LqrGains, LqrPiOuterConfig, PiPdGains, SpeedPiGains}
 use ballbot_core::lqr::LqrWeights;
 use nalgebra::SMatrix;
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyUntypedArrayMethods};
+use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 
 type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
@@ -82,9 +83,7 @@ macro_rules! py_gains {
 
             /// The fields as a dict.
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-                let d = PyDict::new(py);
-                $(d.set_item(stringify!($field), self.inner.$field)?;)*
-                Ok(d)
+                [$((stringify!($field), self.inner.$field)),*].into_py_dict(py)
             }
 
             fn __repr__(&self) -> String {
@@ -298,12 +297,17 @@ impl PyLqrPiOuterConfig {
     /// Pickling: re-created by the constructor (validated again).
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
         let py = slf.py();
-        let d = PyDict::new(py);
-        d.set_item("lqr", slf.get().lqr())?;
-        d.set_item(
-            "max_speed_error_rad_per_s",
-            slf.get().inner.max_speed_error_rad_per_s,
-        )?;
+        let d = [
+            ("lqr", slf.get().lqr().into_bound_py_any(py)?),
+            (
+                "max_speed_error_rad_per_s",
+                slf.get()
+                    .inner
+                    .max_speed_error_rad_per_s
+                    .into_bound_py_any(py)?,
+            ),
+        ]
+        .into_py_dict(py)?;
         crate::pickle::by_constructor(slf.as_any(), d)
     }
 

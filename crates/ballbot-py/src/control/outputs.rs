@@ -6,8 +6,9 @@
 
 use crate::enums::step_status;
 use ballbot_core::control::Terms;
+use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 use std::fmt::Write;
 
 /// `true` when `a` and `b` hold the same names in the same order (for a const assertion).
@@ -70,16 +71,17 @@ macro_rules! py_output {
 
             /// The fields as a dict.
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-                let d = PyDict::new(py);
-                let mut set = Ok(());
+                let mut fields: Vec<(&str, Bound<'py, PyAny>)> = Vec::new();
+                let mut converted = Ok(());
                 self.inner.for_each_term(|name, value| {
-                    if set.is_ok() {
-                        set = d.set_item(name, value);
+                    match value.into_bound_py_any(py) {
+                        Ok(v) => fields.push((name, v)),
+                        Err(e) => converted = Err(e),
                     }
                 });
-                set?;
-                d.set_item("status", step_status(py, self.inner.status)?)?;
-                Ok(d)
+                converted?;
+                fields.push(("status", step_status(py, self.inner.status)?));
+                fields.into_py_dict(py)
             }
 
             fn __repr__(&self) -> String {

@@ -6,13 +6,14 @@ use crate::arrays::{Rows, array_out, reserve, rows};
 use crate::enums::step_status_code;
 use crate::errors::{Kind, error};
 use crate::models::PyWip;
+use crate::results::Array;
 use ballbot_core::rates::OUTER_LOOP_DT_SECS;
 use ballbot_core::{Wip, WipState};
 use ballbot_sim::planar::{PlanarError, RolloutController, RolloutSettings, rollout};
 use nalgebra::Vector4;
 use numpy::{AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use schemars::JsonSchema;
 
 type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
@@ -186,25 +187,48 @@ pub(crate) fn closed_loop_rollout<'py>(
     });
     result.map_err(|e| error(py, Kind::Parameter, e.to_string()))?;
     let time: Vec<f64> = (0..=n_steps).map(|k| k as f64 * dt_secs).collect();
-    let d = PyDict::new(py);
-    d.set_item("time_secs", PyArray1::from_vec(py, time))?;
     let (state_shape, step_shape): (Vec<usize>, Vec<usize>) = if init.single {
         (vec![n_steps + 1, 4], vec![n_steps])
     } else {
         (vec![n, n_steps + 1, 4], vec![n, n_steps])
     };
-    d.set_item("state", array_out(py, states, &state_shape)?)?;
-    d.set_item("torque_nm", array_out(py, torques, &step_shape)?)?;
     let status: Bound<'py, PyArrayDyn<i8>> = {
         use numpy::PyArrayMethods;
         PyArray1::from_vec(py, statuses)
-            .reshape(step_shape)?
+            .reshape(step_shape.as_slice())?
             .to_dyn()
             .clone()
     };
-    d.set_item("status", status)?;
-    d.set_item("compute_secs", compute_secs)?;
-    crate::results::make(py, "Rollout", d)
+    let view = RolloutView {
+        time_secs: PyArray1::from_vec(py, time),
+        state: array_out(py, states, &state_shape)?,
+        torque_nm: array_out(py, torques, &step_shape)?,
+        status,
+        compute_secs,
+    };
+    crate::results::build_objects(py, view)
+}
+
+/// Closed-loop rollouts (`closed_loop_rollout`): one trajectory or a batch.
+// The arrays are made from the Rust buffers (no copy), not through `pythonize`: a rollout of
+// 500 x 2000 steps is 40 MB of states.
+#[derive(IntoPyObject, JsonSchema)]
+#[schemars(rename = "Rollout")]
+pub(crate) struct RolloutView<'py> {
+    /// Time of each state (s), `(n_steps + 1,)`.
+    #[schemars(with = "Array", extend("x-python-dtype" = "f8"))]
+    time_secs: Bound<'py, PyArray1<f64>>,
+    /// States `[theta, phi, theta_dot, phi_dot]`, `(n_steps + 1, 4)` or `(n, n_steps + 1, 4)`.
+    #[schemars(with = "Array", extend("x-python-dtype" = "f8"))]
+    state: Bound<'py, PyArrayDyn<f64>>,
+    /// Mean torque applied over each period (N m), `(n_steps,)` or `(n, n_steps)`.
+    #[schemars(with = "Array", extend("x-python-dtype" = "f8"))]
+    torque_nm: Bound<'py, PyArrayDyn<f64>>,
+    /// Step status codes (`StepStatus.from_code`/`decode`), shaped as `torque_nm`.
+    #[schemars(with = "Array", extend("x-python-dtype" = "i1"))]
+    status: Bound<'py, PyArrayDyn<i8>>,
+    /// Time spent in the Rust loop (s).
+    compute_secs: f64,
 }
 
 /// The steady command that accelerates the ball at `ball_accel_rad_per_s2` while rolling at

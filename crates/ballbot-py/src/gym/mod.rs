@@ -157,11 +157,41 @@ pub(crate) fn reset_options(
 
 /// The reset's info dict: `episode_seed`, `draw` (the drawn values), `params` (the world).
 pub(crate) fn reset_info<'py>(py: Python<'py>, info: &ResetInfo) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("episode_seed", info.draw.seed)?;
-    d.set_item("draw", draw_dict(py, &info.draw)?)?;
-    d.set_item("params", PyWorldParams { inner: info.params })?;
-    Ok(d)
+    ResetInfoView {
+        episode_seed: info.draw.seed,
+        draw: draw_dict(py, &info.draw)?,
+        params: PyWorldParams { inner: info.params },
+    }
+    .into_pyobject(py)
+}
+
+/// The reset's info dict as Python has it (`#[derive(IntoPyObject)]`: a dict keyed by the
+/// fields).
+#[derive(IntoPyObject)]
+struct ResetInfoView<'py> {
+    episode_seed: u64,
+    draw: Bound<'py, PyAny>,
+    params: PyWorldParams,
+}
+
+/// The step's info dict as Python has it, every step (the hot path: the derive fills the
+/// dict as a hand-written one would).
+#[derive(IntoPyObject)]
+struct StepInfoView<'py> {
+    time_secs: f64,
+    termination: Option<&'static str>,
+    failure: Option<crate::world::PyFailure>,
+    controller_off: bool,
+    push_ns: Option<(f64, f64)>,
+    command: Bound<'py, PyList>,
+    events: Bound<'py, PyList>,
+}
+
+/// What the step's info dict adds at the episode's end.
+#[derive(IntoPyObject)]
+struct EpisodeEndView<'py> {
+    episode_events: Bound<'py, PyList>,
+    events_dropped: u64,
 }
 
 /// The draw through its JSON text, as `json.loads` reads it: its `[f64; 2]` stays a list
@@ -183,18 +213,23 @@ pub(crate) fn step_info<'py>(
     env: &BallbotEnv,
     ended: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("time_secs", info.time_secs)?;
-    d.set_item("termination", info.termination.map(|t| t.as_str()))?;
-    d.set_item("failure", info.failure.map(crate::world::PyFailure::from))?;
-    d.set_item("controller_off", info.controller_off)?;
-    d.set_item("push_ns", info.push_ns.map(|j| (j[0], j[1])))?;
-    d.set_item("command", PyList::new(py, info.command)?)?;
-    d.set_item("events", step_events(py, env)?)?;
+    let d = StepInfoView {
+        time_secs: info.time_secs,
+        termination: info.termination.map(|t| t.as_str()),
+        failure: info.failure.map(crate::world::PyFailure::from),
+        controller_off: info.controller_off,
+        push_ns: info.push_ns.map(|j| (j[0], j[1])),
+        command: PyList::new(py, info.command)?,
+        events: step_events(py, env)?,
+    }
+    .into_pyobject(py)?;
     if ended {
-        let (events, dropped) = episode_events(py, env)?;
-        d.set_item("episode_events", events)?;
-        d.set_item("events_dropped", dropped)?;
+        let (episode_events, events_dropped) = episode_events(py, env)?;
+        let end = EpisodeEndView {
+            episode_events,
+            events_dropped,
+        };
+        d.update(end.into_pyobject(py)?.as_mapping())?;
     }
     Ok(d)
 }

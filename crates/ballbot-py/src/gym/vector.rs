@@ -223,15 +223,17 @@ impl PyGymVecEnv {
                 dropped.push(0);
             }
         }
-        let infos = PyDict::new(py);
-        infos.set_item("time_secs", PyArray1::from_vec(py, time))?;
-        infos.set_item("reset", PyArray1::from_vec(py, reset))?;
-        infos.set_item("episode_seed", PyArray1::from_vec(py, seed))?;
-        infos.set_item("failure", failure)?;
-        infos.set_item("termination", termination)?;
-        infos.set_item("events", events)?;
-        infos.set_item("episode_events", ended_events)?;
-        infos.set_item("events_dropped", PyArray1::from_vec(py, dropped))?;
+        let infos = VecInfoView {
+            time_secs: PyArray1::from_vec(py, time),
+            reset: PyArray1::from_vec(py, reset),
+            episode_seed: PyArray1::from_vec(py, seed),
+            failure,
+            termination,
+            events,
+            episode_events: ended_events,
+            events_dropped: PyArray1::from_vec(py, dropped),
+        }
+        .into_pyobject(py)?;
         Ok((
             rows(py, out.obs.clone(), n)?,
             PyArray1::from_slice(py, &out.rewards),
@@ -240,6 +242,19 @@ impl PyGymVecEnv {
             infos,
         ))
     }
+}
+
+/// The vector env's step infos as Python has them: one entry per environment in each.
+#[derive(IntoPyObject)]
+struct VecInfoView<'py> {
+    time_secs: Bound<'py, PyArray1<f64>>,
+    reset: Bound<'py, PyArray1<bool>>,
+    episode_seed: Bound<'py, PyArray1<u64>>,
+    failure: Bound<'py, PyList>,
+    termination: Bound<'py, PyList>,
+    events: Bound<'py, PyList>,
+    episode_events: Bound<'py, PyList>,
+    events_dropped: Bound<'py, PyArray1<u64>>,
 }
 
 /// A row-major buffer of `n` rows as a 2-D array.

@@ -9,7 +9,7 @@
 use super::*;
 use ballbot_core::ballbot::{BallbotControllerConfig, WheelMapping};
 use ballbot_sim::params_file::{FileKind, ParamsFile, ParamsFileError, commented_toml, preset};
-use pyo3::types::{PyFloat, PyInt, PyString, PyTuple};
+use pyo3::types::{IntoPyDict, PyFloat, PyInt, PyString, PyTuple};
 
 type Config = BallbotControllerConfig<f64>;
 
@@ -102,7 +102,7 @@ fn with_controller_fields(
         return Ok(*base);
     };
     let mut table = to_table(py, base)?;
-    let rest = PyDict::new(py);
+    let mut rest = Vec::new();
     for (key, value) in fields.iter() {
         // The balancing law is an enum with data: replaced whole, serde checks its shape.
         if key.extract::<String>().is_ok_and(|k| k == "balancing") {
@@ -111,9 +111,10 @@ fn with_controller_fields(
                 py_to_value(py, &value, "balancing")?,
             );
         } else {
-            rest.set_item(key, value)?;
+            rest.push((key, value));
         }
     }
+    let rest = rest.into_py_dict(py)?;
     overlay(py, &mut table, &rest, Config::NAME, "")?;
     // Read back as a file is, so that a value of the wrong shape is named by its key.
     let text = toml::to_string(&table)

@@ -1,6 +1,7 @@
 //! The braking experiments (`ballbot_sim::studies::world_braking`): one braking run and the
 //! minimum-braking-time study.
 
+use super::settings::BrakingSettings;
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::results::{Columns, FailureParts};
@@ -11,6 +12,7 @@ use ballbot_sim::studies::world_braking::{
     BrakingStudyParams, TrajectoryFeedforward, braking_run, braking_study,
 };
 use pyo3::prelude::*;
+use schemars::JsonSchema;
 use serde::Serialize;
 
 fn braking_error(py: Python<'_>, e: BrakingError) -> PyErr {
@@ -20,20 +22,19 @@ fn braking_error(py: Python<'_>, e: BrakingError) -> PyErr {
     }
 }
 
-/// The braking protocol with keyword overrides (validated by the run).
-#[allow(clippy::too_many_arguments)]
-fn braking_params(
-    py: Python<'_>,
-    cruise_speed_m_per_s: Option<f64>,
-    approach_accel_m_per_s2: Option<f64>,
-    settle_secs: Option<f64>,
-    cruise_secs: Option<f64>,
-    trajectory_tilt_limit_rad: Option<f64>,
-    intervals: Option<usize>,
-    sample_every_secs: Option<f64>,
-    feedforward: &str,
-    stop_on: &str,
-) -> PyResult<BrakingParams> {
+/// The braking protocol with the settings' overrides (validated by the run).
+fn braking_params(py: Python<'_>, settings: &BrakingSettings) -> PyResult<BrakingParams> {
+    let BrakingSettings {
+        cruise_speed_m_per_s,
+        approach_accel_m_per_s2,
+        settle_secs,
+        cruise_secs,
+        trajectory_tilt_limit_rad,
+        intervals,
+        sample_every_secs,
+        ref feedforward,
+        ref stop_on,
+    } = *settings;
     let mut p = BrakingParams::default();
     if let Some(v) = settle_secs {
         p.settle_secs = v;
@@ -56,7 +57,7 @@ fn braking_params(
     if let Some(v) = sample_every_secs {
         p.sample_every_secs = v;
     }
-    p.feedforward = match feedforward {
+    p.feedforward = match feedforward.as_str() {
         "full" => TrajectoryFeedforward::Full,
         "core" => TrajectoryFeedforward::Core,
         _ => {
@@ -72,26 +73,47 @@ fn braking_params(
     Ok(p)
 }
 
-/// A braking run as `ballbot._results.BrakingRun` has it: the outcome's fields lifted to the
-/// top (`failure`, `rest_speed_m_per_s`, `solve_status`), the samples as columns.
-#[derive(Serialize)]
-struct BrakingRunView<'a> {
+/// One braking run in the 3D world (`braking_run`).
+// The outcome's fields lifted to the top (`failure`, `rest_speed_m_per_s`, `solve_status`),
+// the samples as columns.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "BrakingRun")]
+pub(crate) struct BrakingRunView<'a> {
+    /// Heading (deg).
     heading_deg: f64,
+    /// Planned braking duration (s).
     duration_secs: f64,
-    /// `BrakingOutcome::label`, a `ballbot.BrakingOutcome`'s value.
+    /// How the run ended.
+    // `BrakingOutcome::label`, a `ballbot.BrakingOutcome`'s value.
+    #[schemars(extend("x-python-type" = "ballbot._enums.BrakingOutcome"))]
     outcome: &'static str,
+    /// Stopped within the criterion.
     success: bool,
+    /// The failure, for `BrakingOutcome.FAILED`.
     failure: Option<FailureParts>,
+    /// Speed at the end (m/s), when the run survived.
     rest_speed_m_per_s: Option<f64>,
-    /// `SolveStatus::as_str`, a `ballbot.SolveStatus`'s value.
+    /// The optimiser's status, for `BrakingOutcome.NO_TRAJECTORY`.
+    // `SolveStatus::as_str`, a `ballbot.SolveStatus`'s value.
+    #[schemars(extend("x-python-type" = "ballbot._enums.SolveStatus"))]
     solve_status: Option<&'static str>,
+    /// When braking started (s).
     brake_start_secs: f64,
+    /// Peak tilt of the plan (rad).
     plan_peak_tilt_rad: Option<f64>,
+    /// Cost of the plan (N^2 m^2 s).
     plan_cost_n2m2s: Option<f64>,
+    /// Peaks over the run.
     peaks: &'a BrakingPeaks,
     #[serde(flatten)]
     samples: Columns<'a, BrakingSample>,
+    /// Hash of the run's telemetry (determinism checks).
     telemetry_hash: u64,
+    /// How the flown run ended and its contact events, whatever the stop rules:
+    /// `{"outcome": {"kind": "at_rest", "time_secs": ...}, "events": [...], "events_dropped": 0}`
+    /// (kinds `fell`, `ended_by_stop_rule`, `stopped`, `at_rest`, `recovered`, `unsettled`);
+    /// `None` when no trajectory was flown.
+    #[schemars(with = "Option<serde_json::Map<String, serde_json::Value>>")]
     happened: Option<&'a Happened>,
 }
 
@@ -124,15 +146,23 @@ impl<'a> From<&'a BrakingRun> for BrakingRunView<'a> {
     }
 }
 
-/// A braking study as `ballbot._results.BrakingStudy` has it.
-#[derive(Serialize)]
-struct BrakingStudyView<'a> {
+/// The braking-time study at one heading (`braking_study`).
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "BrakingStudy")]
+pub(crate) struct BrakingStudyView<'a> {
+    /// Heading (deg).
     heading_deg: f64,
+    /// Shortest successful duration of the descent (s).
     shortest_success_secs: Option<f64>,
+    /// First failing duration of the descent (s).
     first_failure_secs: Option<f64>,
+    /// The bisected limit (s).
     limit_secs: Option<f64>,
+    /// The failing duration next to the limit (s).
     limit_failure_secs: Option<f64>,
+    /// The runs of the descent.
     descent: Vec<BrakingRunView<'a>>,
+    /// The runs of the bisection.
     bisection: Vec<BrakingRunView<'a>>,
 }
 
@@ -176,8 +206,7 @@ pub(crate) fn py_braking_run<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = braking_params(
-        py,
+    let settings = BrakingSettings {
         cruise_speed_m_per_s,
         approach_accel_m_per_s2,
         settle_secs,
@@ -185,13 +214,14 @@ pub(crate) fn py_braking_run<'py>(
         trajectory_tilt_limit_rad,
         intervals,
         sample_every_secs,
-        feedforward,
-        stop_on,
-    )?;
+        feedforward: feedforward.to_owned(),
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = braking_params(py, &settings)?;
     let run = py
         .detach(|| braking_run(world, &protocol, heading_deg, duration_secs, None))
         .map_err(|e| braking_error(py, e))?;
-    crate::results::build(py, "BrakingRun", &BrakingRunView::from(&run))
+    crate::results::build(py, &BrakingRunView::from(&run))
 }
 
 /// The paper's minimum-braking-time protocol at one heading
@@ -230,8 +260,7 @@ pub(crate) fn py_braking_study<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = braking_params(
-        py,
+    let settings = BrakingSettings {
         cruise_speed_m_per_s,
         approach_accel_m_per_s2,
         settle_secs,
@@ -239,9 +268,10 @@ pub(crate) fn py_braking_study<'py>(
         trajectory_tilt_limit_rad,
         intervals,
         sample_every_secs,
-        feedforward,
-        stop_on,
-    )?;
+        feedforward: feedforward.to_owned(),
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = braking_params(py, &settings)?;
     let mut study = BrakingStudyParams::paper();
     if let Some(d) = durations_secs {
         study.durations_secs = d;
@@ -259,5 +289,5 @@ pub(crate) fn py_braking_study<'py>(
         descent: result.descent.iter().map(BrakingRunView::from).collect(),
         bisection: result.bisection.iter().map(BrakingRunView::from).collect(),
     };
-    crate::results::build(py, "BrakingStudy", &view)
+    crate::results::build(py, &view)
 }

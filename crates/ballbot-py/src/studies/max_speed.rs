@@ -2,6 +2,7 @@
 //! the paper's Sec. V): seeded slow-ramp trials per heading, the failing ramp acceleration per
 //! heading, the capability map and the mu / COM-height sensitivity.
 
+use super::settings::MaxSpeedSettings;
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::results::FailureParts;
@@ -12,7 +13,9 @@ use ballbot_sim::studies::max_speed::{
     run_study, slow_ramp_trial,
 };
 use pyo3::prelude::*;
-use serde::Serialize;
+use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// The study's protocol with the search overrides, checked (the search divides by the
 /// resolution and assumes `0 < low < high`).
@@ -67,19 +70,34 @@ fn protocol(
     Ok(p)
 }
 
-/// A trial's outcome as `ballbot._results.TrialOutcome` has it.
-#[derive(Serialize)]
-struct TrialOutcomeView<'a> {
+/// The summary of one slow-ramp or fast-ramp trial of the maximum-speed study.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "TrialOutcome")]
+pub(crate) struct TrialOutcomeView<'a> {
+    /// Heading (deg).
     heading_deg: f64,
+    /// Sensor-noise seed.
     seed: u64,
+    /// Ramp acceleration (m/s^2).
     accel_m_per_s2: f64,
+    /// Highest ball speed along the heading (m/s).
     max_speed_m_per_s: f64,
+    /// No failure: the speed is only a lower bound.
     censored: bool,
+    /// The failure, or `None`.
     failure: Option<FailureParts>,
+    /// Peak cone utilisation.
     peak_cone_utilisation: f64,
+    /// Smallest wheel normal force (N).
     min_normal_force_n: f64,
+    /// Peak tilt from the vertical (rad).
     peak_tilt_rad: f64,
+    /// When the safety supervisor stopped balancing (s), or `None`.
     supervisor_stop_secs: Option<f64>,
+    /// How the run ended and its contact events (`BrakingRun.happened`'s form); a ramp ends
+    /// at the world's first failure, so a failed trial's outcome is `ended_by_stop_rule` or
+    /// `fell`.
+    #[schemars(with = "JsonObject")]
     happened: &'a Happened,
 }
 
@@ -101,25 +119,37 @@ impl<'a> From<&'a TrialOutcome> for TrialOutcomeView<'a> {
     }
 }
 
-/// A slow-ramp trial as `ballbot._results.SlowRampTrial` has it: the ramp and its outcome.
-#[derive(Serialize)]
-struct SlowRampTrialView<'a> {
+/// One slow-ramp trial (`slow_ramp_trial`): the ramp and its outcome.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "SlowRampTrial", extend("x-python-base" = "RampRun"))]
+pub(crate) struct SlowRampTrialView<'a> {
     #[serde(flatten)]
     ramp: RampRunView<'a>,
+    /// The trial's summary.
     outcome: TrialOutcomeView<'a>,
 }
 
-/// A failing-acceleration search as `ballbot._results.FailingAcceleration` has it.
-#[derive(Serialize)]
-struct FailingAccelerationView<'a> {
+/// The failing-acceleration search at one heading (`failing_acceleration`).
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "FailingAcceleration")]
+pub(crate) struct FailingAccelerationView<'a> {
+    /// Heading (deg).
     heading_deg: f64,
+    /// Largest surviving ramp acceleration, `None` if the bracket's low end failed.
     largest_surviving_m_per_s2: Option<f64>,
+    /// Smallest failing ramp acceleration, `None` if the high end survived.
     smallest_failing_m_per_s2: Option<f64>,
+    /// The bracket's high end survived.
     censored: bool,
+    /// As the table prints it: `1.75`, `>= 3.00`, `< 0.50`.
     text: String,
+    /// Ramps run.
     runs: usize,
+    /// The failing run's outcome.
     failing: Option<TrialOutcomeView<'a>>,
+    /// The surviving run's outcome.
     surviving: Option<TrialOutcomeView<'a>>,
+    /// The failing ramp's series.
     failing_run: Option<RampRunView<'a>>,
 }
 
@@ -139,16 +169,57 @@ impl<'a> From<&'a FailingAccel> for FailingAccelerationView<'a> {
     }
 }
 
-/// The maximum-speed study as `ballbot._results.MaxSpeedStudy` has it: the summary's JSON
-/// record (`detail_json`, flattened), the speeds by heading, the table and the first ramp of
-/// each trial heading.
-#[derive(Serialize)]
-struct MaxSpeedStudyView<'a> {
+/// A JSON object as Python has it (`dict[str, Any]`).
+type JsonObject = serde_json::Map<String, serde_json::Value>;
+
+/// The whole maximum-speed study (`max_speed_study`); the JSON-shaped fields are the
+/// `max_speed_study` entry of `summary.json`.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "MaxSpeedStudy")]
+pub(crate) struct MaxSpeedStudyView<'a> {
     #[serde(flatten)]
-    detail: serde_json::Value,
-    max_speed_by_heading: serde_json::Value,
+    detail: MaxSpeedDetail,
+    /// Mean slow-ramp maximum speed per heading.
+    max_speed_by_heading: JsonObject,
+    /// The text table `reproduce` prints.
     table: String,
+    /// Per trial heading, the first trial's ramp.
     first_runs: FirstRuns<'a>,
+}
+
+/// The study's record as `detail_json` writes it (the `max_speed_study` entry of
+/// `summary.json`), read back field by field so that a field it adds or drops fails here.
+#[derive(Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+struct MaxSpeedDetail {
+    /// The protocol (ramps, search).
+    protocol: JsonObject,
+    /// Wheel-ball friction coefficient.
+    wheel_ball_friction: f64,
+    /// Centre-of-mass height (m).
+    com_height_m: f64,
+    /// Per trial heading: mean and spread of the slow-ramp maximum speed, the trials.
+    trials: Vec<JsonObject>,
+    /// The failing acceleration per heading.
+    failing_accel_by_heading: JsonObject,
+    /// The capability map.
+    map: Vec<JsonObject>,
+    /// The mu / COM-height sensitivity.
+    sensitivity: Vec<JsonObject>,
+    /// The paper's numbers.
+    paper: Vec<JsonObject>,
+}
+
+/// A JSON record of the study as the field of the view that has it (a bug in the view if it
+/// does not fit, as a `BallbotError`).
+fn record<T: serde::de::DeserializeOwned>(py: Python<'_>, value: serde_json::Value) -> PyResult<T> {
+    serde_json::from_value(value).map_err(|e| {
+        error(
+            py,
+            Kind::Other,
+            format!("the study's record does not fit MaxSpeedStudy: {e}"),
+        )
+    })
 }
 
 /// The first ramp of each trial heading, keyed by the heading (deg).
@@ -157,6 +228,26 @@ struct FirstRuns<'a>(Vec<(f64, RampRunView<'a>)>);
 impl Serialize for FirstRuns<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+/// In the mirror's schema, a map from the heading (deg, a float key) to the ramp.
+impl JsonSchema for FirstRuns<'_> {
+    fn schema_name() -> Cow<'static, str> {
+        "FirstRuns".into()
+    }
+
+    fn inline_schema() -> bool {
+        true
+    }
+
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let ramp = generator.subschema_for::<RampRunView<'_>>();
+        json_schema!({
+            "type": "object",
+            "additionalProperties": ramp,
+            "x-python-key": "float",
+        })
     }
 }
 
@@ -184,7 +275,7 @@ pub(crate) fn py_slow_ramp_trial<'py>(
         ramp: RampRunView::from(&run),
         outcome: TrialOutcomeView::from(&outcome),
     };
-    crate::results::build(py, "SlowRampTrial", &view)
+    crate::results::build(py, &view)
 }
 
 /// The failing-acceleration search at `heading_deg`
@@ -221,49 +312,25 @@ pub(crate) fn py_failing_acceleration<'py>(
     let found = py
         .detach(|| failing_acceleration(params, &protocol, heading_deg, seed))
         .map_err(|e| world_error(py, e))?;
-    crate::results::build(
-        py,
-        "FailingAcceleration",
-        &FailingAccelerationView::from(&found),
-    )
+    crate::results::build(py, &FailingAccelerationView::from(&found))
 }
 
-/// The whole maximum-speed study as `ballbot reproduce` runs it
-/// (`ballbot_sim::studies::max_speed::run_study`), on Rust worker threads (`threads`, 0: every
-/// core) without the GIL. `quick` starts from the CI variant (one trial at 0 and 180 deg, a
-/// coarse search, no sensitivity) instead of the paper's (3 seeds at 0, 90, 180 deg, the map
-/// every 15 deg, mu 0.4/0.6/0.8 and COM height 0.4/0.5/0.7 m; a few minutes on two cores); the
-/// other keywords override its lists and the search.
-///
-/// Returns a `MaxSpeedStudy`: the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
-/// `wheel_ball_friction`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
-/// plus `max_speed_by_heading` (mean slow-ramp maximum speed per heading), `table` (the text
-/// table `reproduce` prints) and `first_runs` (per trial heading, the first trial's series as
-/// `max_speed_ramp` returns them, for the paper's Fig. "acc").
-#[pyfunction(name = "max_speed_study")]
-#[pyo3(signature = (
-    params = None, *, quick = false, trial_headings_deg = None, seeds = None,
-    map_headings_deg = None, sensitivity_headings_deg = None, sensitivity_wheel_ball_friction = None,
-    sensitivity_com_height_m = None, threads = 0, fast_top_m_per_s = None,
-    accel_bracket_m_per_s2 = None, accel_resolution_m_per_s2 = None,
-))]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn py_max_speed_study<'py>(
-    py: Python<'py>,
-    params: Option<PyWorldParams>,
-    quick: bool,
-    trial_headings_deg: Option<Vec<f64>>,
-    seeds: Option<Vec<u64>>,
-    map_headings_deg: Option<Vec<f64>>,
-    sensitivity_headings_deg: Option<Vec<f64>>,
-    sensitivity_wheel_ball_friction: Option<Vec<f64>>,
-    sensitivity_com_height_m: Option<Vec<f64>>,
-    threads: usize,
-    fast_top_m_per_s: Option<f64>,
-    accel_bracket_m_per_s2: Option<(f64, f64)>,
-    accel_resolution_m_per_s2: Option<f64>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let params = params_or_default(params);
+/// The study's settings: the paper's or the CI variant's (`quick`), with the settings'
+/// overrides.
+fn study_settings(py: Python<'_>, s: MaxSpeedSettings) -> PyResult<MaxSpeedStudySettings> {
+    let MaxSpeedSettings {
+        quick,
+        trial_headings_deg,
+        seeds,
+        map_headings_deg,
+        sensitivity_headings_deg,
+        sensitivity_wheel_ball_friction,
+        sensitivity_com_height_m,
+        threads,
+        fast_top_m_per_s,
+        accel_bracket_m_per_s2,
+        accel_resolution_m_per_s2,
+    } = s;
     let mut settings = if quick {
         MaxSpeedStudySettings::quick()
     } else {
@@ -318,12 +385,67 @@ pub(crate) fn py_max_speed_study<'py>(
         settings.seeds = seeds;
     }
     settings.threads = threads;
+    Ok(settings)
+}
+
+/// The whole maximum-speed study as `ballbot reproduce` runs it
+/// (`ballbot_sim::studies::max_speed::run_study`), on Rust worker threads (`threads`, 0: every
+/// core) without the GIL. `quick` starts from the CI variant (one trial at 0 and 180 deg, a
+/// coarse search, no sensitivity) instead of the paper's (3 seeds at 0, 90, 180 deg, the map
+/// every 15 deg, mu 0.4/0.6/0.8 and COM height 0.4/0.5/0.7 m; a few minutes on two cores); the
+/// other keywords override its lists and the search.
+///
+/// Returns a `MaxSpeedStudy`: the study's record (the `max_speed_study` entry of `summary.json`: `protocol`,
+/// `wheel_ball_friction`, `com_height_m`, `trials`, `failing_accel_by_heading`, `map`, `sensitivity`, `paper`),
+/// plus `max_speed_by_heading` (mean slow-ramp maximum speed per heading), `table` (the text
+/// table `reproduce` prints) and `first_runs` (per trial heading, the first trial's series as
+/// `max_speed_ramp` returns them, for the paper's Fig. "acc").
+#[pyfunction(name = "max_speed_study")]
+#[pyo3(signature = (
+    params = None, *, quick = false, trial_headings_deg = None, seeds = None,
+    map_headings_deg = None, sensitivity_headings_deg = None, sensitivity_wheel_ball_friction = None,
+    sensitivity_com_height_m = None, threads = 0, fast_top_m_per_s = None,
+    accel_bracket_m_per_s2 = None, accel_resolution_m_per_s2 = None,
+))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn py_max_speed_study<'py>(
+    py: Python<'py>,
+    params: Option<PyWorldParams>,
+    quick: bool,
+    trial_headings_deg: Option<Vec<f64>>,
+    seeds: Option<Vec<u64>>,
+    map_headings_deg: Option<Vec<f64>>,
+    sensitivity_headings_deg: Option<Vec<f64>>,
+    sensitivity_wheel_ball_friction: Option<Vec<f64>>,
+    sensitivity_com_height_m: Option<Vec<f64>>,
+    threads: usize,
+    fast_top_m_per_s: Option<f64>,
+    accel_bracket_m_per_s2: Option<(f64, f64)>,
+    accel_resolution_m_per_s2: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params_or_default(params);
+    let settings = study_settings(
+        py,
+        MaxSpeedSettings {
+            quick,
+            trial_headings_deg,
+            seeds,
+            map_headings_deg,
+            sensitivity_headings_deg,
+            sensitivity_wheel_ball_friction,
+            sensitivity_com_height_m,
+            threads,
+            fast_top_m_per_s,
+            accel_bracket_m_per_s2,
+            accel_resolution_m_per_s2,
+        },
+    )?;
     let study = py
         .detach(|| run_study(params, &settings, &|_| {}))
         .map_err(|e| world_error(py, e))?;
     let view = MaxSpeedStudyView {
-        detail: study.detail_json(),
-        max_speed_by_heading: study.max_speed_by_heading_json(),
+        detail: record(py, study.detail_json())?,
+        max_speed_by_heading: record(py, study.max_speed_by_heading_json())?,
         table: study.table(),
         first_runs: FirstRuns(
             study
@@ -333,5 +455,5 @@ pub(crate) fn py_max_speed_study<'py>(
                 .collect(),
         ),
     };
-    crate::results::build(py, "MaxSpeedStudy", &view)
+    crate::results::build(py, &view)
 }

@@ -6,6 +6,13 @@ mod braking;
 mod max_speed;
 mod push;
 mod robustness;
+pub(crate) mod settings;
+
+pub(crate) use braking::{BrakingRunView, BrakingStudyView};
+pub(crate) use max_speed::{
+    FailingAccelerationView, MaxSpeedStudyView, SlowRampTrialView, TrialOutcomeView,
+};
+pub(crate) use push::{PushRecoveryView, PushTrialView};
 
 use ballbot_sim::world::StopRules;
 use pyo3::prelude::*;

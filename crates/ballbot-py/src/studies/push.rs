@@ -1,6 +1,7 @@
 //! The push-recovery experiments (`ballbot_sim::studies::push`): one trial and the recovery
 //! limit.
 
+use super::settings::PushSettings;
 use crate::errors::{Kind, error, world_error};
 use crate::params::PyWorldParams;
 use crate::results::{Columns, FailureParts};
@@ -10,16 +11,21 @@ use ballbot_sim::studies::push::{
     PushOutcome, PushParams, PushSample, PushSearch, PushTrial, push_recovery_limit, push_trial,
 };
 use pyo3::prelude::*;
+use schemars::JsonSchema;
 use serde::Serialize;
 
-fn push_params(
-    push_duration_secs: Option<f64>,
-    settle_secs: Option<f64>,
-    observe_secs: Option<f64>,
-    rest_within_secs: Option<f64>,
-    sample_every_secs: Option<f64>,
-    stop_rules: ballbot_sim::world::StopRules,
-) -> PushParams {
+/// The push protocol with the settings' overrides and the world's stop rules (parsed from
+/// `settings.stop_on`).
+fn push_params(py: Python<'_>, settings: &PushSettings) -> PyResult<PushParams> {
+    let PushSettings {
+        push_duration_secs,
+        settle_secs,
+        observe_secs,
+        rest_within_secs,
+        sample_every_secs,
+        ref stop_on,
+    } = *settings;
+    let stop_rules = super::stop_rules(py, stop_on)?;
     let mut p = PushParams {
         stop_rules,
         ..PushParams::default()
@@ -39,25 +45,39 @@ fn push_params(
     if let Some(v) = sample_every_secs {
         p.sample_every_secs = v;
     }
-    p
+    Ok(p)
 }
 
-/// A push trial as `ballbot._results.PushTrial` has it: the failure lifted out of the
-/// outcome, the samples as columns.
-#[derive(Serialize)]
-struct PushTrialView<'a> {
+/// One push-recovery trial (`push_trial`).
+// The failure lifted out of the outcome, the samples as columns.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "PushTrial")]
+pub(crate) struct PushTrialView<'a> {
+    /// Push heading (deg).
     heading_deg: f64,
+    /// Impulse (N s).
     impulse_ns: f64,
-    /// `PushOutcome::label`, a `ballbot.PushOutcome`'s value.
+    /// How the trial ended.
+    // `PushOutcome::label`, a `ballbot.PushOutcome`'s value.
+    #[schemars(extend("x-python-type" = "ballbot._enums.PushOutcome"))]
     outcome: &'static str,
+    /// Whether it recovered.
     recovered: bool,
+    /// The failure, for `PushOutcome.FAILED`.
     failure: Option<FailureParts>,
+    /// Peak tilt (rad).
     peak_tilt_rad: f64,
+    /// Peak ball speed (m/s).
     peak_speed_m_per_s: f64,
+    /// Ball speed at the end (m/s).
     rest_speed_m_per_s: f64,
     #[serde(flatten)]
     samples: Columns<'a, PushSample>,
+    /// Hash of the run's telemetry (determinism checks).
     telemetry_hash: u64,
+    /// How the run ended and its contact events, whatever the stop rules (the form of
+    /// `BrakingRun.happened`).
+    #[schemars(with = "serde_json::Map<String, serde_json::Value>")]
     happened: &'a Happened,
 }
 
@@ -82,12 +102,17 @@ impl<'a> From<&'a PushTrial> for PushTrialView<'a> {
     }
 }
 
-/// A push-recovery search as `ballbot._results.PushRecovery` has it.
-#[derive(Serialize)]
-struct PushRecoveryView<'a> {
+/// The push-recovery limit at one heading (`push_recovery_limit`).
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "PushRecovery")]
+pub(crate) struct PushRecoveryView<'a> {
+    /// Heading (deg).
     heading_deg: f64,
+    /// Largest impulse recovered (N s).
     largest_recovered_ns: f64,
+    /// Smallest impulse not recovered (N s), `None` if the upper end recovered.
     smallest_failing_ns: Option<f64>,
+    /// The trials of the search.
     trials: Vec<PushTrialView<'a>>,
 }
 
@@ -122,14 +147,15 @@ pub(crate) fn py_push_trial<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = push_params(
+    let settings = PushSettings {
         push_duration_secs,
         settle_secs,
         observe_secs,
         rest_within_secs,
         sample_every_secs,
-        super::stop_rules(py, stop_on)?,
-    );
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = push_params(py, &settings)?;
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(impulse_ns.is_finite() && heading_deg.is_finite()) {
         return Err(error(
@@ -141,7 +167,7 @@ pub(crate) fn py_push_trial<'py>(
     let trial = py
         .detach(|| push_trial(world, &protocol, heading_deg, impulse_ns))
         .map_err(|e| world_error(py, e))?;
-    crate::results::build(py, "PushTrial", &PushTrialView::from(&trial))
+    crate::results::build(py, &PushTrialView::from(&trial))
 }
 
 /// The largest push recovered at `heading_deg` (`ballbot_sim::studies::push::push_recovery_limit`):
@@ -170,14 +196,15 @@ pub(crate) fn py_push_recovery_limit<'py>(
     stop_on: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let world = params_or_default(params);
-    let protocol = push_params(
+    let settings = PushSettings {
         push_duration_secs,
         settle_secs,
         observe_secs,
         rest_within_secs,
         sample_every_secs,
-        super::stop_rules(py, stop_on)?,
-    );
+        stop_on: stop_on.to_owned(),
+    };
+    let protocol = push_params(py, &settings)?;
     protocol.validate().map_err(|e| world_error(py, e))?;
     if !(resolution_ns.is_finite() && resolution_ns > 0.0 && upper_ns / resolution_ns <= 1e9) {
         return Err(error(
@@ -201,5 +228,5 @@ pub(crate) fn py_push_recovery_limit<'py>(
         smallest_failing_ns: found.smallest_failing_ns,
         trials: found.trials.iter().map(PushTrialView::from).collect(),
     };
-    crate::results::build(py, "PushRecovery", &view)
+    crate::results::build(py, &view)
 }

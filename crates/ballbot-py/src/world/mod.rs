@@ -24,6 +24,8 @@ pub(crate) use export::*;
 pub(crate) use live::*;
 pub(crate) use ramp::*;
 pub(crate) use telemetry::*;
+pub(crate) use trace::{WorldLoopRunView, WorldRunView};
+pub(crate) use traction::{TractionEnvelopeView, TractionStatusView};
 pub(crate) use world_loop::*;
 
 pub(crate) type Arr<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;

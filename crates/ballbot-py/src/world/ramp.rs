@@ -6,16 +6,25 @@ use crate::errors::world_error;
 use crate::errors::{Kind, error};
 use crate::params::{PyControllerConfig, PyWorldParams};
 use crate::results::{Columns, FailureParts};
+use crate::studies::settings::RampSettings;
+use ballbot_core::ballbot::BallbotControllerConfig;
 use ballbot_sim::studies::ramp::{RampParams, RampResult, RampSample, max_speed_ramp_with_config};
 use pyo3::prelude::*;
+use schemars::JsonSchema;
 use serde::Serialize;
 
-/// A ramp as `ballbot._results.RampRun` has it: the samples as columns.
-#[derive(Serialize)]
+/// A maximum-speed ramp in the 3D world (`max_speed_ramp`).
+// The ramp's samples as columns.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "RampRun")]
 pub struct RampRunView<'a> {
+    /// Ramp heading in the body frame (deg; 0 towards OW1).
     heading_deg: f64,
+    /// Highest ball speed along the heading before failure (m/s).
     max_speed_m_per_s: f64,
+    /// The failure that ended the ramp, or `None`.
     failure: Option<FailureParts>,
+    /// When the safety supervisor stopped balancing (s), or `None`.
     supervisor_stop_secs: Option<f64>,
     #[serde(flatten)]
     samples: Columns<'a, RampSample>,
@@ -31,6 +40,67 @@ impl<'a> From<&'a RampResult> for RampRunView<'a> {
             samples: Columns(&r.samples),
         }
     }
+}
+
+/// The controller (the paper's configuration unless `controller`, the shaping overrides on
+/// top) and the ramp of `settings`.
+fn ramp_setup(
+    py: Python<'_>,
+    params: &ballbot_sim::world::WorldParams,
+    heading_deg: f64,
+    controller: Option<PyControllerConfig>,
+    settings: &RampSettings,
+) -> PyResult<(BallbotControllerConfig<f64>, RampParams)> {
+    let RampSettings {
+        accel_m_per_s2,
+        max_command_m_per_s,
+        settle_secs,
+        sample_every_secs,
+        max_speed_m_per_s,
+        max_accel_m_per_s2,
+        max_jerk_m_per_s3,
+        max_tilt_command_rad,
+        max_tilt_rate_command_rad_per_s,
+    } = *settings;
+    finite(py, &[heading_deg], "heading_deg")?;
+    for (value, name) in [
+        (accel_m_per_s2, "accel_m_per_s2"),
+        (max_command_m_per_s, "max_command_m_per_s"),
+        (sample_every_secs, "sample_every_secs"),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(error(
+                py,
+                Kind::Parameter,
+                format!("invalid parameter `{name}`: must be finite and > 0, got {value}"),
+            ));
+        }
+    }
+    non_negative(py, settle_secs, "settle_secs")?;
+    // The study looks for the highest speed: the shaper's speed cap (2.0 m/s as designed)
+    // must not end the ramp first, so by default it is the ramp's top.
+    let config = Shaping {
+        controller: controller.map(|c| c.inner),
+        max_speed_m_per_s: max_speed_m_per_s.or(Some(max_command_m_per_s)),
+        max_accel_m_per_s2,
+        max_jerk_m_per_s3,
+        max_tilt_command_rad,
+        max_tilt_rate_command_rad_per_s,
+        wheel_mapping: None,
+        // The paper's configuration, as the Rust ramp study (`studies::ramp`) pins it
+        // (without `controller`; with one, its own layers).
+        traction_control: false,
+        balance_point: false,
+        imu_lean_time_constant_secs: None,
+    }
+    .config(py, params)?;
+    let ramp = RampParams {
+        accel_m_per_s2,
+        max_command_m_per_s,
+        settle_secs,
+        sample_every_secs,
+    };
+    Ok((config, ramp))
 }
 
 /// The maximum-speed experiment of the paper's Sec. V in the 3D world
@@ -79,46 +149,20 @@ pub(crate) fn max_speed_ramp<'py>(
     controller: Option<PyControllerConfig>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params_or_default(params);
-    finite(py, &[heading_deg], "heading_deg")?;
-    for (value, name) in [
-        (accel_m_per_s2, "accel_m_per_s2"),
-        (max_command_m_per_s, "max_command_m_per_s"),
-        (sample_every_secs, "sample_every_secs"),
-    ] {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(error(
-                py,
-                Kind::Parameter,
-                format!("invalid parameter `{name}`: must be finite and > 0, got {value}"),
-            ));
-        }
-    }
-    non_negative(py, settle_secs, "settle_secs")?;
-    // The study looks for the highest speed: the shaper's speed cap (2.0 m/s as designed)
-    // must not end the ramp first, so by default it is the ramp's top.
-    let config = Shaping {
-        controller: controller.map(|c| c.inner),
-        max_speed_m_per_s: max_speed_m_per_s.or(Some(max_command_m_per_s)),
-        max_accel_m_per_s2,
-        max_jerk_m_per_s3,
-        max_tilt_command_rad,
-        max_tilt_rate_command_rad_per_s,
-        wheel_mapping: None,
-        // The paper's configuration, as the Rust ramp study (`studies::ramp`) pins it
-        // (without `controller`; with one, its own layers).
-        traction_control: false,
-        balance_point: false,
-        imu_lean_time_constant_secs: None,
-    }
-    .config(py, &params)?;
-    let ramp = RampParams {
+    let settings = RampSettings {
         accel_m_per_s2,
         max_command_m_per_s,
         settle_secs,
         sample_every_secs,
+        max_speed_m_per_s,
+        max_accel_m_per_s2,
+        max_jerk_m_per_s3,
+        max_tilt_command_rad,
+        max_tilt_rate_command_rad_per_s,
     };
+    let (config, ramp) = ramp_setup(py, &params, heading_deg, controller, &settings)?;
     let result = py
         .detach(|| max_speed_ramp_with_config(params, config, heading_deg, &ramp))
         .map_err(|e| world_error(py, e))?;
-    crate::results::build(py, "RampRun", &RampRunView::from(&result))
+    crate::results::build(py, &RampRunView::from(&result))
 }

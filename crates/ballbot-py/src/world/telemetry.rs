@@ -5,8 +5,9 @@ use ballbot_sim::world::failure::tilt_from_vertical_rad;
 use ballbot_sim::world::{Failure, FailureKind, Measurement, StepTelemetry, WheelTelemetry};
 use nalgebra::Vector3;
 use numpy::PyArray1;
+use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 
 /// One omniwheel in one step (`ballbot_sim::world::WheelTelemetry`, wrapped).
 #[pyclass(name = "WheelTelemetry", module = "ballbot", frozen)]
@@ -49,10 +50,11 @@ macro_rules! wheel_getters {
 
             /// The fields as a dict.
             fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-                let d = PyDict::new(py);
-                $(d.set_item(stringify!($field), self.inner.$field)?;)*
-                d.set_item("driver_limit", self.inner.driver_limit.as_str())?;
-                Ok(d)
+                [
+                    $((stringify!($field), self.inner.$field.into_bound_py_any(py)?),)*
+                    ("driver_limit", self.inner.driver_limit.as_str().into_bound_py_any(py)?),
+                ]
+                .into_py_dict(py)
             }
 
             fn __repr__(&self) -> String {

@@ -12,34 +12,56 @@ use ballbot_sim::world::failure::tilt_from_vertical_rad;
 use ballbot_sim::world::{Failure, StepTelemetry, WheelTelemetry, WorldParams};
 use nalgebra::Vector3;
 use pyo3::prelude::*;
+use schemars::JsonSchema;
 use serde::Serialize;
 use std::path::Path;
 
 /// One recorded step of a run as Python has it: each field is a column of the run's result
-/// (`(n,)` or `(n, k)`, through [`Columns`]), named as the field.
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+/// (`(n,)` or `(n, k)`, through [`Columns`]), named as the field; the doc comments are the
+/// columns' docstrings.
+#[derive(Clone, Copy, Debug, Default, Serialize, JsonSchema)]
 pub(crate) struct TraceRow {
+    /// Simulated time (s).
     time_secs: f64,
+    /// Wheel normal forces (N).
     normal_force_n: [f64; 3],
+    /// Wheel tractions along the rolling direction (N).
     traction_n: [f64; 3],
+    /// Traction each contact needed to stick (N).
     traction_demand_n: [f64; 3],
+    /// Roller losses along each wheel's axle (N); 0 with free rollers.
     axle_force_n: [f64; 3],
+    /// `|(F, F_a)| / (mu N)` per wheel.
     cone_utilisation: [f64; 3],
+    /// Slip speed per wheel (m/s).
     slip_speed_m_per_s: [f64; 3],
+    /// Whether each contact slides.
     slipping: [bool; 3],
+    /// Torque each actuator delivered (N m).
     motor_torque_nm: [f64; 3],
+    /// Wheel speeds relative to the body (rad/s).
     wheel_speed_rad_per_s: [f64; 3],
+    /// Wheel angles relative to the body (rad).
     wheel_angle_rad: [f64; 3],
+    /// Ball centre (m).
     ball_position_m: [f64; 3],
+    /// Ball velocity (m/s).
     ball_velocity_m_per_s: [f64; 3],
+    /// Ball angular velocity (rad/s).
     ball_angular_velocity_rad_per_s: [f64; 3],
+    /// Body frame origin (m).
     body_position_m: [f64; 3],
-    /// `(x, y, z, w)`.
+    /// Body orientation `(x, y, z, w)`.
     body_orientation: [f64; 4],
+    /// Body angular velocity in the body frame (rad/s).
     body_rate_rad_per_s: [f64; 3],
+    /// Body tilt `(theta_x, theta_y)` (rad).
     tilt_rad: [f64; 2],
+    /// Angle between the body axis and the vertical (rad).
     tilt_from_vertical_rad: f64,
+    /// Body yaw (rad).
     yaw_rad: f64,
+    /// Normal force of the floor on the ball (N).
     floor_force_n: f64,
 }
 
@@ -74,9 +96,10 @@ impl From<&StepTelemetry> for TraceRow {
     }
 }
 
-/// `World.run`'s input column: the wheel torque commands (N m).
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+/// `World.run`'s input column.
+#[derive(Clone, Copy, Debug, Default, Serialize, JsonSchema)]
 pub(crate) struct TorqueInput {
+    /// Wheel torque commands (N m).
     torque_nm: [f64; 3],
 }
 
@@ -86,9 +109,10 @@ impl From<[f64; 3]> for TorqueInput {
     }
 }
 
-/// `WorldLoop.run`'s input column: the velocity commands `(vx, vy, yaw rate)`.
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+/// `WorldLoop.run`'s input column.
+#[derive(Clone, Copy, Debug, Default, Serialize, JsonSchema)]
 pub(crate) struct CommandInput {
+    /// Velocity commands `(vx_m_per_s, vy_m_per_s, yaw_rate_rad_per_s)`.
     command: [f64; 3],
 }
 
@@ -118,18 +142,40 @@ impl<I: From<[f64; 3]>> Trace<I> {
     }
 }
 
-/// A run as `WorldRun` and `WorldLoopRun` have it: the trace's columns, the input column,
-/// `steps`, `failure` and `log_path`.
-#[derive(Serialize)]
-#[serde(bound = "I: Serialize + Default")]
-struct RunView<'a, I> {
+/// A run's trace as `WorldRun` and `WorldLoopRun` have it: the trace's columns, `steps`,
+/// `failure` and `log_path` (beside the input column, in [`WorldRunView`] and
+/// [`WorldLoopRunView`]).
+#[derive(Serialize, JsonSchema)]
+pub(crate) struct RunView<'a> {
     #[serde(flatten)]
     trace: Columns<'a, TraceRow>,
-    #[serde(flatten)]
-    input: Columns<'a, I>,
+    /// Steps run (fewer than asked when stopped on a failure).
     steps: usize,
+    /// The first failure detected, or `None`.
     failure: Option<FailureParts>,
+    /// The MCAP log written, or `None`.
+    #[schemars(extend("x-python-type" = "pathlib.Path"))]
     log_path: Option<&'a Path>,
+}
+
+/// A `World.run`: the trace plus the wheel torque commands.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "WorldRun")]
+pub(crate) struct WorldRunView<'a> {
+    #[serde(flatten)]
+    run: RunView<'a>,
+    #[serde(flatten)]
+    input: Columns<'a, TorqueInput>,
+}
+
+/// A `WorldLoop.run`: the trace plus the velocity commands.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "WorldLoopRun")]
+pub(crate) struct WorldLoopRunView<'a> {
+    #[serde(flatten)]
+    run: RunView<'a>,
+    #[serde(flatten)]
+    input: Columns<'a, CommandInput>,
 }
 
 /// How a run is recorded and when it stops.
@@ -243,21 +289,52 @@ pub(crate) fn finish_log(py: Python<'_>, log: Option<WorldLogger>) -> PyResult<(
     Ok(())
 }
 
-/// The run's result, `ballbot._results.<class_name>` (`WorldRun`, `WorldLoopRun`).
-pub(crate) fn finish_run<'py, I: Serialize + Default>(
+/// The run's result: `WorldRun` for a [`TorqueInput`] trace, `WorldLoopRun` for a
+/// [`CommandInput`] one.
+pub(crate) fn finish_run<'py, I: RunInput>(
     py: Python<'py>,
-    class_name: &str,
     trace: Trace<I>,
     steps: usize,
     failure: Option<Failure>,
     log_path: Option<&Path>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let view = RunView {
+    let run = RunView {
         trace: Columns(&trace.rows),
-        input: Columns(&trace.inputs),
         steps,
         failure: failure.map(FailureParts::from),
         log_path,
     };
-    crate::results::build(py, class_name, &view)
+    I::build(py, run, &trace.inputs)
+}
+
+/// An input column and the result class of a run with it.
+pub(crate) trait RunInput: Sized {
+    /// The result of a run with this input column.
+    fn build<'py>(
+        py: Python<'py>,
+        run: RunView<'_>,
+        inputs: &[Self],
+    ) -> PyResult<Bound<'py, PyAny>>;
+}
+
+impl RunInput for TorqueInput {
+    fn build<'py>(
+        py: Python<'py>,
+        run: RunView<'_>,
+        inputs: &[Self],
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let input = Columns(inputs);
+        crate::results::build(py, &WorldRunView { run, input })
+    }
+}
+
+impl RunInput for CommandInput {
+    fn build<'py>(
+        py: Python<'py>,
+        run: RunView<'_>,
+        inputs: &[Self],
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let input = Columns(inputs);
+        crate::results::build(py, &WorldLoopRunView { run, input })
+    }
 }

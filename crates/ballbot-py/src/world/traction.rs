@@ -5,21 +5,39 @@
 use crate::results::Array;
 use ballbot_core::traction::{ENVELOPE_DIRECTIONS, TractionControl, TractionStatus};
 use pyo3::prelude::*;
+use schemars::JsonSchema;
 use serde::Serialize;
 
-/// The core's report of one outer step as `ballbot._results.TractionStatus` has it: the slip
-/// monitor's fields beside the envelope's.
-#[derive(Serialize)]
-struct TractionStatusView {
+/// Traction-aware control's report of one outer step (`WorldLoop.traction`).
+// The core's report with the slip monitor's fields beside the envelope's.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "TractionStatus")]
+pub(crate) struct TractionStatusView {
+    /// The acceleration limit along the direction the command wanted to accelerate in
+    /// (m/s^2): envelope, actuators, slip reaction and braking floor; `None` when the command
+    /// did not ask to accelerate.
     accel_limit_m_per_s2: Option<f64>,
+    /// Whether the envelope held the command back in this step.
     limited: bool,
+    /// Outer steps with a limited command so far.
     limited_steps: u32,
+    /// Each omniwheel's estimated slip speed at the rim (m/s).
+    #[schemars(extend("x-python-dtype" = "f8", "x-python-shape" = [3]))]
     slip_speed_m_per_s: Array,
+    /// Which omniwheels slip (estimated slip speed above the threshold).
+    #[schemars(extend("x-python-type" = "tuple[bool, bool, bool]"))]
     slipping: [bool; 3],
+    /// The contact model's normal forces for the measured state and the reference torque
+    /// (N).
+    #[schemars(extend("x-python-dtype" = "f8", "x-python-shape" = [3]))]
     predicted_normal_force_n: Array,
+    /// Whether a predicted normal force is below the envelope's minimum.
     lift_off_imminent: bool,
+    /// The factor on the envelope after a slip or an imminent lift-off (1 when quiet).
     accel_scale: f64,
+    /// The wheel-ball friction the envelope uses now.
     friction_estimate: f64,
+    /// Slip events so far.
     slip_events: u32,
 }
 
@@ -41,13 +59,19 @@ pub(crate) fn status<'py>(
         friction_estimate: slip.friction_estimate,
         slip_events: slip.slip_events,
     };
-    crate::results::build(py, "TractionStatus", &view)
+    crate::results::build(py, &view)
 }
 
-/// The envelope as `ballbot._results.TractionEnvelope` has it.
-#[derive(Serialize)]
-struct TractionEnvelopeView {
+/// The controller's traction envelope (`WorldLoop.traction_envelope()`): the largest
+/// acceleration that keeps every omniwheel inside its margin, per direction.
+#[derive(Serialize, JsonSchema)]
+#[schemars(rename = "TractionEnvelope")]
+pub(crate) struct TractionEnvelopeView {
+    /// Table headings (rad, body frame, 0 towards OW1, in (-pi, pi]).
+    #[schemars(extend("x-python-dtype" = "f8", "x-python-shape" = [ENVELOPE_DIRECTIONS]))]
     heading_rad: Array,
+    /// Largest acceleration towards each heading (m/s^2).
+    #[schemars(extend("x-python-dtype" = "f8", "x-python-shape" = [ENVELOPE_DIRECTIONS]))]
     accel_m_per_s2: Array,
 }
 
@@ -61,5 +85,5 @@ pub(crate) fn envelope<'py>(
         heading_rad: Array::column((0..ENVELOPE_DIRECTIONS).map(|k| e.table_heading_rad(k))),
         accel_m_per_s2: Array::column(e.table_m_per_s2().iter().copied()),
     };
-    crate::results::build(py, "TractionEnvelope", &view)
+    crate::results::build(py, &view)
 }

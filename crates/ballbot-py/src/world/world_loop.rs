@@ -334,7 +334,7 @@ world_class! {
             });
             let (trace, steps) = result.map_err(|e| log_error(py, e))?;
             finish_log(py, log)?;
-            finish_run(py, "WorldLoopRun", trace, steps, self.inner.world().failure(), log_path.as_deref())
+            finish_run(py, trace, steps, self.inner.world().failure(), log_path.as_deref())
         }
     }
 }

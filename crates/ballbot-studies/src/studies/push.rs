@@ -133,7 +133,8 @@ impl PushParams {
 }
 
 /// How a push trial ended.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, schemars::JsonSchema)]
+#[schemars(rename_all = "snake_case")]
 pub enum PushOutcome {
     /// Recovered (see the module doc).
     Recovered,
@@ -158,7 +159,7 @@ impl PushOutcome {
 }
 
 /// One sample of a push trial.
-#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, schemars::JsonSchema)]
 pub struct PushSample {
     /// Time since the push (s; negative before it).
     pub time_secs: f64,

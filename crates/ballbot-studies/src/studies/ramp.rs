@@ -12,7 +12,7 @@ use ballbot_world::world::params::WorldParams;
 use nalgebra::Vector3;
 
 /// One sample of a ramp run, decimated for plots.
-#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, schemars::JsonSchema)]
 pub struct RampSample {
     /// Time (s).
     pub time_secs: f64,

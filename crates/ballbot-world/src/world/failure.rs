@@ -6,7 +6,8 @@ use super::params::FailureParams;
 use super::telemetry::StepTelemetry;
 
 /// Why a run failed.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, schemars::JsonSchema)]
+#[schemars(rename_all = "snake_case")]
 pub enum FailureKind {
     /// The body tilted beyond `max_tilt_rad`.
     Tilt {
@@ -34,7 +35,7 @@ pub enum FailureKind {
 }
 
 /// A detected failure and when it happened.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, schemars::JsonSchema)]
 pub struct Failure {
     /// What failed.
     pub kind: FailureKind,

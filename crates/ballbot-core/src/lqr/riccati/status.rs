@@ -34,6 +34,11 @@ use core::str::FromStr;
 /// # Ok::<(), ballbot_core::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(
+    feature = "schema",
+    derive(schemars::JsonSchema),
+    schemars(rename_all = "snake_case")
+)]
 pub enum RiccatiStatus {
     /// Converged to the tolerance, and the closed loop `A - B K` is certified asymptotically
     /// stable.

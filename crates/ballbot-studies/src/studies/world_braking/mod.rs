@@ -80,7 +80,8 @@ pub(crate) fn invalid(field: &'static str, requirement: &'static str) -> Braking
 }
 
 /// What the trajectory command feeds forward (see the module doc).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, schemars::JsonSchema)]
+#[schemars(rename_all = "snake_case")]
 pub enum TrajectoryFeedforward {
     /// Ablation: the equilibrium-lean torque `b phi_ddot*` alone (what the core fed forward
     /// before it had the tilt-acceleration term): each sample's tilt is shifted so that the
@@ -296,7 +297,7 @@ pub fn braking_problem(
 pub const AFTER_FAILURE_SECS: f64 = 0.25;
 
 /// One sample of a braking run.
-#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, schemars::JsonSchema)]
 pub struct BrakingSample {
     /// Time since the start of the run (s).
     pub time_secs: f64,
@@ -319,7 +320,7 @@ pub struct BrakingSample {
 }
 
 /// Extremes of the braking phase (from the start of braking to the end of the run).
-#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, schemars::JsonSchema)]
 pub struct BrakingPeaks {
     /// Largest friction-cone utilisation of each omniwheel.
     pub cone_utilisation: [f64; 3],
@@ -337,7 +338,8 @@ pub struct BrakingPeaks {
 }
 
 /// How a braking run ended.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, schemars::JsonSchema)]
+#[schemars(rename_all = "snake_case")]
 pub enum BrakingOutcome {
     /// At rest within the tolerance from `rest_within_secs` after `T` on, no failure.
     Stopped {
