@@ -35,6 +35,33 @@ fn env_f64(name: &str) -> Option<f64> {
     std::env::var(name).ok().and_then(|v| v.parse().ok())
 }
 
+/// The default world for sensor seed `seed`, with the world's parts that the environment names
+/// made ideal (to find which one a finding needs): `RIGID_DRIVETRAIN=1` (no coupling, backlash
+/// or gearbox friction), `NO_BACKLASH=1`, `NO_GEARBOX_FRICTION=1` (stiction and
+/// Coulomb friction), `IDEAL_CONTACT=1` (the rigid wheel contacts), `NO_ROLLING_RESISTANCE=1`.
+fn world(seed: u64) -> WorldParams {
+    let mut params = WorldParams::with_robot(BallbotParams::miapure_60kg());
+    params.sensors.seed = seed;
+    let on = |name: &str| env_f64(name) == Some(1.0);
+    if on("RIGID_DRIVETRAIN") {
+        params.transmission = ballbot_sim::world::TransmissionParams::rigid();
+    }
+    if on("NO_BACKLASH") {
+        params.transmission.backlash_rad = 0.0;
+    }
+    if on("NO_GEARBOX_FRICTION") {
+        params.transmission.stiction_torque_nm = 0.0;
+        params.transmission.coulomb_torque_nm = 0.0;
+    }
+    if on("IDEAL_CONTACT") {
+        params.contact = ballbot_sim::world::ContactParams::ideal();
+    }
+    if on("NO_ROLLING_RESISTANCE") {
+        params.rolling_resistance = 0.0;
+    }
+    params
+}
+
 struct Line {
     failed: bool,
     false_flag: bool,
@@ -48,8 +75,7 @@ fn run(
     accel: f64,
     top: f64,
 ) -> Result<Line, WorldError> {
-    let mut params = WorldParams::with_robot(BallbotParams::miapure_60kg());
-    params.sensors.seed = seed;
+    let params = world(seed);
     let mut config = control.config(&params, &ShaperLimits::default())?;
     if let Some(threshold) = env_f64("THRESHOLD") {
         config.traction.slip_speed_threshold_m_per_s = threshold;
@@ -102,8 +128,7 @@ fn trace(control: Control, spec: &str, accel: f64, top: f64) -> Result<(), Box<d
     let [heading_deg, seed, from, to] = v[..] else {
         return Err("TRACE=heading,seed,from,to".into());
     };
-    let mut params = WorldParams::with_robot(BallbotParams::miapure_60kg());
-    params.sensors.seed = seed as u64;
+    let params = world(seed as u64);
     let config = control.config(&params, &ShaperLimits::default())?;
     let mut last = f64::NAN;
     ramp_observed(params, config, heading_deg, accel, top, &mut |sim| {
