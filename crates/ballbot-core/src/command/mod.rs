@@ -45,6 +45,7 @@
 //! # Ok::<(), ballbot_core::Error>(())
 //! ```
 
+mod envelope;
 mod jerk;
 mod lean;
 mod limit;

@@ -2,11 +2,12 @@
 //! ([`PlanarCommands`]) with the lean feedforward `theta_ff = (b + c0) a / (r m_U g l)` (see the
 //! [module](super) doc).
 
+use super::envelope::{Envelope, Targets, envelope, held_back};
 use super::limit::NoLimit;
 use super::{AccelLimit, AxisLimits, Command, JerkLimiter, LeanToDrive, LeanToDriveParams};
 use crate::check::{lit, non_negative, positive};
 use crate::control::dt_is_valid;
-use crate::num::{clamp_sym, direction, hypot, max, min};
+use crate::num::{clamp_sym, direction, max, min};
 use crate::spin::SpinState;
 use crate::wip::{BALL_RATE, TILT, TILT_RATE, WipState};
 use crate::{BallbotParams, Error, WipParams};
@@ -540,7 +541,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
         let target = self.targets(&command);
         let dt_ok = dt_is_valid(dt_secs);
         let envelope = match limit {
-            Some(limit) => self.envelope(&target, limit, dt_secs),
+            Some(limit) => envelope(&target, limit, (&self.vx, &self.vy), dt_secs),
             None => Envelope::open(&target.translation),
         };
         let (vx, vy, wz) = if dt_ok {
@@ -548,7 +549,7 @@ impl<T: RealField + Copy> CommandShaper<T> {
         } else {
             (self.vx.value(), self.vy.value(), self.yaw_rate.value())
         };
-        let limited = self.held_back(&target.translation, &envelope);
+        let limited = held_back(&target.translation, &envelope, (&self.vx, &self.vy));
         // Held back: the trajectory's own lean belongs to an acceleration it no longer has.
         let trajectory_tilt = if limited {
             None
@@ -629,72 +630,6 @@ impl<T: RealField + Copy> CommandShaper<T> {
         }
     }
 
-    /// Phase 2: the traction envelope's acceleration bound along the direction the command
-    /// accelerates in, split over the two axes' rate limits.
-    #[inline(always)]
-    fn envelope<L: AccelLimit<T>>(
-        &self,
-        target: &Targets<T>,
-        limit: &L,
-        dt_secs: T,
-    ) -> Envelope<T> {
-        let zero = T::zero();
-        let translation = &target.translation;
-        let mut envelope = Envelope::open(translation);
-        let (vx0, vy0) = (self.vx.value(), self.vy.value());
-        // The direction the command accelerates in: a trajectory's own acceleration while
-        // it has one (its tracking error is rounding, and a direction taken from rounding
-        // starved the axis it drives: the shaped speed swung 0.12 m/s about a braking
-        // trajectory at 0.7 s), else the way to the target.
-        let (ex, ey) = if target.feed.0 != zero || target.feed.1 != zero {
-            target.feed
-        } else {
-            (target.x - vx0, target.y - vy0)
-        };
-        // On target (cruising, standing): nothing to limit, no square root. The direction
-        // is scaled before squaring: a huge error (components beyond sqrt(T::MAX)) still
-        // has one, and the envelope still applies.
-        let unit = if ex == zero && ey == zero {
-            None
-        } else {
-            direction(ex, ey)
-        };
-        if let Some(((dx, dy), _)) = unit {
-            let braking = dx * vx0 + dy * vy0 < zero;
-            let allowed = limit.accel_limit_m_per_s2(dx, dy, braking);
-            let allowed = if allowed >= zero { allowed } else { zero };
-            let allowed = self.eased(allowed, translation, dt_secs);
-            envelope.binding = allowed < translation.max_rate_per_s;
-            let rate = min(allowed, translation.max_rate_per_s);
-            envelope.x.max_rate_per_s = rate * dx.abs();
-            envelope.y.max_rate_per_s = rate * dy.abs();
-            envelope.accel_limit_m_per_s2 = Some(allowed);
-        }
-        envelope
-    }
-
-    /// An envelope below the acceleration the limiters have now is reached within the jerk
-    /// limit: the bound falls by at most `max_jerk_per_s2 * dt_secs` a step. Cut at once, the
-    /// lean of the acceleration would have to go at once, and righting the body needs the
-    /// ball to accelerate harder first: the traction the cut was meant to spare.
-    #[inline(always)]
-    fn eased(&self, allowed: T, translation: &AxisLimits<T>, dt_secs: T) -> T {
-        let (ax, ay) = (self.vx.rate_per_s(), self.vy.rate_per_s());
-        // Squares compared first: the square root only where the bound falls below the
-        // acceleration (the rates are finite and within the translation limits, no overflow;
-        // `allowed` is not NaN).
-        if ax * ax + ay * ay <= allowed * allowed {
-            return allowed;
-        }
-        let step = translation.max_jerk_per_s2 * dt_secs;
-        let floor = hypot(ax, ay) - step;
-        if floor > allowed && floor.is_finite() {
-            floor
-        } else {
-            allowed
-        }
-    }
-
     /// Phase 3: the three rate limiters one step towards their targets.
     #[inline(always)]
     fn advance_limiters(
@@ -711,20 +646,6 @@ impl<T: RealField + Copy> CommandShaper<T> {
             self.yaw_rate
                 .advance(target.yaw, T::zero(), &self.params.yaw, dt_secs),
         )
-    }
-
-    /// Whether the envelope bound the step: it was below the command's own limit and the
-    /// shaped acceleration reached it.
-    #[inline(always)]
-    fn held_back(&self, translation: &AxisLimits<T>, envelope: &Envelope<T>) -> bool {
-        envelope.binding && {
-            let (ax, ay) = (self.vx.rate_per_s(), self.vy.rate_per_s());
-            let rate = min(
-                envelope.accel_limit_m_per_s2.unwrap_or(T::zero()),
-                translation.max_rate_per_s,
-            );
-            hypot(ax, ay) >= rate * lit(0.999)
-        }
     }
 
     /// Phase 4, the reference filter (see `CommandShaperParams::reference_filter_secs`): the
@@ -821,45 +742,6 @@ impl<T: RealField + Copy> CommandShaper<T> {
             spin: SpinState::new(self.heading_rad, wz),
         };
         (planar, [accel_x, accel_y])
-    }
-}
-
-/// What a command asks the shaper for (phase 1 of [`CommandShaper::step`]).
-struct Targets<T> {
-    /// The speed targets in m/s and the yaw-rate target in rad/s.
-    x: T,
-    y: T,
-    yaw: T,
-    /// The speed targets' own rates in m/s^2 (nonzero only for a trajectory).
-    feed: (T, T),
-    /// A trajectory's tilt, tilt rate and tilt acceleration along its heading, with the
-    /// heading's (sin, cos).
-    trajectory_tilt: Option<(T, T, T, T, T)>,
-    /// The translation limits this command is shaped with (a lean command lowers the rate).
-    translation: AxisLimits<T>,
-}
-
-/// The traction envelope on one step (phase 2 of [`CommandShaper::step`]).
-struct Envelope<T> {
-    /// The two speed limiters' limits, their rates split along the acceleration's direction.
-    x: AxisLimits<T>,
-    y: AxisLimits<T>,
-    /// The envelope's acceleration bound in m/s^2 along that direction, if one applied.
-    accel_limit_m_per_s2: Option<T>,
-    /// Whether that bound is below the command's own rate limit.
-    binding: bool,
-}
-
-impl<T: Copy> Envelope<T> {
-    /// No envelope: both axes keep the command's limits.
-    #[inline(always)]
-    fn open(translation: &AxisLimits<T>) -> Self {
-        Self {
-            x: *translation,
-            y: *translation,
-            accel_limit_m_per_s2: None,
-            binding: false,
-        }
     }
 }
 

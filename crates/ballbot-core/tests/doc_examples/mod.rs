@@ -61,6 +61,7 @@ pub(super) const CHECKED: &[&str] = &[
     "ballbot/guard.rs",
     "ballbot/imu_lean.rs",
     "command/pending.rs",
+    "command/envelope.rs",
     "hal.rs",
     "linalg.rs",
     "kinematics/mod.rs",
