@@ -18,6 +18,7 @@
 //! parsers ([`parsers`]): mutated TOML files give a value or an error, never a panic, and an
 //! error names the key whose value was made wrong.
 
+mod corruption;
 pub mod episode;
 pub mod hostile;
 pub mod invariants;
@@ -26,6 +27,7 @@ pub mod planar;
 pub mod plant;
 pub mod rig;
 pub mod runtime;
+mod trajectories;
 
 use super::monte_carlo::run_seed;
 use ballbot_core::BallbotParams;
