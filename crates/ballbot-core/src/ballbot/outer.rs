@@ -536,11 +536,8 @@ impl<T: RealField + Copy> BallbotController<T> {
     }
 
     /// The shaped command: the application's while balancing, "come to rest" in every other
-    /// mode; within the traction envelope when traction control is on. A slip reaction's
-    /// lower envelope is reached within the shaper's jerk limit
-    /// ([`CommandShaper::step_within`]): cut at once, the lean cut with it made the ball
-    /// accelerate harder to right the body, and on the diagonals the least-loaded wheel lifted
-    /// off.
+    /// mode; within the traction envelope when traction control is on (a slip reaction's lower
+    /// envelope reached within the jerk limit, [`CommandShaper::step_within`]).
     #[inline(always)]
     fn shape(
         &mut self,
