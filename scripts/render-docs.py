@@ -21,7 +21,9 @@ left out). Without one the value is written as JSON would (strings bare).
 The value comes from the full `ballbot reproduce`'s `summary.json`, through
 `docs/figures/reproduce-figures.json`: the values the docs quote, by path, taken from a summary by
 `--import` (the whole summary is 5 MB). With a `quick:` prefix on the path it comes from
-`scripts/reference/reproduce-quick-summary.json` (the CI's run, checked against the code).
+`scripts/reference/reproduce-quick-summary.json` (the CI's run, checked against the code). With
+a `robustness:` prefix it comes from the full reliability campaign's `robustness.json`, through
+`docs/figures/robustness-figures.json` (refreshed by `--import-robustness PATH`).
 
 Rendering replaces the text between the markers and nothing else. After a full run, refresh the
 figures with:
@@ -50,6 +52,13 @@ ROOT = Path(__file__).resolve().parent.parent
 SOURCES = {
     "full": ROOT / "docs/figures/reproduce-figures.json",
     "quick": ROOT / "scripts/reference/reproduce-quick-summary.json",
+    "robustness": ROOT / "docs/figures/robustness-figures.json",
+}
+# The sources that are extracts of a run too large to commit, refreshed by an import; the
+# command whose output each is taken from.
+EXTRACTS = {
+    "full": "ballbot reproduce --out out` then `--import out/summary.json",
+    "robustness": "ballbot robustness --out rob` then `--import-robustness rob/robustness.json",
 }
 # A path and a format hold no `<` or `>`, so that a marker without a format cannot swallow the
 # `-->` that closes it (and with it the next marker).
@@ -67,7 +76,7 @@ def lookup(summary: object, path: str) -> object:
     if isinstance(summary, dict) and summary.get(FIGURES_TAG) and path in summary:
         return summary[path]
     if isinstance(summary, dict) and summary.get(FIGURES_TAG):
-        raise RenderError(f"`{path}` is not in {SOURCES['full'].name}: run --import (see --help)")
+        raise RenderError(f"`{path}` is not in the figures file: run its import (see --help)")
     node = summary
     pos = 0
     while pos < len(path):
@@ -152,23 +161,28 @@ def load(sources: dict[str, Path]) -> dict[str, object]:
     return {name: json.loads(path.read_text(encoding="utf-8")) for name, path in sources.items()}
 
 
-def import_figures(summary_path: Path, files: list[Path]) -> None:
-    """Writes the figures file: every `full` path the files mark, from the summary."""
+def import_figures(summary_path: Path, files: list[Path], source: str = "full") -> None:
+    """Writes the figures file of `source`: every path of that source the files mark (a
+    `full` path has no prefix, a `robustness` one the `robustness:` prefix), from the summary."""
     summary = json.loads(summary_path.read_text(encoding="utf-8"))
     paths = set()
     for path in files:
         for m in MARKER.finditer(path.read_text(encoding="utf-8")):
-            if ":" not in m.group("path"):
-                paths.add(m.group("path"))
+            marked = m.group("path")
+            prefix, _, rest = marked.partition(":") if ":" in marked else ("full", "", marked)
+            if prefix == source:
+                paths.add(rest)
     figures: dict[str, object] = {
-        FIGURES_TAG: "The numbers the docs quote from the full `ballbot reproduce`, by their path "
-        "in its summary.json. Written by `python3 scripts/render-docs.py --import "
-        "out/summary.json`; do not edit."
+        FIGURES_TAG: f"The numbers the docs quote from `{EXTRACTS[source].split('`')[0]}`, by "
+        f"their path in its output. Written by `{EXTRACTS[source]}` (scripts/render-docs.py); "
+        "do not edit."
     }
     for path in sorted(paths):
         figures[path] = lookup(summary, path)
-    SOURCES["full"].write_text(json.dumps(figures, indent=1) + "\n", encoding="utf-8")
-    print(f"wrote {len(paths)} figures from {summary_path} to {SOURCES['full'].relative_to(ROOT)}")
+    SOURCES[source].write_text(json.dumps(figures, indent=1) + "\n", encoding="utf-8")
+    target = SOURCES[source]
+    shown = target.relative_to(ROOT) if target.is_relative_to(ROOT) else target
+    print(f"wrote {len(paths)} figures from {summary_path} to {shown}")
 
 
 def default_files() -> list[Path]:
@@ -229,7 +243,22 @@ def self_test() -> int:
         if run([doc], {"full": summary, "quick": {}}, check=True) != 1:
             print("self-test: --check passed a stale number", file=sys.stderr)
             failures += 1
-    total = len(cases) + 6
+        # An import writes the figures of its own source only, by path without the prefix.
+        page = Path(tmp) / "rob.md"
+        page.write_text("<!--= robustness:a.b[0] .1f -->?<!--/--> <!--= n d -->3<!--/-->\n", encoding="utf-8")
+        run_json = Path(tmp) / "robustness.json"
+        run_json.write_text(json.dumps(summary), encoding="utf-8")
+        saved = SOURCES["robustness"]
+        SOURCES["robustness"] = Path(tmp) / "robustness-figures.json"
+        try:
+            import_figures(run_json, [page], "robustness")
+            written = json.loads(SOURCES["robustness"].read_text(encoding="utf-8"))
+        finally:
+            SOURCES["robustness"] = saved
+        if set(written) != {FIGURES_TAG, "a.b[0]"}:
+            print(f"self-test: the robustness import wrote {sorted(written)}", file=sys.stderr)
+            failures += 1
+    total = len(cases) + 7
     print(f"render-docs self-test: {total - failures}/{total} pass")
     return 1 if failures else 0
 
@@ -240,6 +269,9 @@ def main() -> int:
     parser.add_argument("--check", action="store_true")
     parser.add_argument("--self-test", action="store_true")
     parser.add_argument("--import", dest="summary", type=Path, help="a full run's summary.json")
+    parser.add_argument(
+        "--import-robustness", dest="robustness", type=Path, help="a full campaign's robustness.json"
+    )
     args = parser.parse_args()
     if args.self_test:
         return self_test()
@@ -247,6 +279,8 @@ def main() -> int:
         files = [p.resolve() for p in args.files] or default_files()
         if args.summary:
             import_figures(args.summary, default_files())
+        if args.robustness:
+            import_figures(args.robustness, default_files(), "robustness")
         return run(files, load(SOURCES), args.check)
     except RenderError as e:
         print(f"error: {e}", file=sys.stderr)
