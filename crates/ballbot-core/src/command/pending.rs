@@ -1,5 +1,5 @@
-//! The bound on the reference filter's pending acceleration that a slip reaction needs
-//! ([`CommandShaper::bound_pending_acceleration`]).
+//! A one-step bound on the reference filter's pending acceleration
+//! ([`CommandShaper::bound_pending_acceleration`]), for applications that want one.
 
 use super::{AccelLimit, CommandShaper, JerkLimiter};
 use crate::num::{clamp_sym, direction};
@@ -10,8 +10,11 @@ impl<T: RealField + Copy> CommandShaper<T> {
     /// chases the jerk-limited speed `v` with `a_f = (v - v_f) / tau`, see
     /// [`CommandShaperParams::reference_filter_secs`](super::CommandShaperParams::reference_filter_secs)) by `limit` in its direction: `v` moves
     /// towards `v_f` until `|a_f|` is within it, and the limiters' accelerations are bounded
-    /// the same way. A slip reaction needs this: a lower limit alone stops `v` but leaves the
-    /// reference accelerating for about `tau`. Nothing to do without the filter.
+    /// the same way: a lower limit alone stops `v` but leaves the reference accelerating for
+    /// about `tau`. The controller's slip reaction no longer calls it: cutting the lean in one
+    /// step made the ball accelerate harder to right the body, and on the diagonals the
+    /// least-loaded wheel lifted off (docs/traction.md, section 2). Nothing to do without the
+    /// filter.
     ///
     /// ```
     /// use ballbot_core::BallbotParams;
