@@ -17,7 +17,11 @@ format spec (`.3f`, `.0f`, `+.2f`, `.1%`, `d`) or `sciN` (`6.1e5`: N decimals, n
 leading zeros in the exponent); a `deg` prefix (`deg.2f`) writes an angle the summary holds in
 radians in degrees. `[*]` in a path takes every item of a list (`by_heading[*].envelope_m_per_s2`),
 and a `min` or `max` prefix (`min.2f`, `maxdeg.1f`) writes the smallest or largest of them (nulls
-left out). Without one the value is written as JSON would (strings bare).
+left out). `[key=value]` takes the one item of a list whose `key` is `value`
+(`headings[heading_deg=180]`; an error unless exactly one matches), `[*key=value]` every item
+that matches (as `[*]` does), and the `count` format how many of them are true or nonzero
+(`cells[*controller=design].as_expected count`). Without a format the value is written as JSON
+would (strings bare).
 The value comes from the full `ballbot reproduce`'s `summary.json`, through
 `docs/figures/reproduce-figures.json`: the values the docs quote, by path, taken from a summary by
 `--import` (the whole summary is 5 MB). With a `quick:` prefix on the path it comes from
@@ -64,11 +68,21 @@ EXTRACTS = {
 # `-->` that closes it (and with it the next marker).
 MARKER = re.compile(r"<!--=\s*(?P<path>[^\s<>]+)(?:\s+(?P<fmt>[^\s<>]+))?\s*-->(?P<text>.*?)<!--/-->", re.S)
 FIGURES_TAG = "$comment"
-STEP = re.compile(r"\.?([^.\[\]]+)|\[(\d+|\*)\]")
+STEP = re.compile(r"\.?([^.\[\]]+)|\[(\d+|\*)\]|\[(\*?)(\w+)=([^\]]+)\]")
 
 
 class RenderError(Exception):
     """A marker that cannot be rendered."""
+
+
+def same(value: object, wanted: str) -> bool:
+    """Whether a summary's `value` is the literal `wanted` of a path (`180` is 180.0 too)."""
+    if isinstance(value, str):
+        return value == wanted
+    try:
+        return json.loads(wanted) == value
+    except json.JSONDecodeError:
+        return False
 
 
 def lookup(summary: object, path: str) -> object:
@@ -84,6 +98,21 @@ def lookup(summary: object, path: str) -> object:
         if not m or m.end() == pos:
             raise RenderError(f"bad path `{path}` at `{path[pos:]}`")
         key, index = m.group(1), m.group(2)
+        if m.group(4) is not None:
+            # A list's item by a key's value (`[heading_deg=180]`: exactly one must match), or
+            # every item that matches (`[*controller=design]`, like `[*]`).
+            if not isinstance(node, list):
+                raise RenderError(f"`{path}`: `{m.group(0)}` on something that is not a list")
+            field, wanted = m.group(4), m.group(5)
+            matching = [item for item in node if isinstance(item, dict) and field in item and same(item[field], wanted)]
+            rest = path[m.end() :].lstrip(".")
+            if m.group(3):
+                return [lookup(item, rest) if rest else item for item in matching]
+            if len(matching) != 1:
+                raise RenderError(f"`{path}`: {len(matching)} items with {field}={wanted}, expected one")
+            node = matching[0]
+            pos = m.end()
+            continue
         if index == "*":
             # Every item of a list: the rest of the path in each, as a list.
             if not isinstance(node, list):
@@ -107,6 +136,11 @@ def write(value: object, fmt: str | None) -> str:
     """`value` written with `fmt`."""
     if fmt is None:
         return value if isinstance(value, str) else json.dumps(value)
+    if fmt == "count":
+        # How many items of a list (`[*]` or `[*key=value]` in the path) are true or nonzero.
+        if not isinstance(value, list):
+            raise RenderError(f"cannot count {value!r}: not a list")
+        return str(sum(1 for v in value if v))
     reduce = re.match(r"(min|max)(?=[^a-z]|deg|sci|$)", fmt)
     if reduce:
         # The smallest or largest of a list (`[*]` in the path), nulls left out.
@@ -213,7 +247,8 @@ def run(files: list[Path], summaries: dict[str, object], check: bool) -> int:
 
 
 def self_test() -> int:
-    summary = {"a": {"b": [1.23456, {"c": "x"}], "180": 2.5, "big": 612345.6, "half_pi": math.pi / 2, "rows": [{"v": 2.0}, {"v": None}, {"v": 0.5}]}, "n": 3}
+    summary = {"a": {"b": [1.23456, {"c": "x"}], "180": 2.5, "big": 612345.6, "half_pi": math.pi / 2, "rows": [{"v": 2.0}, {"v": None}, {"v": 0.5}]}, "n": 3,
+               "cells": [{"who": "a", "h": 0.0, "ok": True}, {"who": "a", "h": 180.0, "ok": False}, {"who": "b", "h": 90.0, "ok": True}]}
     cases = [
         ("<!--= a.b[0] .2f -->?<!--/-->", "<!--= a.b[0] .2f -->1.23<!--/-->"),
         ("<!--= a.b[1].c -->?<!--/-->", "<!--= a.b[1].c -->x<!--/-->"),
@@ -223,6 +258,8 @@ def self_test() -> int:
         ("<!--= a.half_pi deg.1f -->?<!--/-->", "<!--= a.half_pi deg.1f -->90.0<!--/-->"),
         ("<!--= a.rows[*].v min.1f -->?<!--/--> to <!--= a.rows[*].v max.1f -->?<!--/-->", "<!--= a.rows[*].v min.1f -->0.5<!--/--> to <!--= a.rows[*].v max.1f -->2.0<!--/-->"),
         ("<!--= quick:n d -->?<!--/--> and <!--= n -->0<!--/-->", "<!--= quick:n d -->4<!--/--> and <!--= n -->3<!--/-->"),
+        ("<!--= cells[h=180].ok -->?<!--/--> <!--= cells[who=b].h .0f -->?<!--/-->", "<!--= cells[h=180].ok -->false<!--/--> <!--= cells[who=b].h .0f -->90<!--/-->"),
+        ("<!--= cells[*who=a].ok count -->?<!--/--> of <!--= cells[*who=a].who count -->?<!--/-->", "<!--= cells[*who=a].ok count -->1<!--/--> of <!--= cells[*who=a].who count -->2<!--/-->"),
     ]
     failures = 0
     for source, expected in cases:
@@ -230,7 +267,8 @@ def self_test() -> int:
         if got != expected:
             print(f"self-test: {source!r} -> {got!r}, expected {expected!r}", file=sys.stderr)
             failures += 1
-    for bad in ["<!--= a.zz -->?<!--/-->", "<!--= a.b[1].c .2f -->?<!--/-->", "<!--= a.b[1].c deg.1f -->?<!--/-->", "<!--= a.b[*] .1f -->?<!--/-->", "<!--= other:n -->?<!--/-->"]:
+    for bad in ["<!--= a.zz -->?<!--/-->", "<!--= a.b[1].c .2f -->?<!--/-->", "<!--= a.b[1].c deg.1f -->?<!--/-->", "<!--= a.b[*] .1f -->?<!--/-->", "<!--= other:n -->?<!--/-->",
+                "<!--= cells[who=a].h -->?<!--/-->", "<!--= cells[who=z].h -->?<!--/-->", "<!--= n count -->?<!--/-->"]:
         try:
             render(bad, {"full": summary, "quick": {}}, "self-test")
             print(f"self-test: {bad!r} rendered, expected an error", file=sys.stderr)
@@ -258,7 +296,7 @@ def self_test() -> int:
         if set(written) != {FIGURES_TAG, "a.b[0]"}:
             print(f"self-test: the robustness import wrote {sorted(written)}", file=sys.stderr)
             failures += 1
-    total = len(cases) + 7
+    total = len(cases) + 10
     print(f"render-docs self-test: {total - failures}/{total} pass")
     return 1 if failures else 0
 
