@@ -20,8 +20,13 @@ and a `min` or `max` prefix (`min.2f`, `maxdeg.1f`) writes the smallest or large
 left out). `[key=value]` takes the one item of a list whose `key` is `value`
 (`headings[heading_deg=180]`; an error unless exactly one matches), `[*key=value]` every item
 that matches (as `[*]` does), and the `count` format how many of them are true or nonzero
-(`cells[*controller=design].as_expected count`). Without a format the value is written as JSON
-would (strings bare).
+(`cells[*controller=design].as_expected count`). Several keys, comma-separated, must all match
+(`cells[controller=design,class=motor_dead,condition=standing,heading_deg=0]`); a number as the
+key takes a list item of a list by its position (`outcomes[0=failed].1`: the pair whose first
+item is `failed`). `%XX` in a key is the character of that hex code (`%20` a space: a path holds
+no blank). The `len` format writes a list's length (`settings.classes len`), a `pct` prefix
+(`pct.1f`) a fraction as a percentage without the sign (0.843 as `84.3`). Without a format the
+value is written as JSON would (strings bare).
 The value comes from the full `ballbot reproduce`'s `summary.json`, through
 `docs/figures/reproduce-figures.json`: the values the docs quote, by path, taken from a summary by
 `--import` (the whole summary is 5 MB). With a `quick:` prefix on the path it comes from
@@ -51,6 +56,7 @@ import re
 import sys
 import tempfile
 from pathlib import Path
+from urllib.parse import unquote
 
 ROOT = Path(__file__).resolve().parent.parent
 SOURCES = {
@@ -68,7 +74,7 @@ EXTRACTS = {
 # `-->` that closes it (and with it the next marker).
 MARKER = re.compile(r"<!--=\s*(?P<path>[^\s<>]+)(?:\s+(?P<fmt>[^\s<>]+))?\s*-->(?P<text>.*?)<!--/-->", re.S)
 FIGURES_TAG = "$comment"
-STEP = re.compile(r"\.?([^.\[\]]+)|\[(\d+|\*)\]|\[(\*?)(\w+)=([^\]]+)\]")
+STEP = re.compile(r"\.?([^.\[\]]+)|\[(\d+|\*)\]|\[(\*?)(\w+=[^\]]+)\]")
 
 
 class RenderError(Exception):
@@ -85,6 +91,21 @@ def same(value: object, wanted: str) -> bool:
         return False
 
 
+def matches(item: object, conditions: list[tuple[str, str]]) -> bool:
+    """Whether a list's `item` has every `(key, value)` of `conditions` (a number as the key is a
+    position in an item that is itself a list)."""
+    for field, wanted in conditions:
+        if isinstance(item, dict) and field in item:
+            value = item[field]
+        elif isinstance(item, list) and field.isdigit() and int(field) < len(item):
+            value = item[int(field)]
+        else:
+            return False
+        if not same(value, wanted):
+            return False
+    return True
+
+
 def lookup(summary: object, path: str) -> object:
     """The value at dotted `path` of `summary` (or under the key `path` of a figures file)."""
     if isinstance(summary, dict) and summary.get(FIGURES_TAG) and path in summary:
@@ -98,18 +119,25 @@ def lookup(summary: object, path: str) -> object:
         if not m or m.end() == pos:
             raise RenderError(f"bad path `{path}` at `{path[pos:]}`")
         key, index = m.group(1), m.group(2)
+        if key is not None:
+            key = unquote(key)
         if m.group(4) is not None:
             # A list's item by a key's value (`[heading_deg=180]`: exactly one must match), or
             # every item that matches (`[*controller=design]`, like `[*]`).
             if not isinstance(node, list):
                 raise RenderError(f"`{path}`: `{m.group(0)}` on something that is not a list")
-            field, wanted = m.group(4), m.group(5)
-            matching = [item for item in node if isinstance(item, dict) and field in item and same(item[field], wanted)]
+            conditions = []
+            for condition in m.group(4).split(","):
+                field, eq, wanted = condition.partition("=")
+                if not eq or not re.fullmatch(r"\w+", field):
+                    raise RenderError(f"bad path `{path}` at `{m.group(0)}`")
+                conditions.append((field, unquote(wanted)))
+            matching = [item for item in node if matches(item, conditions)]
             rest = path[m.end() :].lstrip(".")
             if m.group(3):
                 return [lookup(item, rest) if rest else item for item in matching]
             if len(matching) != 1:
-                raise RenderError(f"`{path}`: {len(matching)} items with {field}={wanted}, expected one")
+                raise RenderError(f"`{path}`: {len(matching)} items with {m.group(4)}, expected one")
             node = matching[0]
             pos = m.end()
             continue
@@ -141,7 +169,12 @@ def write(value: object, fmt: str | None) -> str:
         if not isinstance(value, list):
             raise RenderError(f"cannot count {value!r}: not a list")
         return str(sum(1 for v in value if v))
-    reduce = re.match(r"(min|max)(?=[^a-z]|deg|sci|$)", fmt)
+    if fmt == "len":
+        # How many items a list has (`[*key=value]` in the path: how many match).
+        if not isinstance(value, list):
+            raise RenderError(f"cannot take the length of {value!r}: not a list")
+        return str(len(value))
+    reduce = re.match(r"(min|max)(?=[^a-z]|deg|pct|sci|$)", fmt)
     if reduce:
         # The smallest or largest of a list (`[*]` in the path), nulls left out.
         fmt = fmt[3:]
@@ -158,6 +191,12 @@ def write(value: object, fmt: str | None) -> str:
             value = math.degrees(float(value))  # type: ignore[arg-type]
         except (TypeError, ValueError) as e:
             raise RenderError(f"cannot write {value!r} in degrees: {e}") from None
+    elif fmt.startswith("pct"):
+        # A fraction written as a percentage, without the sign (a table's column says `%`).
+        fmt = fmt[3:]
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise RenderError(f"cannot write {value!r} as a percentage")
+        value = 100.0 * value
     sci = re.fullmatch(r"sci(\d)", fmt)
     try:
         if sci:
@@ -248,7 +287,8 @@ def run(files: list[Path], summaries: dict[str, object], check: bool) -> int:
 
 def self_test() -> int:
     summary = {"a": {"b": [1.23456, {"c": "x"}], "180": 2.5, "big": 612345.6, "half_pi": math.pi / 2, "rows": [{"v": 2.0}, {"v": None}, {"v": 0.5}]}, "n": 3,
-               "cells": [{"who": "a", "h": 0.0, "ok": True}, {"who": "a", "h": 180.0, "ok": False}, {"who": "b", "h": 90.0, "ok": True}]}
+               "cells": [{"who": "a", "h": 0.0, "ok": True}, {"who": "a", "h": 180.0, "ok": False}, {"who": "b", "h": 90.0, "ok": True}],
+               "pairs": [["up", 7], ["down", 2]], "by what": {"a b": 5}, "rate": 0.8434, "rates": [0.5, 0.125]}
     cases = [
         ("<!--= a.b[0] .2f -->?<!--/-->", "<!--= a.b[0] .2f -->1.23<!--/-->"),
         ("<!--= a.b[1].c -->?<!--/-->", "<!--= a.b[1].c -->x<!--/-->"),
@@ -260,6 +300,9 @@ def self_test() -> int:
         ("<!--= quick:n d -->?<!--/--> and <!--= n -->0<!--/-->", "<!--= quick:n d -->4<!--/--> and <!--= n -->3<!--/-->"),
         ("<!--= cells[h=180].ok -->?<!--/--> <!--= cells[who=b].h .0f -->?<!--/-->", "<!--= cells[h=180].ok -->false<!--/--> <!--= cells[who=b].h .0f -->90<!--/-->"),
         ("<!--= cells[*who=a].ok count -->?<!--/--> of <!--= cells[*who=a].who count -->?<!--/-->", "<!--= cells[*who=a].ok count -->1<!--/--> of <!--= cells[*who=a].who count -->2<!--/-->"),
+        ("<!--= cells[who=a,h=180].ok -->?<!--/--> <!--= cells[*who=a,ok=true].h len -->?<!--/-->", "<!--= cells[who=a,h=180].ok -->false<!--/--> <!--= cells[*who=a,ok=true].h len -->1<!--/-->"),
+        ("<!--= pairs[0=down].1 d -->?<!--/--> <!--= by%20what.a%20b d -->?<!--/-->", "<!--= pairs[0=down].1 d -->2<!--/--> <!--= by%20what.a%20b d -->5<!--/-->"),
+        ("<!--= rate pct.1f -->?<!--/--> <!--= rates[*] maxpct.1f -->?<!--/--> <!--= cells[*] len -->?<!--/-->", "<!--= rate pct.1f -->84.3<!--/--> <!--= rates[*] maxpct.1f -->50.0<!--/--> <!--= cells[*] len -->3<!--/-->"),
     ]
     failures = 0
     for source, expected in cases:
@@ -268,7 +311,8 @@ def self_test() -> int:
             print(f"self-test: {source!r} -> {got!r}, expected {expected!r}", file=sys.stderr)
             failures += 1
     for bad in ["<!--= a.zz -->?<!--/-->", "<!--= a.b[1].c .2f -->?<!--/-->", "<!--= a.b[1].c deg.1f -->?<!--/-->", "<!--= a.b[*] .1f -->?<!--/-->", "<!--= other:n -->?<!--/-->",
-                "<!--= cells[who=a].h -->?<!--/-->", "<!--= cells[who=z].h -->?<!--/-->", "<!--= n count -->?<!--/-->"]:
+                "<!--= cells[who=a].h -->?<!--/-->", "<!--= cells[who=z].h -->?<!--/-->", "<!--= n count -->?<!--/-->",
+                "<!--= n len -->?<!--/-->", "<!--= a.b[1].c pct.1f -->?<!--/-->", "<!--= pairs[2=up].1 -->?<!--/-->", "<!--= cells[who=a,=1].h -->?<!--/-->"]:
         try:
             render(bad, {"full": summary, "quick": {}}, "self-test")
             print(f"self-test: {bad!r} rendered, expected an error", file=sys.stderr)
@@ -296,7 +340,7 @@ def self_test() -> int:
         if set(written) != {FIGURES_TAG, "a.b[0]"}:
             print(f"self-test: the robustness import wrote {sorted(written)}", file=sys.stderr)
             failures += 1
-    total = len(cases) + 10
+    total = len(cases) + 14
     print(f"render-docs self-test: {total - failures}/{total} pass")
     return 1 if failures else 0
 
