@@ -32,7 +32,10 @@ The value comes from the full `ballbot reproduce`'s `summary.json`, through
 `--import` (the whole summary is 5 MB). With a `quick:` prefix on the path it comes from
 `scripts/reference/reproduce-quick-summary.json` (the CI's run, checked against the code). With
 a `robustness:` prefix it comes from the full reliability campaign's `robustness.json`, through
-`docs/figures/robustness-figures.json` (refreshed by `--import-robustness PATH`).
+`docs/figures/robustness-figures.json` (refreshed by `--import-robustness PATH`). With a
+`balance:` prefix it comes from `docs/figures/balance-eval.json`, the shipped balancing
+policy's evaluation, written whole by `python examples/python/evaluate_balance.py --json
+docs/figures/balance-eval.json`.
 
 Rendering replaces the text between the markers and nothing else. After a full run, refresh the
 figures with:
@@ -63,6 +66,7 @@ SOURCES = {
     "full": ROOT / "docs/figures/reproduce-figures.json",
     "quick": ROOT / "scripts/reference/reproduce-quick-summary.json",
     "robustness": ROOT / "docs/figures/robustness-figures.json",
+    "balance": ROOT / "docs/figures/balance-eval.json",
 }
 # The sources that are extracts of a run too large to commit, refreshed by an import; the
 # command whose output each is taken from.

@@ -33,6 +33,9 @@ a ``[lo, hi]`` pair or a number. Other reset options: ``initial_tilt_rad`` (2 nu
 ``BallbotVectorEnv``: N worlds stepped in Rust in one call on ``threads=`` cores without the
 GIL, with next-step autoreset.
 
+``pretrained("balance")`` (and ``"balance_randomized"``) returns a shipped balancing policy, a
+``Policy`` evaluated in numpy; ``evaluate(policy, seeds)`` runs it on seeded episodes.
+
 >>> import gymnasium as gym
 >>> import ballbot.gym
 >>> env = gym.make("ballbot/Balance-v0")
@@ -52,9 +55,19 @@ except ImportError as e:  # pragma: no cover - depends on the install
     ) from e
 
 from ballbot.gym._env import BallbotEnv
+from ballbot.gym._policy import PRETRAINED, Policy, evaluate, pretrained
 from ballbot.gym._vector import BallbotVectorEnv
 
-__all__ = ["BallbotEnv", "BallbotVectorEnv", "ENV_IDS", "register_envs"]
+__all__ = [
+    "BallbotEnv",
+    "BallbotVectorEnv",
+    "ENV_IDS",
+    "PRETRAINED",
+    "Policy",
+    "evaluate",
+    "pretrained",
+    "register_envs",
+]
 
 #: The registered environment ids and their task.
 ENV_IDS = {"ballbot/Balance-v0": "balance", "ballbot/Velocity-v0": "velocity"}
