@@ -35,7 +35,9 @@ a `robustness:` prefix it comes from the full reliability campaign's `robustness
 `docs/figures/robustness-figures.json` (refreshed by `--import-robustness PATH`). With a
 `balance:` prefix it comes from `docs/figures/balance-eval.json`, the shipped balancing
 policy's evaluation, written whole by `python examples/python/evaluate_balance.py --json
-docs/figures/balance-eval.json`.
+docs/figures/balance-eval.json`; with `gymbench:` from `docs/figures/bench-gym.json`, the
+environments' speed, written whole by `python crates/ballbot-py/bench/bench_gym.py --json
+docs/figures/bench-gym.json` (a dated measurement, not a deterministic run).
 
 Rendering replaces the text between the markers and nothing else. After a full run, refresh the
 figures with:
@@ -67,6 +69,7 @@ SOURCES = {
     "quick": ROOT / "scripts/reference/reproduce-quick-summary.json",
     "robustness": ROOT / "docs/figures/robustness-figures.json",
     "balance": ROOT / "docs/figures/balance-eval.json",
+    "gymbench": ROOT / "docs/figures/bench-gym.json",
 }
 # The sources that are extracts of a run too large to commit, refreshed by an import; the
 # command whose output each is taken from.

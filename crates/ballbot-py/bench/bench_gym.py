@@ -9,6 +9,7 @@ Measures, as medians over repeats (one agent step = 20 physics steps at 400 Hz o
     the Python layer;
 (c) the native vector env (``BallbotVectorEnv``, Rust threads without the GIL) with 1, 2 and
     8 environments;
+    and, with 1 environment, its Rust call alone (what the Python side's infos cost);
 (d) Gymnasium's ``SyncVectorEnv`` over 8 single environments (a Python loop);
 (e) where ``mujoco`` imports: the simple virtual-wheel MuJoCo ballbot of ``mujoco_ballbot.py``
     (no omniwheels: a cheaper, less faithful model) as one environment, its bare
@@ -88,13 +89,36 @@ def vector(envs: Any, steps: int) -> Callable[[], int]:
     return run
 
 
+def rust_call(envs: Any, steps: int) -> Callable[[], int]:
+    """The native vector env's Rust call alone (``core.step``), without the Python side that
+    builds Gymnasium's vector infos: the difference to ``vector`` is that side's cost."""
+    n = envs.num_envs
+    actions = np.random.default_rng(0).uniform(-0.05, 0.05, size=(steps, n, 3))
+
+    def run() -> int:
+        envs.reset(seed=0)
+        for a in actions:
+            envs.core.step(a)
+        return steps * n
+
+    return run
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer steps and repeats")
     parser.add_argument("--json", help="also write the results to this JSON file")
     args = parser.parse_args()
     steps, repeats = (200, 3) if args.quick else (2000, 7)
-    results: dict[str, Any] = {"cores": os.cpu_count(), "steps": steps, "repeats": repeats}
+    results: dict[str, Any] = {
+        "date": time.strftime("%Y-%m-%d", time.gmtime()),
+        "cores": os.cpu_count(),
+        "steps": steps,
+        "repeats": repeats,
+        # What else the machine was doing: rates on a loaded machine are lower, ratios less so.
+        "load_average_1min_before": os.getloadavg()[0],
+        "ballbot_version": ballbot.__version__,
+    }
     for task in ("balance", "velocity"):
         r: dict[str, float] = {}
         r["bare_world"] = median_rate(bare(task, steps), repeats)
@@ -104,6 +128,8 @@ def main() -> None:
         for n in (1, 2, 8):
             envs = BallbotVectorEnv(num_envs=n, task=task, threads=0)
             r[f"native_vector_{n}"] = median_rate(vector(envs, steps // max(1, n // 2)), repeats)
+            if n == 1:
+                r["native_vector_1_rust_call"] = median_rate(rust_call(envs, steps), repeats)
         sync = gym.vector.SyncVectorEnv([lambda: BallbotEnv(task) for _ in range(8)])
         r["sync_vector_8"] = median_rate(vector(sync, steps // 4), repeats)
         r["env_over_bare"] = r["env"] / r["bare_world"]
@@ -136,6 +162,8 @@ def main() -> None:
         m["env"] = median_rate(single(MujocoBallbotEnv(), steps), repeats)
         sync = gym.vector.SyncVectorEnv([MujocoBallbotEnv for _ in range(8)])
         m["sync_vector_8"] = median_rate(vector(sync, steps // 4), repeats)
+        m["ballbot_env_over_mujoco_env"] = results["balance"]["env"] / m["env"]
+        m["ballbot_native_8_over_mujoco_sync_8"] = results["balance"]["native_vector_8"] / m["sync_vector_8"]
         results["mujoco_virtual_wheel"] = m
         results["mujoco_version"] = mujoco.__version__
         print(
@@ -152,9 +180,11 @@ def main() -> None:
             f"native 8 / SyncVectorEnv 8 = {r['native_8_over_sync_8']:.2f}; "
             f"simulated seconds per wall second (native 8) = {r['native_vector_8'] / 400:.0f}"
         )
+    results["load_average_1min_after"] = os.getloadavg()[0]
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=2)
+            f.write("\n")
 
 
 if __name__ == "__main__":

@@ -1722,6 +1722,15 @@ class GymVecEnv:
         npt.NDArray[np.bool_],
         dict[str, Any],
     ]: ...
+    def step_gym(
+        self, actions: npt.NDArray[np.float64]
+    ) -> tuple[
+        npt.NDArray[np.float32],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+        dict[str, Any],
+    ]: ...
 
 @final
 class LiveView:

@@ -164,8 +164,73 @@ impl PyGymVecEnv {
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray1<bool>>,
         Bound<'py, PyArray1<bool>>,
-        Bound<'py, PyDict>,
+        Bound<'py, PyAny>,
     )> {
+        self.advance(py, &actions)?;
+        let c = Collected::of(py, &self.inner, &self.out)?;
+        let infos = VecInfoView {
+            time_secs: PyArray1::from_vec(py, c.time),
+            reset: PyArray1::from_vec(py, c.reset),
+            episode_seed: PyArray1::from_vec(py, c.seed),
+            failure: PyList::new(py, c.failure)?,
+            termination: PyList::new(py, c.termination)?,
+            events: PyList::new(py, c.events)?,
+            episode_events: PyList::new(py, c.episode_events)?,
+            events_dropped: PyArray1::from_vec(py, c.dropped),
+        }
+        .into_pyobject(py)?
+        .into_any();
+        self.outputs(py, infos)
+    }
+
+    /// `step` with its infos in Gymnasium's vector form, built here rather than in Python
+    /// (what `BallbotVectorEnv.step` returns): each key as a (n,) array, object arrays for
+    /// `failure`, `termination`, `events` and `episode_events`, int64 for `episode_seed` and
+    /// `events_dropped`, and beside each its mask `_key`, where it is set: `time_secs` and
+    /// `events` where the environment stepped, `episode_seed` where it was reset, `failure`
+    /// and `termination` where one ended the episode, `episode_events` and `events_dropped`
+    /// where the episode ended.
+    #[allow(clippy::type_complexity)]
+    fn step_gym<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f32>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<bool>>,
+        Bound<'py, PyArray1<bool>>,
+        Bound<'py, PyAny>,
+    )> {
+        self.advance(py, &actions)?;
+        let c = Collected::of(py, &self.inner, &self.out)?;
+        let stepped: Vec<bool> = c.reset.iter().map(|r| !r).collect();
+        let infos = GymInfoView {
+            time_secs_mask: PyArray1::from_slice(py, &stepped),
+            time_secs: PyArray1::from_vec(py, c.time),
+            episode_seed_mask: PyArray1::from_slice(py, &c.reset),
+            // Seeds are drawn below 2^63; as the Python wrapper's int64 cast did.
+            episode_seed: PyArray1::from_vec(py, c.seed.iter().map(|&s| s as i64).collect()),
+            failure_mask: PyArray1::from_vec(py, c.has_failure),
+            failure: PyArray1::from_vec(py, c.failure),
+            termination_mask: PyArray1::from_vec(py, c.has_termination),
+            termination: PyArray1::from_vec(py, c.termination),
+            events_mask: PyArray1::from_vec(py, stepped),
+            events: PyArray1::from_vec(py, c.events),
+            episode_events_mask: PyArray1::from_slice(py, &c.ended),
+            episode_events: PyArray1::from_vec(py, c.episode_events),
+            events_dropped_mask: PyArray1::from_vec(py, c.ended),
+            events_dropped: PyArray1::from_vec(py, c.dropped.iter().map(|&d| d as i64).collect()),
+        }
+        .into_pyobject(py)?
+        .into_any();
+        self.outputs(py, infos)
+    }
+}
+
+impl PyGymVecEnv {
+    /// Checks `actions` against the environments and steps them all without the GIL.
+    fn advance(&mut self, py: Python<'_>, actions: &PyReadonlyArray2<'_, f64>) -> PyResult<()> {
         let n = self.inner.len();
         if actions.shape() != [n, 3] {
             return Err(error(
@@ -185,63 +250,130 @@ impl PyGymVecEnv {
             .collect();
         let (env, out) = (&mut self.inner, &mut self.out);
         py.detach(|| env.step(&a, out))
-            .map_err(|e| gym_error(py, e))?;
+            .map_err(|e| gym_error(py, e))
+    }
+
+    /// The step's observations, rewards, terminated and truncated flags, with `infos`.
+    #[allow(clippy::type_complexity)]
+    fn outputs<'py>(
+        &self,
+        py: Python<'py>,
+        infos: Bound<'py, PyAny>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f32>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<bool>>,
+        Bound<'py, PyArray1<bool>>,
+        Bound<'py, PyAny>,
+    )> {
         let out = &self.out;
-        let mut time = Vec::with_capacity(n);
-        let mut reset = Vec::with_capacity(n);
-        let mut seed = Vec::with_capacity(n);
-        let mut dropped = Vec::with_capacity(n);
-        let failure = PyList::empty(py);
-        let termination = PyList::empty(py);
-        let events = PyList::empty(py);
-        let ended_events = PyList::empty(py);
-        for (i, (info, env)) in out.infos.iter().zip(self.inner.envs()).enumerate() {
-            // An environment's events stay on it until its next step (VecInfo's docs).
-            events.append(step_events(py, env)?)?;
-            match info {
-                VecInfo::Step(s) => {
-                    time.push(s.time_secs);
-                    reset.push(false);
-                    seed.push(0_u64);
-                    failure.append(s.failure.map(PyFailure::from))?;
-                    termination.append(s.termination.map(|t| t.as_str()))?;
-                }
-                VecInfo::Reset(r) => {
-                    time.push(0.0);
-                    reset.push(true);
-                    seed.push(r.draw.seed);
-                    failure.append(py.None())?;
-                    termination.append(py.None())?;
-                }
-            }
-            if out.terminated[i] || out.truncated[i] {
-                let (list, count) = episode_events(py, env)?;
-                ended_events.append(list)?;
-                dropped.push(count);
-            } else {
-                ended_events.append(py.None())?;
-                dropped.push(0);
-            }
-        }
-        let infos = VecInfoView {
-            time_secs: PyArray1::from_vec(py, time),
-            reset: PyArray1::from_vec(py, reset),
-            episode_seed: PyArray1::from_vec(py, seed),
-            failure,
-            termination,
-            events,
-            episode_events: ended_events,
-            events_dropped: PyArray1::from_vec(py, dropped),
-        }
-        .into_pyobject(py)?;
         Ok((
-            rows(py, out.obs.clone(), n)?,
+            rows(py, out.obs.clone(), self.inner.len())?,
             PyArray1::from_slice(py, &out.rewards),
             PyArray1::from_slice(py, &out.terminated),
             PyArray1::from_slice(py, &out.truncated),
             infos,
         ))
     }
+}
+
+/// One step's per-environment values, taken from the Rust outputs once for both forms of
+/// the infos.
+struct Collected {
+    time: Vec<f64>,
+    reset: Vec<bool>,
+    seed: Vec<u64>,
+    dropped: Vec<u64>,
+    ended: Vec<bool>,
+    has_failure: Vec<bool>,
+    has_termination: Vec<bool>,
+    failure: Vec<Py<PyAny>>,
+    termination: Vec<Py<PyAny>>,
+    events: Vec<Py<PyAny>>,
+    episode_events: Vec<Py<PyAny>>,
+}
+
+impl Collected {
+    fn of(py: Python<'_>, envs: &VecEnv, out: &VecStep) -> PyResult<Self> {
+        let n = envs.len();
+        let mut c = Self {
+            time: Vec::with_capacity(n),
+            reset: Vec::with_capacity(n),
+            seed: Vec::with_capacity(n),
+            dropped: Vec::with_capacity(n),
+            ended: Vec::with_capacity(n),
+            has_failure: Vec::with_capacity(n),
+            has_termination: Vec::with_capacity(n),
+            failure: Vec::with_capacity(n),
+            termination: Vec::with_capacity(n),
+            events: Vec::with_capacity(n),
+            episode_events: Vec::with_capacity(n),
+        };
+        for (i, (info, env)) in out.infos.iter().zip(envs.envs()).enumerate() {
+            // An environment's events stay on it until its next step (VecInfo's docs).
+            c.events.push(step_events(py, env)?.into_any().unbind());
+            let (failure, termination) = match info {
+                VecInfo::Step(s) => {
+                    c.time.push(s.time_secs);
+                    c.reset.push(false);
+                    c.seed.push(0);
+                    (
+                        s.failure.map(PyFailure::from),
+                        s.termination.map(|t| t.as_str()),
+                    )
+                }
+                VecInfo::Reset(r) => {
+                    c.time.push(0.0);
+                    c.reset.push(true);
+                    c.seed.push(r.draw.seed);
+                    (None, None)
+                }
+            };
+            c.has_failure.push(failure.is_some());
+            c.has_termination.push(termination.is_some());
+            c.failure
+                .push(failure.into_pyobject(py)?.into_any().unbind());
+            c.termination
+                .push(termination.into_pyobject(py)?.into_any().unbind());
+            let ended = out.terminated[i] || out.truncated[i];
+            c.ended.push(ended);
+            if ended {
+                let (list, count) = episode_events(py, env)?;
+                c.episode_events.push(list.into_any().unbind());
+                c.dropped.push(count);
+            } else {
+                c.episode_events.push(py.None());
+                c.dropped.push(0);
+            }
+        }
+        Ok(c)
+    }
+}
+
+/// The infos in Gymnasium's vector form (`step_gym`): each value with its mask `_key`.
+#[derive(IntoPyObject)]
+struct GymInfoView<'py> {
+    time_secs: Bound<'py, PyArray1<f64>>,
+    #[pyo3(item("_time_secs"))]
+    time_secs_mask: Bound<'py, PyArray1<bool>>,
+    episode_seed: Bound<'py, PyArray1<i64>>,
+    #[pyo3(item("_episode_seed"))]
+    episode_seed_mask: Bound<'py, PyArray1<bool>>,
+    failure: Bound<'py, PyArray1<Py<PyAny>>>,
+    #[pyo3(item("_failure"))]
+    failure_mask: Bound<'py, PyArray1<bool>>,
+    termination: Bound<'py, PyArray1<Py<PyAny>>>,
+    #[pyo3(item("_termination"))]
+    termination_mask: Bound<'py, PyArray1<bool>>,
+    events: Bound<'py, PyArray1<Py<PyAny>>>,
+    #[pyo3(item("_events"))]
+    events_mask: Bound<'py, PyArray1<bool>>,
+    episode_events: Bound<'py, PyArray1<Py<PyAny>>>,
+    #[pyo3(item("_episode_events"))]
+    episode_events_mask: Bound<'py, PyArray1<bool>>,
+    events_dropped: Bound<'py, PyArray1<i64>>,
+    #[pyo3(item("_events_dropped"))]
+    events_dropped_mask: Bound<'py, PyArray1<bool>>,
 }
 
 /// The vector env's step infos as Python has them: one entry per environment in each.

@@ -102,25 +102,8 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
         self, actions: Act
     ) -> tuple[Obs, NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_], dict[str, Any]]:
         a = np.ascontiguousarray(actions, dtype=np.float64).reshape(self.num_envs, 3)
-        obs, rewards, terminated, truncated, raw = self._core.step(a)
-        reset = raw["reset"]
-        ended = terminated | truncated
-        infos = {
-            "time_secs": raw["time_secs"],
-            "_time_secs": ~reset,
-            "episode_seed": raw["episode_seed"].astype(np.int64),
-            "_episode_seed": reset,
-            "failure": _objects(raw["failure"]),
-            "_failure": np.array([f is not None for f in raw["failure"]], dtype=bool),
-            "termination": _objects(raw["termination"]),
-            "_termination": np.array([t is not None for t in raw["termination"]], dtype=bool),
-            "events": _objects(raw["events"]),
-            "_events": ~reset,
-            "episode_events": _objects(raw["episode_events"]),
-            "_episode_events": ended,
-            "events_dropped": raw["events_dropped"].astype(np.int64),
-            "_events_dropped": ended,
-        }
+        # The infos come in Gymnasium's vector form from Rust (`GymVecEnv.step_gym`).
+        obs, rewards, terminated, truncated, infos = self._core.step_gym(a)
         return obs, rewards, terminated, truncated, infos
 
     def render(self) -> Optional[tuple[NDArray[np.uint8], ...]]:
@@ -135,14 +118,6 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
                 return None
             frames.append(draw(t, radius, height))
         return tuple(frames)
-
-
-def _objects(values: Sequence[Any]) -> NDArray[np.object_]:
-    """A 1-D object array of ``values`` (lists stay elements, not a second axis)."""
-    out = np.empty(len(values), dtype=object)
-    for i, v in enumerate(values):
-        out[i] = v
-    return out
 
 
 def _seeded_rng(seed: Optional[int]) -> tuple[np.random.Generator, int]:
