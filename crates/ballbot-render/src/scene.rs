@@ -9,7 +9,7 @@
 //! to near (painter's algorithm). On top: per wheel an arrow of the force the wheel applies
 //! to the ball (normal force, traction and axle force), ending at the contact point and
 //! coloured by the contact's friction-cone use (green 0, yellow 0.5, red 1); a wheel without
-//! normal force is painted [`palette::LIFT_OFF`] with a ring and a "lift-off" label, a
+//! normal force (below the world's lift-off threshold) is painted [`palette::LIFT_OFF`] with a ring and a "lift-off" label, a
 //! sliding one labelled "slip".
 
 use crate::camera::{Camera, CameraView};
@@ -37,8 +37,6 @@ const FLOOR_HALF_M: f64 = 7.0;
 /// Half the drawn rim's width, in roller mid radii: a little wider than one row of rollers, so
 /// that a wheel seen edge-on still shows.
 const RIM_WIDTH_ROLLERS: f64 = 1.6;
-/// A wheel whose normal force is at most this is drawn lifted off (N).
-pub const LIFT_OFF_N: f64 = 1e-6;
 
 /// Why a renderer cannot be made.
 #[derive(Debug, thiserror::Error)]
@@ -101,6 +99,7 @@ pub struct SceneRenderer {
     model: RobotModel,
     wheels: [WheelFrame; 3],
     roller_count: usize,
+    lift_off_force_n: f64,
     view: CameraView,
     pixmap: Pixmap,
     text: Text,
@@ -252,9 +251,11 @@ fn convex_hull(mut points: Vec<Point2<f64>>) -> Vec<Point2<f64>> {
     hull
 }
 
-/// Whether wheel telemetry `w` has the wheel off the ball.
-pub fn lifted(w: &WheelTelemetry) -> bool {
-    w.normal_force_n <= LIFT_OFF_N
+/// Whether wheel telemetry `w` has the wheel off the ball: its normal force below
+/// `lift_off_force_n` (the world's `failure.lift_off_force_n`, 1 N by default, as the world's
+/// lift-off events and stop rule judge it).
+pub fn lifted(w: &WheelTelemetry, lift_off_force_n: f64) -> bool {
+    w.normal_force_n.is_nan() || w.normal_force_n < lift_off_force_n
 }
 
 impl SceneRenderer {
@@ -295,6 +296,7 @@ impl SceneRenderer {
             model,
             wheels,
             roller_count,
+            lift_off_force_n: params.failure.lift_off_force_n,
             view: CameraView::default(),
             pixmap,
             text: Text::new().ok_or(RenderError::Font)?,
@@ -679,7 +681,7 @@ impl SceneRenderer {
                 }
             }
         }
-        let is_lifted = lifted(telemetry);
+        let is_lifted = lifted(telemetry, self.lift_off_force_n);
         let body = if is_lifted {
             palette::LIFT_OFF
         } else {
@@ -753,7 +755,7 @@ impl SceneRenderer {
     fn arrow(&mut self, pose: &Pose<'_>, i: usize) {
         let w = self.wheels[i];
         let tel = &pose.t.wheels[i];
-        if lifted(tel) {
+        if lifted(tel, self.lift_off_force_n) {
             return;
         }
         let r = self.model.ball_radius_m;
@@ -799,7 +801,7 @@ impl SceneRenderer {
             return;
         };
         let name = format!("OW{}", i + 1);
-        let (text, rgb) = if lifted(tel) {
+        let (text, rgb) = if lifted(tel, self.lift_off_force_n) {
             (format!("{name} lift-off"), palette::LIFT_OFF)
         } else if tel.slipping {
             (
@@ -842,7 +844,7 @@ impl SceneRenderer {
             true,
         );
         let lifted: Vec<String> = (0..3)
-            .filter(|&i| lifted(&t.wheels[i]))
+            .filter(|&i| lifted(&t.wheels[i], self.lift_off_force_n))
             .map(|i| format!("OW{}", i + 1))
             .collect();
         if !lifted.is_empty() {
