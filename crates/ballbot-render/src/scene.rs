@@ -10,7 +10,8 @@
 //! to the ball (normal force, traction and axle force), ending at the contact point and
 //! coloured by the contact's friction-cone use (green 0, yellow 0.5, red 1); a wheel without
 //! normal force (below the world's lift-off threshold) is painted [`palette::LIFT_OFF`] with a ring and a "lift-off" label, a
-//! sliding one labelled "slip".
+//! sliding one labelled "slip". A state before the world's first step (time 0, no contact
+//! computed yet) is drawn without arrows or lift-off marks.
 
 use crate::camera::{Camera, CameraView};
 use crate::palette::{self, Rgb};
@@ -100,6 +101,7 @@ pub struct SceneRenderer {
     wheels: [WheelFrame; 3],
     roller_count: usize,
     lift_off_force_n: f64,
+    contacts_known: bool,
     view: CameraView,
     pixmap: Pixmap,
     text: Text,
@@ -297,6 +299,7 @@ impl SceneRenderer {
             wheels,
             roller_count,
             lift_off_force_n: params.failure.lift_off_force_n,
+            contacts_known: true,
             view: CameraView::default(),
             pixmap,
             text: Text::new().ok_or(RenderError::Font)?,
@@ -349,6 +352,9 @@ impl SceneRenderer {
 
     /// Draws the state `t` into the renderer's pixmap.
     pub fn draw(&mut self, t: &StepTelemetry) {
+        // Before the world's first step (a reset's state) no contact has been computed yet:
+        // its zero normal forces are not lift-offs.
+        self.contacts_known = t.time_secs > 0.0;
         let r = self.model.ball_radius_m;
         let target = Vector3::new(
             t.ball_position_m.x,
@@ -681,7 +687,7 @@ impl SceneRenderer {
                 }
             }
         }
-        let is_lifted = lifted(telemetry, self.lift_off_force_n);
+        let is_lifted = self.contacts_known && lifted(telemetry, self.lift_off_force_n);
         let body = if is_lifted {
             palette::LIFT_OFF
         } else {
@@ -755,7 +761,7 @@ impl SceneRenderer {
     fn arrow(&mut self, pose: &Pose<'_>, i: usize) {
         let w = self.wheels[i];
         let tel = &pose.t.wheels[i];
-        if lifted(tel, self.lift_off_force_n) {
+        if !self.contacts_known || lifted(tel, self.lift_off_force_n) {
             return;
         }
         let r = self.model.ball_radius_m;
@@ -801,7 +807,7 @@ impl SceneRenderer {
             return;
         };
         let name = format!("OW{}", i + 1);
-        let (text, rgb) = if lifted(tel, self.lift_off_force_n) {
+        let (text, rgb) = if self.contacts_known && lifted(tel, self.lift_off_force_n) {
             (format!("{name} lift-off"), palette::LIFT_OFF)
         } else if tel.slipping {
             (
@@ -844,7 +850,7 @@ impl SceneRenderer {
             true,
         );
         let lifted: Vec<String> = (0..3)
-            .filter(|&i| lifted(&t.wheels[i], self.lift_off_force_n))
+            .filter(|&i| self.contacts_known && lifted(&t.wheels[i], self.lift_off_force_n))
             .map(|i| format!("OW{}", i + 1))
             .collect();
         if !lifted.is_empty() {

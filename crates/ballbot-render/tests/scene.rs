@@ -88,3 +88,15 @@ fn a_frame_is_written_as_png() -> Result {
     assert!(SceneRenderer::new(&params, 8, 48).is_err());
     Ok(())
 }
+
+#[test]
+fn the_state_before_the_first_step_shows_no_lift_off() -> Result {
+    let params = WorldParams::miapure_60kg();
+    let world = BallbotWorld::new(params)?;
+    let t = *world.telemetry();
+    assert!(t.wheels.iter().all(|w| w.normal_force_n == 0.0));
+    let frame = SceneRenderer::new(&params, 480, 360)?.render(&t);
+    assert_eq!(frame.count(palette::LIFT_OFF), 0);
+    assert!(palette::WHEELS.iter().all(|c| frame.count(*c) > 60));
+    Ok(())
+}
