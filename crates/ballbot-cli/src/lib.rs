@@ -26,6 +26,7 @@ pub mod reproduce;
 pub mod robustness;
 pub mod simulate;
 pub mod sweep;
+pub mod video;
 pub mod world;
 
 use clap::{Parser, Subcommand};

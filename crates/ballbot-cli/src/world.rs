@@ -13,11 +13,13 @@
 //! ballbot world --live --duration-secs 30 --decimate 8    # watch it in Foxglove as it runs
 //! ballbot world --duration-secs 60 --decimate 8000        # a 1 Hz log of a minute
 //! ballbot world --duration-secs 60 --no-log               # the same run, no log
+//! ballbot world --no-log --video out/world.gif            # an animated GIF of the run
 //! ```
 //!
 //! With `--live` the run is also served over the Foxglove SDK's WebSocket server
 //! (`ws://127.0.0.1:8765` by default), paced to real time unless `--as-fast-as-possible`.
 
+use crate::video::VideoRecorder;
 use anyhow::{Context, bail};
 use ballbot_core::BallbotParams;
 use ballbot_core::ballbot::BallbotControllerConfig;
@@ -25,7 +27,7 @@ use ballbot_sim::log::{LiveOptions, LivePace, LiveServer, LogSink, McapLogger, W
 use ballbot_sim::params_file::{FileKind, ParamsFile};
 pub use ballbot_sim::studies::world_run::{SETTLE_SECS, WorldOutcome};
 use ballbot_sim::studies::world_run::{
-    WorldRunSettings, run_logged_world, run_world, run_world_with_sink,
+    WorldRunSettings, run_logged_world, run_world, run_world_observed, run_world_with_sink,
 };
 use ballbot_sim::world::{StopRules, WorldParams, wheel_name};
 use std::io::Write;
@@ -43,6 +45,7 @@ Examples:
   ballbot world --live --duration-secs 30 --decimate 8
   ballbot world --duration-secs 60 --decimate 8000     # every channel at most 1 Hz
   ballbot world --duration-secs 60 --no-log            # the same run without a log
+  ballbot world --no-log --duration-secs 3 --video out/world.gif   # a GIF (.mp4: ffmpeg)
 
 Open the log in Foxglove with the layout foxglove/world-layout.json (3D scene, per-wheel
 normal force, cone utilisation, slip speed). With --live, open a Foxglove WebSocket connection
@@ -219,6 +222,25 @@ pub struct WorldArgs {
     /// Run the live view as fast as the simulation goes instead of in real time.
     #[arg(long, requires = "live")]
     pub as_fast_as_possible: bool,
+    /// Also write a video of the run (`ballbot_render`'s 3/4 view: floor grid, ball, body,
+    /// omniwheels with their rollers, contact-force arrows coloured by friction-cone use,
+    /// lift-off and slip marked): `.gif` an animated GIF, `.mp4` through `ffmpeg` (on PATH),
+    /// `.png` one still frame at --video-from-secs.
+    #[arg(long, value_name = "FILE.gif|FILE.mp4", conflicts_with = "live")]
+    pub video: Option<PathBuf>,
+    /// Frames per second of the video (in (0, 100]).
+    #[arg(long, default_value_t = 25.0, requires = "video", value_parser = crate::finite_f64)]
+    pub video_fps: f64,
+    /// Simulated seconds per second of video (< 1 is slow motion: 0.25 shows a lift-off at a
+    /// quarter of its speed).
+    #[arg(long, default_value_t = 1.0, requires = "video", value_parser = crate::finite_f64)]
+    pub video_speed: f64,
+    /// Simulated time of the video's first frame (s, >= 0): the run before it is not shown.
+    #[arg(long, default_value_t = 0.0, requires = "video", value_parser = crate::finite_f64)]
+    pub video_from_secs: f64,
+    /// Size of the video's frames (WIDTHxHEIGHT pixels).
+    #[arg(long, default_value = "480x360", requires = "video", value_parser = crate::video::parse_size)]
+    pub video_size: (u32, u32),
 }
 
 impl Default for WorldArgs {
@@ -249,6 +271,11 @@ impl Default for WorldArgs {
             live_port: 8765,
             live_wait_secs: 60.0,
             as_fast_as_possible: false,
+            video: None,
+            video_fps: 25.0,
+            video_speed: 1.0,
+            video_from_secs: 0.0,
+            video_size: (480, 360),
         }
     }
 }
@@ -421,9 +448,41 @@ impl WorldArgs {
 /// Runs the world as `args` say, writes the log (none with `--no-log`) and returns the
 /// outcome (without printing). `--live` is not served here (see [`run`]).
 pub fn simulate(args: &WorldArgs) -> anyhow::Result<WorldOutcome> {
+    Ok(simulate_with_video(args)?.0)
+}
+
+/// [`simulate`], also writing `--video` if given: returns the outcome and the video's path and
+/// frame count.
+pub fn simulate_with_video(
+    args: &WorldArgs,
+) -> anyhow::Result<(WorldOutcome, Option<(PathBuf, u64)>)> {
     args.validate()?;
     let params = args.world_params()?;
     let config = args.controller_config(&params)?;
+    if let Some(path) = &args.video {
+        let mut video = VideoRecorder::create(
+            path,
+            &params,
+            args.video_size,
+            args.video_fps,
+            args.video_speed,
+            args.video_from_secs,
+        )?;
+        let log = (!args.no_log).then(|| (args.out.as_path(), args.log_options(params.dt_secs)));
+        let outcome = run_world_observed(params, config, &args.run_settings(), log, &mut |t| {
+            video.observe(t)
+        })
+        .with_context(|| format!("ballbot world --out {}", args.out.display()))?;
+        return Ok((outcome, Some(video.finish()?)));
+    }
+    Ok((simulate_without_video(args, params, config)?, None))
+}
+
+fn simulate_without_video(
+    args: &WorldArgs,
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+) -> anyhow::Result<WorldOutcome> {
     if args.no_log {
         return Ok(run_world(params, config, &args.run_settings())?);
     }
@@ -521,10 +580,10 @@ fn print_events(o: &WorldOutcome) {
 
 /// Runs `ballbot world` and prints the outcome.
 pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
-    let o = if args.live {
-        simulate_live(args)?
+    let (o, video) = if args.live {
+        (simulate_live(args)?, None)
     } else {
-        simulate(args)?
+        simulate_with_video(args)?
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&o)?);
@@ -557,6 +616,14 @@ pub fn run(args: &WorldArgs) -> anyhow::Result<()> {
         println!("log: none (--no-log)");
     } else {
         println!("log: {} ({:.2} MB)", o.log, o.log_bytes as f64 / 1.0e6);
+    }
+    if let Some((path, frames)) = video {
+        let bytes = std::fs::metadata(&path).map_or(0, |m| m.len());
+        println!(
+            "video: {} ({frames} frames, {:.2} MB)",
+            path.display(),
+            bytes as f64 / 1.0e6
+        );
     }
     Ok(())
 }

@@ -13,3 +13,4 @@ mod sweep;
 mod world_live;
 mod world_log;
 mod world_outcome;
+mod world_video;

@@ -18,6 +18,7 @@ mod mirror;
 mod models;
 mod params;
 mod pickle;
+mod render;
 mod results;
 mod sim;
 mod studies;
@@ -46,6 +47,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     sim::register(m)?;
     world::register(m)?;
     gym::register(m)?;
+    render::register(m)?;
     studies::register(m)?;
     mirror::register(m)?;
     Ok(())

@@ -3,6 +3,7 @@ randomisation through ``reset(options=...)``, the stop rules (``stop_on``) and t
 events in ``info``, rendering, and the native vector env against ``SyncVectorEnv`` bit for
 bit."""
 
+import json
 import pickle
 from typing import Any
 
@@ -115,25 +116,111 @@ def test_the_observation_can_carry_the_last_action_and_the_rate_can_change() -> 
     assert info["time_secs"] == pytest.approx(0.02)
 
 
-def test_rendering_draws_the_robot() -> None:
+# Exact colours of the renderer (crates/ballbot-render/src/palette.rs): the inside of a
+# filled shape is exactly its colour.
+LIFT_OFF = (222, 28, 40)
+WHEELS = [(40, 52, 96), (34, 82, 56), (92, 44, 78)]
+
+
+def count(frame: np.ndarray, rgb: tuple[int, int, int]) -> int:
+    return int(np.all(frame == rgb, axis=-1).sum())
+
+
+def edited(t: ballbot.StepTelemetry, edit: Any) -> ballbot.StepTelemetry:
+    """``t`` with its record changed by ``edit(dict)`` (through the pickled JSON)."""
+    rebuild, (cls, text) = t.__reduce__()
+    data = json.loads(text)
+    edit(data)
+    return rebuild(cls, json.dumps(data))
+
+
+def test_rendering_draws_the_robot_its_wheels_and_no_lift_off() -> None:
     env = gym.make("ballbot/Balance-v0", render_mode="rgb_array")
-    env.reset(seed=0, options={"initial_tilt_rad": [0.0, 0.15]})
+    env.reset(seed=0)
+    for _ in range(5):
+        env.step(np.zeros(3, dtype=np.float32))
     frame = env.render()
-    assert frame.dtype == np.uint8 and frame.shape == (240, 482, 3)
-    blue = np.all(frame == (40, 70, 160), axis=-1)
-    red = np.all(frame == (200, 60, 50), axis=-1)
-    assert blue.sum() > 100 and red.sum() > 100
-    # Tilted about world y towards +x: in the first view the body leans right of the ball.
-    rows, cols = np.nonzero(blue[:, :240])
-    top_col = cols[rows == rows.min()].mean()
-    ball_col = np.nonzero(red[:, :240])[1].mean()
-    assert top_col > ball_col + 10
-    # The second view looks along x: upright there.
-    rows, cols = np.nonzero(blue[:, 242:])
-    assert abs(cols[rows == rows.min()].mean() - np.nonzero(red[:, 242:])[1].mean()) < 2
+    assert frame.dtype == np.uint8 and frame.shape == (360, 480, 3)
+    # The three omniwheels, each in its colour, and no wheel lifted.
+    assert [count(frame, c) > 60 for c in WHEELS] == [True] * 3
+    assert count(frame, LIFT_OFF) == 0
     text = gym.make("ballbot/Balance-v0", render_mode="ansi")
     text.reset(seed=0)
     assert "tilt=" in text.render()
+
+
+def test_a_lifted_wheel_shows_red_where_a_balanced_frame_has_none() -> None:
+    env = gym.make("ballbot/Balance-v0", render_mode="rgb_array")
+    env.reset(seed=0)
+    env.step(np.zeros(3, dtype=np.float32))
+    t = env.unwrapped.core.telemetry
+    renderer = ballbot.SceneRenderer(env.unwrapped.core.params)
+    balanced = renderer.render(t)
+
+    def lift_ow2(d: dict[str, Any]) -> None:
+        d["wheels"][1]["normal_force_n"] = 0.0
+        d["wheels"][1]["cone_utilisation"] = 0.0
+
+    lifted = renderer.render(edited(t, lift_ow2))
+    assert count(balanced, LIFT_OFF) == 0
+    assert count(lifted, LIFT_OFF) > 200
+    # OW2 is drawn red instead of its own colour; OW1 and OW3 are unchanged.
+    assert count(lifted, WHEELS[1]) == 0 and count(balanced, WHEELS[1]) > 60
+    assert count(lifted, WHEELS[0]) == count(balanced, WHEELS[0])
+    assert renderer.png(t)[1:4] == b"PNG"
+
+
+def test_the_floor_grid_shifts_when_the_ball_moves() -> None:
+    env = gym.make("ballbot/Balance-v0")
+    env.reset(seed=0)
+    t = env.unwrapped.core.telemetry
+    renderer = ballbot.SceneRenderer()
+
+    def moved(dx: float) -> ballbot.StepTelemetry:
+        def edit(d: dict[str, Any]) -> None:
+            d["ball_position_m"][0] += dx
+            d["body_position_m"][0] += dx
+
+        return edited(t, edit)
+
+    still = renderer.render(t).astype(int)
+    # The camera follows the robot: a quarter tile moves the floor under it, a whole
+    # checker period (two 0.5 m tiles) gives the same picture again.
+    quarter = int(np.any(renderer.render(moved(0.125)) != still, axis=-1).sum())
+    period = int(np.any(renderer.render(moved(1.0)) != still, axis=-1).sum())
+    assert quarter > 10_000
+    assert period < quarter / 10
+    with pytest.raises(ballbot.ParameterError, match="frame size"):
+        ballbot.SceneRenderer(width=4)
+
+
+def test_the_vector_env_renders_a_frame_per_environment() -> None:
+    envs = BallbotVectorEnv(num_envs=2, render_mode="rgb_array")
+    envs.reset(seed=3)
+    envs.step(np.zeros((2, 3), dtype=np.float32))
+    frames = envs.render()
+    assert frames is not None and len(frames) == 2
+    assert all(f.shape == (360, 480, 3) and f.dtype == np.uint8 for f in frames)
+    assert [count(frames[1], c) > 60 for c in WHEELS] == [True] * 3
+    envs.close()
+
+
+def test_human_mode_needs_matplotlib_and_says_so() -> None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+    except ImportError:
+        assert "human" not in BallbotEnv.metadata["render_modes"]
+        with pytest.raises(ImportError, match="matplotlib"):
+            BallbotEnv(render_mode="human")
+        return
+    assert "human" in BallbotEnv.metadata["render_modes"]
+    env = gym.make("ballbot/Balance-v0", render_mode="human")
+    env.reset(seed=0)
+    env.step(np.zeros(3, dtype=np.float32))
+    assert env.render() is None
+    env.close()
 
 
 def test_make_vec_gives_the_native_vector_env() -> None:

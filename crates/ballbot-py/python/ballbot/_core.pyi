@@ -138,6 +138,7 @@ __all__ = [
     "ImuParams",
     "Measurement",
     "RollerParams",
+    "SceneRenderer",
     "SensorParams",
     "StepTelemetry",
     "TransmissionParams",
@@ -1938,6 +1939,22 @@ def max_speed_ramp(
     max_tilt_rate_command_rad_per_s: Optional[float] = None,
     controller: Optional[ControllerConfig] = None,
 ) -> RampRun: ...
+
+@final
+class SceneRenderer:
+    """Frames of a world's robot: a 3/4 view following the ball over a floor grid, the
+    omniwheels and rollers, contact-force arrows coloured by friction-cone use, a lifted
+    wheel red."""
+
+    def __new__(
+        cls, params: Optional[WorldParams] = None, width: int = 480, height: int = 360
+    ) -> SceneRenderer: ...
+    @property
+    def width(self) -> int: ...
+    @property
+    def height(self) -> int: ...
+    def render(self, telemetry: StepTelemetry) -> npt.NDArray[np.uint8]: ...
+    def png(self, telemetry: StepTelemetry) -> bytes: ...
 
 def export(
     format: Literal["mjcf", "urdf"],

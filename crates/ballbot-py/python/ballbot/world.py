@@ -6,7 +6,8 @@ parts), per-step records (``StepTelemetry``, ``WheelTelemetry``, ``Measurement``
 (``Failure`` with a ``FailureKind``; wheels named ``"OW1"``..``"OW3"``) and run results
 (``WorldRun``, ``WorldLoopRun``); traction-aware control's report and envelope
 (``TractionStatus``, ``TractionEnvelope``; on by default, ``WorldLoop(traction_control=False)``
-turns it off); the world's robot as MJCF (MuJoCo) or URDF (``export``).
+turns it off); the world's robot as MJCF (MuJoCo) or URDF (``export``); pictures of it
+(``SceneRenderer``, the frames of the Gymnasium environments and of ``ballbot world --video``).
 """
 
 from ballbot._core import (
@@ -19,6 +20,7 @@ from ballbot._core import (
     LiveView,
     Measurement,
     RollerParams,
+    SceneRenderer,
     SensorParams,
     StepTelemetry,
     TransmissionParams,
@@ -44,6 +46,7 @@ __all__ = [
     "Measurement",
     "RollerParams",
     "Mode",
+    "SceneRenderer",
     "SensorParams",
     "StepTelemetry",
     "TractionEnvelope",

@@ -126,6 +126,44 @@ pub fn run_logged_world(
     run_world_with_sink(params, config, args, sink, options, |_| {})
 }
 
+/// [`run_logged_world`] (with `Some((out, options))`) or [`run_world`] (with `None`), showing
+/// every step's telemetry to `observe` (e.g. to render a video): the same run, step for step.
+pub fn run_world_observed(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    args: &WorldRunSettings,
+    log: Option<(&Path, WorldLogOptions)>,
+    observe: &mut dyn FnMut(&StepTelemetry),
+) -> Result<WorldOutcome, WorldRunError> {
+    let Some((out, options)) = log else {
+        let sim = robot(params, config, args)?;
+        return drive(sim, args, None, observe).map_err(|source| WorldRunError::Log {
+            path: PathBuf::from("no log"),
+            source,
+        });
+    };
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|source| WorldRunError::Io {
+            path: dir.to_owned(),
+            source,
+        })?;
+    }
+    let file =
+        McapLogger::create(out, options.logger.clone()).map_err(|source| WorldRunError::Log {
+            path: out.to_owned(),
+            source,
+        })?;
+    run_sink(
+        params,
+        config,
+        args,
+        LogSink::file(file),
+        options,
+        |_| {},
+        observe,
+    )
+}
+
 /// Runs the world with `config` in the loop as `args` say, without a log, and returns the
 /// outcome (`log` empty, `log_bytes` 0): the same run as [`run_logged_world`], step for step,
 /// and the baseline of what a log costs (`ballbot world --no-log`).
@@ -136,7 +174,7 @@ pub fn run_world(
 ) -> Result<WorldOutcome, WorldRunError> {
     let sim = robot(params, config, args)?;
     // Without a log nothing is written, so no log error can arise.
-    drive(sim, args, None).map_err(|source| WorldRunError::Log {
+    drive(sim, args, None, &mut |_| {}).map_err(|source| WorldRunError::Log {
         path: PathBuf::from("no log"),
         source,
     })
@@ -159,6 +197,27 @@ pub fn run_world_with_sink(
     options: WorldLogOptions,
     before_first_step: impl FnOnce(&LogSink),
 ) -> Result<WorldOutcome, WorldRunError> {
+    run_sink(
+        params,
+        config,
+        args,
+        sink,
+        options,
+        before_first_step,
+        &mut |_| {},
+    )
+}
+
+/// [`run_world_with_sink`] showing every step to `observe`.
+fn run_sink(
+    params: WorldParams,
+    config: BallbotControllerConfig<f64>,
+    args: &WorldRunSettings,
+    sink: LogSink,
+    options: WorldLogOptions,
+    before_first_step: impl FnOnce(&LogSink),
+    observe: &mut dyn FnMut(&StepTelemetry),
+) -> Result<WorldOutcome, WorldRunError> {
     let out = sink
         .path()
         .map_or_else(|| PathBuf::from("live view"), Path::to_owned);
@@ -170,7 +229,7 @@ pub fn run_world_with_sink(
     };
     let mut log = WorldLogger::with_sink(sink, &params, options).map_err(log_error)?;
     before_first_step(log.sink_mut());
-    let mut outcome = drive(sim, args, Some(&mut log)).map_err(log_error)?;
+    let mut outcome = drive(sim, args, Some(&mut log), observe).map_err(log_error)?;
     log.finish().map_err(log_error)?;
     if has_file {
         outcome.log = out.display().to_string();
@@ -197,12 +256,13 @@ fn robot(
 }
 
 /// Runs `sim` through the ramp and push of `args`, recording each step to `log` if there is
-/// one, and returns the outcome without its log fields. The log only observes: the run is the
-/// same with or without it.
+/// one and showing it to `observe`, and returns the outcome without its log fields. The log
+/// and the observer only observe: the run is the same with or without them.
 fn drive(
     mut sim: WorldRobot,
     args: &WorldRunSettings,
     mut log: Option<&mut WorldLogger>,
+    observe: &mut dyn FnMut(&StepTelemetry),
 ) -> Result<WorldOutcome, LogError> {
     let dt = sim.world().params().dt_secs;
     let (sin_h, cos_h) = args.heading_deg.to_radians().sin_cos();
@@ -234,6 +294,7 @@ fn drive(
         if let Some(log) = log.as_deref_mut() {
             log.record_robot(&sim)?;
         }
+        observe(&telemetry);
         outcome.end_time_secs = telemetry.time_secs;
         if failure.is_some() {
             continue;

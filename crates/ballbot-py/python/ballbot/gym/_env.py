@@ -10,7 +10,7 @@ from gymnasium import spaces
 from numpy.typing import NDArray
 
 from ballbot._core import GymEnv, WorldParams
-from ballbot.gym._render import draw
+from ballbot.gym._render import Viewer, has_matplotlib, viewer
 
 Obs = NDArray[np.float32]
 Act = NDArray[np.float32]
@@ -41,7 +41,12 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
             or rule names among ``tilt``, ``slip``, ``lift-off``, ``driver-trip`` (a string
             separated by commas, or a list). Default (``None``): ``"tilt,driver-trip"``, a
             fall; slips and lift-offs are ``info["events"]``. ``"all"`` is the old behaviour.
-        render_mode: ``"rgb_array"`` (two side views) or ``"ansi"`` (a line of text).
+        render_mode: ``"rgb_array"`` (a ``(360, 480, 3)`` uint8 frame of
+            :class:`ballbot.SceneRenderer`: a 3/4 view following the ball over a floor grid,
+            the omniwheels and rollers, contact-force arrows coloured by friction-cone use, a
+            lifted wheel red), ``"human"`` (the same frames in a matplotlib window, after
+            every step; needs matplotlib, and is listed in ``metadata["render_modes"]`` only when
+            it is installed) or ``"ansi"`` (a line of text).
 
     Info of ``step``: ``time_secs``; ``termination``, why the episode ended ``terminated``
     (``"fell"``: the chassis on the floor; a stop rule's ``"tilt"``, ``"sustained_slip"``,
@@ -58,7 +63,12 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
     replays the episode.
     """
 
-    metadata = {"render_modes": ["rgb_array", "ansi"], "render_fps": 50}
+    # "human" only where matplotlib is installed (render_mode="human" without it raises an
+    # ImportError saying so).
+    metadata = {
+        "render_modes": ["rgb_array", "ansi"] + (["human"] if has_matplotlib() else []),
+        "render_fps": 50,
+    }
 
     def __init__(
         self,
@@ -76,10 +86,9 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
         stop_on: StopOn = None,
         render_mode: Optional[str] = None,
     ) -> None:
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(
-                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
-            )
+        modes = ["rgb_array", "human", "ansi"]
+        if render_mode is not None and render_mode not in modes:
+            raise ValueError(f"render_mode must be one of {modes}, got {render_mode!r}")
         self._core = GymEnv(
             task,
             params,
@@ -99,6 +108,9 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
         self.action_space = spaces.Box(-1.0, 1.0, shape=(3,), dtype=np.float32)
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": min(50, int(control_hz))}
+        self._viewer: Optional[Viewer] = viewer(
+            self._core.params, render_mode, self.metadata["render_fps"]
+        )
         self._seeded = False
 
     @property
@@ -123,11 +135,16 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
             seed = int(self.np_random.integers(2**63))
         out = self._core.reset(seed, options)
         self._seeded = True  # only once a reset succeeded
+        if self.render_mode == "human":
+            self.render()
         return out
 
     def step(self, action: Act) -> tuple[Obs, float, bool, bool, dict[str, Any]]:
         a = np.asarray(action, dtype=np.float64).reshape(3).tolist()
-        return self._core.step(a)
+        out = self._core.step(a)
+        if self.render_mode == "human":
+            self.render()
+        return out
 
     def render(self) -> Any:
         t = self._core.telemetry
@@ -140,6 +157,13 @@ class BallbotEnv(gymnasium.Env[Obs, Act]):
                 f"t={t.time_secs:7.3f} s  tilt=({tilt[0]:+6.2f}, {tilt[1]:+6.2f}) deg  "
                 f"ball v=({v[0]:+5.2f}, {v[1]:+5.2f}) m/s\n"
             )
-        params = self._core.params
-        radius = params.robot.ball_radius_m
-        return draw(t, radius, params.chassis_height_m)
+        assert self._viewer is not None
+        if self.render_mode == "human":
+            self._viewer.show(t)
+            return None
+        return self._viewer.frame(t)
+
+    def close(self) -> None:
+        if self._viewer is not None:
+            self._viewer.close()
+        super().close()

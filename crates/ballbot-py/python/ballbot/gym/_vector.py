@@ -11,7 +11,7 @@ from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
 from ballbot._core import GymVecEnv, WorldParams
-from ballbot.gym._render import draw
+from ballbot.gym._render import Viewer
 
 Obs = NDArray[np.float32]
 Act = NDArray[np.float32]
@@ -58,6 +58,7 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
         self.num_envs = num_envs
         self.task = task
         self.render_mode = render_mode
+        self._viewer: Optional[Viewer] = None
         high = self._core.observation_high
         self.single_observation_space = spaces.Box(-high, high, dtype=np.float32)
         self.single_action_space = spaces.Box(-1.0, 1.0, shape=(3,), dtype=np.float32)
@@ -109,14 +110,14 @@ class BallbotVectorEnv(VectorEnv[Obs, Act, NDArray[Any]]):
     def render(self) -> Optional[tuple[NDArray[np.uint8], ...]]:
         if self.render_mode is None:
             return None
-        params = self._core.params
-        radius, height = params.robot.ball_radius_m, params.chassis_height_m
+        if self._viewer is None:
+            self._viewer = Viewer(self._core.params)
         frames = []
         for i in range(self.num_envs):
             t = self._core.telemetry(i)
             if t is None:
                 return None
-            frames.append(draw(t, radius, height))
+            frames.append(self._viewer.frame(t))
         return tuple(frames)
 
 
